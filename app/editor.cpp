@@ -1,0 +1,280 @@
+// The editor's window and main loop. Owns the GLFW window and its GL 4.5 core context, ImGui's
+// backends, the loaded volume and the SplatRenderer; the ui panels only edit EditorState, and this file
+// turns their edits into renders. Renderer calls happen outside the ImGui frame, so a throw from them
+// never leaves ImGui half-way through a frame.
+#include "editor.h"
+
+#include "renderer/errors.h"
+#include "renderer/gl_context.h"
+#include "renderer/image.h"
+#include "renderer/splat_renderer.h"
+#include "renderer/splat_scene.h"
+#include "renderer/transfer_function.h"
+#include "renderer/volume_io.h"
+#include "ui/dock_layout.h"
+#include "ui/editor_state.h"
+#include "ui/panels.h"
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace {
+
+std::string g_glfwError = "no message from GLFW";   // GLFW reports errors through a callback only
+
+void onGlfwError(int code, const char* description) {
+    char codeText[16];
+    std::snprintf(codeText, sizeof codeText, "0x%05x", code);
+    g_glfwError = std::string(description) + " (GLFW error " + codeText + ")";
+}
+
+// glfwInit .. glfwTerminate and the window. Declared first in runEditor so it is destroyed last.
+struct GlfwSession {
+    GLFWwindow* window = nullptr;
+    ~GlfwSession() {
+        if (window) glfwDestroyWindow(window);
+        glfwTerminate();
+    }
+};
+
+// The ImGui context and its backends; shut down while the window and context still exist.
+struct ImGuiSession {
+    bool glfwBackend = false, glBackend = false;
+    ~ImGuiSession() {
+        if (glBackend) ImGui_ImplOpenGL3_Shutdown();
+        if (glfwBackend) ImGui_ImplGlfw_Shutdown();
+        ImGui::DestroyContext();
+    }
+};
+
+// What the viewport shows. No volume (none given, or it failed to load) leaves `volume` empty.
+struct Document {
+    std::optional<renderer::Volume> volume;
+    renderer::SplatScene scene;
+};
+
+// Dark theme: ImGui's dark colours with square docked windows and a little more air in the widgets.
+void applyTheme() {
+    ImGui::StyleColorsDark();
+    ImGuiStyle& style = ImGui::GetStyle();
+    style.WindowRounding = 0.0f;
+    style.WindowBorderSize = 0.0f;
+    style.FrameRounding = 3.0f;
+    style.GrabRounding = 3.0f;
+    style.TabRounding = 3.0f;
+    style.PopupRounding = 3.0f;
+    style.FramePadding = ImVec2(6, 4);
+    style.ItemSpacing = ImVec2(8, 6);
+    ImVec4* c = style.Colors;
+    c[ImGuiCol_WindowBg] = ImVec4(0.105f, 0.110f, 0.125f, 1.0f);
+    c[ImGuiCol_PopupBg] = ImVec4(0.130f, 0.135f, 0.150f, 0.98f);
+    c[ImGuiCol_Separator] = ImVec4(0.25f, 0.26f, 0.30f, 1.0f);
+    c[ImGuiCol_FrameBg] = ImVec4(0.17f, 0.18f, 0.21f, 1.0f);
+    c[ImGuiCol_TitleBgActive] = c[ImGuiCol_TitleBg];
+}
+
+// The default framebuffer's back buffer as an opaque Image, row 0 at the top (GL's row 0 is the bottom).
+renderer::Image readBackBuffer(int width, int height) {
+    std::vector<unsigned char> bytes(size_t(width) * size_t(height) * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+    renderer::checkGlErrors("editor screenshot");
+    renderer::Image image(width, height);
+    for (int y = 0; y < height; ++y) {
+        const unsigned char* row = &bytes[size_t(height - 1 - y) * size_t(width) * 4];
+        for (int x = 0; x < width; ++x) {
+            float* p = image.pixel(x, y);
+            for (int c = 0; c < 3; ++c) p[c] = float(row[x * 4 + c]) / 255.0f;
+            p[3] = 1.0f;   // the window is opaque; its alpha channel holds whatever blending left there
+        }
+    }
+    return image;
+}
+
+} // namespace
+
+int runEditor(const EditorOptions& options) {
+    const bool scripted = options.frames > 0;   // runs N frames and exits; errors end it with code 1
+
+    // 1. Window with a GL 4.5 core context, made current; KHR_debug collects GL errors from here on.
+    GlfwSession glfw;
+    glfwSetErrorCallback(onGlfwError);
+    if (!glfwInit()) {
+        std::fprintf(stderr, "splatlab editor: cannot open a window: %s (is DISPLAY set? try xvfb-run)\n",
+                     g_glfwError.c_str());
+        return 1;
+    }
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+#ifndef NDEBUG
+    glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, GLFW_TRUE);
+#endif
+    const std::string volumeName = options.volumePath.empty() ? "" : options.volumePath.stem().string();
+    const std::string title = volumeName.empty() ? "SplatLab" : "SplatLab \xE2\x80\x94 " + volumeName;
+    glfw.window = glfwCreateWindow(options.width, options.height, title.c_str(), nullptr, nullptr);
+    if (!glfw.window) {
+        std::fprintf(stderr, "splatlab editor: cannot open a %dx%d window with an OpenGL 4.5 core context: %s\n",
+                     options.width, options.height, g_glfwError.c_str());
+        return 1;
+    }
+    glfwMakeContextCurrent(glfw.window);
+    glfwSwapInterval(scripted ? 0 : 1);
+    renderer::installGlDebugCallback();
+    const std::string glRenderer = renderer::glRendererName();
+
+    // 2. ImGui: context, dark theme, GLFW input and OpenGL3 drawing backends.
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGuiSession imgui;
+    ImGui::GetIO().IniFilename = nullptr;   // the layout is ours (ui::DockLayout), nothing to persist
+    applyTheme();
+    imgui.glfwBackend = ImGui_ImplGlfw_InitForOpenGL(glfw.window, true);
+    imgui.glBackend = imgui.glfwBackend && ImGui_ImplOpenGL3_Init("#version 450");
+    if (!imgui.glBackend) {
+        std::fprintf(stderr, "splatlab editor: ImGui's GLFW/OpenGL3 backends failed to initialise on %s\n",
+                     renderer::glVersionString().c_str());
+        return 1;
+    }
+
+    // 3. Errors: scripted runs print one line and exit 1; interactive ones show the modal and go on.
+    ui::EditorState state;
+    int exitCode = 0;
+    auto report = [&](const std::exception& error) {
+        if (scripted) {
+            std::fprintf(stderr, "splatlab editor: %s\n", error.what());
+            exitCode = 1;
+            glfwSetWindowShouldClose(glfw.window, GLFW_TRUE);
+        } else {
+            state.errorMessage = error.what();
+        }
+    };
+    // Runs `step`, turning the renderer's typed errors into report(); returns whether it succeeded.
+    auto guarded = [&](auto&& step) {
+        try {
+            step();
+            return true;
+        } catch (const renderer::LoadError& e) {
+            report(e);
+        } catch (const renderer::GlError& e) {
+            report(e);
+        } catch (const renderer::RenderError& e) {
+            report(e);
+        }
+        return false;
+    };
+
+    // 4. Volume, transfer function, scene and renderer. A failure leaves the editor with no volume.
+    //    Declared after the ImGui and GLFW sessions, so the renderer's GL objects go first.
+    Document doc;
+    std::unique_ptr<renderer::SplatRenderer> splats;
+    guarded([&] {
+        if (options.volumePath.empty()) return;
+        const renderer::TransferFunction tf = renderer::transferFunctionFromSpec(options.tfSpec);
+        state.presetName = tf.name.empty() ? options.tfSpec : tf.name;
+        renderer::Volume volume = renderer::loadVolume(options.volumePath);
+        doc.scene = renderer::buildSplatScene(volume, tf);
+        doc.volume = std::move(volume);
+        splats = std::make_unique<renderer::SplatRenderer>();
+        splats->setScene(doc.scene);
+    });
+    if (exitCode != 0) return exitCode;
+    if (!splats) doc.volume.reset();
+
+    // 5. Frame loop. Edits made in frame N are rendered at the top of frame N+1, at the viewport size
+    //    frame N measured; the first frame only measures.
+    ui::DockLayout layout = ui::makeEditorLayout();
+    ui::SettingsChanges settingsChanges;
+    ui::ViewportResult viewport;
+    unsigned texture = 0;             // the renderer's display texture; 0 until something was rendered
+    int renderWidth = 0, renderHeight = 0;
+    bool tfPending = false, renderPending = true;
+    std::vector<float> frameMs;       // recent whole-frame times for the stats plot, oldest first
+    auto lastFrame = std::chrono::steady_clock::now();
+    const std::vector<ui::DockPanel> panels = {
+        {"Settings", "left", [&] { settingsChanges = ui::drawSettingsPanel(state); }},
+        {"Viewport", "viewport", [&] { viewport = ui::drawViewportPanel(state, texture); }},
+        {"Stats", "bottom",
+         [&] {
+             ui::drawStatsPanel({.frame = splats ? splats->stats() : renderer::FrameStats{},
+                                 .volume = doc.volume ? &*doc.volume : nullptr,
+                                 .visibleSplats = doc.scene.visibleCount(),
+                                 .glRenderer = glRenderer,
+                                 .frameMsHistory = frameMs});
+         }},
+        {"Help", "bottom", [] { ui::drawHelpPanel(); }},
+    };
+
+    for (int frame = 1; !glfwWindowShouldClose(glfw.window); ++frame) {
+        glfwPollEvents();
+
+        // 5a. Renderer work for last frame's edits.
+        if (splats && (tfPending || (renderPending && renderWidth > 0))) {
+            const bool rendered = guarded([&] {
+                if (tfPending) {
+                    tfPending = false;
+                    renderer::setTransferFunction(doc.scene, renderer::builtinPreset(state.presetName));
+                    splats->setScene(doc.scene);
+                }
+                renderPending = false;   // a failed render waits for the next edit instead of repeating
+                const renderer::ImagePlane plane = renderer::makeImagePlane(
+                    state.camera, doc.scene.centre, doc.scene.radius, renderWidth, renderHeight);
+                splats->render(plane, state.settings);
+                texture = splats->displayTexture(state.background.data());
+            });
+            if (!rendered) texture = 0;
+        }
+
+        // 5b. The UI: layout, panels, error modal.
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        settingsChanges = {};
+        ui::drawDockSpace(layout, panels);
+        ui::drawErrorModal(state);
+        ImGui::Render();
+        tfPending |= settingsChanges.tfChanged;
+        renderPending |= settingsChanges.any() || viewport.cameraChanged;
+        if (viewport.widthPx != renderWidth || viewport.heightPx != renderHeight) {
+            renderWidth = viewport.widthPx, renderHeight = viewport.heightPx;
+            renderPending = true;
+        }
+
+        // 5c. Draw the UI into the back buffer; a scripted run's last frame is the screenshot.
+        int fbWidth = 0, fbHeight = 0;
+        glfwGetFramebufferSize(glfw.window, &fbWidth, &fbHeight);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glViewport(0, 0, fbWidth, fbHeight);
+        glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        guarded([] { renderer::checkGlErrors("editor frame"); });
+        if (scripted && frame >= options.frames && exitCode == 0) {
+            if (!options.screenshotPath.empty() && fbWidth > 0 && fbHeight > 0 && guarded([&] {
+                    renderer::writeImage(readBackBuffer(fbWidth, fbHeight), options.screenshotPath);
+                }))
+                std::printf("wrote %s\n", options.screenshotPath.string().c_str());
+            glfwSetWindowShouldClose(glfw.window, GLFW_TRUE);
+        }
+        glfwSwapBuffers(glfw.window);
+
+        const auto now = std::chrono::steady_clock::now();
+        if (frameMs.size() == 120) frameMs.erase(frameMs.begin());
+        frameMs.push_back(std::chrono::duration<float, std::milli>(now - lastFrame).count());
+        lastFrame = now;
+    }
+    return exitCode;
+}

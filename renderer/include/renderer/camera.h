@@ -1,0 +1,39 @@
+// The orbit camera and the image plane it defines. Conventions (EWA_NOTES "Spaces"): object t ->
+// camera u = W t + d, looking down +u2; pixels p = f_px (u0/u2, u1/u2) + centre, x right, y down,
+// pixel (i, j) has its centre at (i + 0.5, j + 0.5).
+#pragma once
+#include "renderer/glm_config.h"
+
+#include <string>
+
+namespace renderer {
+
+struct Camera {
+    double azimuthDeg = 30.0;      // rotation about `up`
+    double elevationDeg = 20.0;    // above the plane normal to `up`
+    double distance = 2.5;         // from the volume centre, in bounding-sphere radii
+    double fovYDeg = 30.0;         // vertical field of view
+    glm::dvec2 panPx{0.0};         // image-plane shift of the orbit centre, pixels at the centre depth
+    glm::dvec3 up{0.0, 0.0, 1.0};  // object-space axis shown upwards (CT stacks often need -z)
+};
+
+// "x", "-y", "+z", ...: the object axis a user names for Camera::up. Throws RenderError otherwise.
+glm::dvec3 axisFromName(const std::string& name);
+
+// Everything a splat needs to reach pixels, in double precision.
+struct ImagePlane {
+    int width = 0, height = 0;
+    glm::dmat3 viewFromObject{1.0};   // W: rotation, object -> camera axes
+    glm::dvec3 translation{0.0};      // d: u = W t + d
+    double fPx = 1.0;                 // focal length in pixels: (H/2) / tan(fov/2)
+    glm::dvec2 centrePx{0.0};         // principal point
+    double nearDepth = 0.0;           // splats with u2 below this are culled
+    glm::dvec3 viewDirObject{0.0};    // unit viewing direction (towards the scene) in object space
+
+    glm::dvec3 toCamera(glm::dvec3 t) const { return viewFromObject * t + translation; }
+};
+
+// `centre` is the orbit centre and `radius` the bounding radius, both in object units.
+ImagePlane makeImagePlane(const Camera& camera, glm::dvec3 centre, double radius, int width, int height);
+
+} // namespace renderer

@@ -1,0 +1,40 @@
+// The typed errors the renderer throws. Callers (CLI, editor) turn them into one line or a modal;
+// nothing in the renderer prints or exits.
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace renderer {
+
+// A file that cannot be read as what it claims to be. what() reads
+// "<path>: field '<field>': <reason>" (or "<path>: <reason>" when no single field is at fault).
+class LoadError : public std::runtime_error {
+public:
+    LoadError(std::string path, std::string field, std::string reason)
+        : std::runtime_error(format(path, field, reason)), m_path(std::move(path)), m_field(std::move(field)),
+          m_reason(std::move(reason)) {}
+    const std::string& path() const { return m_path; }
+    const std::string& field() const { return m_field; }
+    const std::string& reason() const { return m_reason; }
+
+private:
+    static std::string format(const std::string& path, const std::string& field, const std::string& reason) {
+        return field.empty() ? path + ": " + reason : path + ": field '" + field + "': " + reason;
+    }
+    std::string m_path, m_field, m_reason;
+};
+
+// A GL failure: context creation, shader compile/link, an error reported through KHR_debug.
+class GlError : public std::runtime_error {
+public:
+    GlError(const std::string& stage, const std::string& message)
+        : std::runtime_error(stage + ": " + message) {}
+};
+
+// A request the renderer cannot honour (bad settings, empty volume, sizes out of range).
+class RenderError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+} // namespace renderer

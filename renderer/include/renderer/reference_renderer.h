@@ -1,0 +1,36 @@
+// The CPU oracle: the same splatting pipeline as the GL path, in double precision, multithreaded over
+// image rows so the result does not depend on the thread count. Tests compare GL images against it.
+#pragma once
+#include "renderer/image.h"
+#include "renderer/splat_scene.h"
+#include "renderer/splat_settings.h"
+
+namespace renderer {
+
+struct SplatCounters {
+    uint64_t visible = 0;          // splats in the traversal list
+    uint64_t drawn = 0;            // splats that reached the image
+    uint64_t culledNear = 0;       // centre at or in front of the near plane
+    uint64_t culledOffscreen = 0;  // cutoff ellipse misses the image
+    uint64_t culledHuge = 0;       // cutoff radius beyond SplatSettings::maxFootprintFraction
+    uint64_t culledDegenerate = 0; // footprint variance not positive definite (det <= 1e-12 px^4)
+};
+
+// Per-splat quantities both paths derive from one voxel (the GLSL vertex stage mirrors this).
+struct SplatGeometry {
+    bool culled = false;
+    glm::dvec2 centrePx{0.0};        // pixel position of the projected kernel centre
+    glm::dmat2 conic{1.0};           // inverse of the footprint variance
+    glm::dvec2 halfExtentPx{0.0};    // bounding box of the cutoff ellipse
+    double amplitude = 0.0;          // optical depth at the centre: g_k * voxel volume * peak
+};
+SplatGeometry splatGeometry(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                            uint32_t voxel, double extinction, SplatCounters* counters = nullptr);
+
+// Extinction per object unit of a voxel of the given class (TF opacity x density / mean spacing).
+double extinctionOf(const SplatScene& scene, const SplatSettings& settings, uint16_t cls);
+
+Image renderReference(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                      SplatCounters* counters = nullptr);
+
+} // namespace renderer

@@ -1,0 +1,47 @@
+// The GL splatting path. Retained mode: the voxel classes, the LUT and the visible lists live on the
+// GPU; a frame uploads only a few uniforms and the vertex stage rebuilds each splat from its voxel
+// index. Needs a current GL 4.5 core context (HeadlessGl or the editor's window); owns its targets.
+#pragma once
+#include "renderer/image.h"
+#include "renderer/splat_scene.h"
+#include "renderer/splat_settings.h"
+
+#include <cstdint>
+#include <memory>
+
+namespace renderer {
+
+struct FrameStats {
+    double gpuMs = 0.0;          // GPU time of the last frame whose timer query is ready (ring, no stall)
+    double cpuMs = 0.0;          // CPU time spent issuing the frame
+    uint64_t splatsDrawn = 0;    // splats submitted (visible list of the traversal axis)
+    uint64_t uploadBytes = 0;    // bytes uploaded to buffers and textures by the last call
+};
+
+class SplatRenderer {
+public:
+    SplatRenderer();
+    ~SplatRenderer();
+    SplatRenderer(const SplatRenderer&) = delete;
+    SplatRenderer& operator=(const SplatRenderer&) = delete;
+
+    // Uploads classes, LUT and visible lists. Call again after setTransferFunction(scene, ...).
+    void setScene(const SplatScene& scene);
+    // Renders into the internal RGBA32F target (resized to plane.width x plane.height).
+    void render(const ImagePlane& plane, const SplatSettings& settings);
+    // The last frame as premultiplied float RGBA, row 0 at the top (X-ray already resolved).
+    Image readback() const;
+    // The last frame composited over `background` in an RGBA8 texture, for display (GL name). Memory
+    // row 0 is the image's top row, so ImGui::Image's default uvs show it upright.
+    unsigned displayTexture(const float background[3]);
+    const FrameStats& stats() const { return m_stats; }
+    // Bytes of GPU memory the scene holds (textures and buffers), for the bytes-per-voxel budget.
+    uint64_t sceneBytes() const;
+
+private:
+    struct Gl;
+    std::unique_ptr<Gl> m_gl;
+    FrameStats m_stats;
+};
+
+} // namespace renderer

@@ -1,0 +1,27 @@
+// Settings every rendering path shares (CPU oracle, GL, editor, CLI); plain data, no behaviour.
+#pragma once
+#include "renderer/ewa.h"
+
+#include <string>
+
+namespace renderer {
+
+enum class Compositing {
+    SplatEverySample,   // each splat "over" the image, back to front in slice order (000 fig. 9a)
+    XRay,               // additive, order-free (002 eq. 4-5); shown as 1 - exp(-sum)
+};
+const char* compositingName(Compositing c);   // "splat-every-sample", "xray"
+Compositing compositingFromName(const std::string& name);   // throws RenderError listing the names
+
+struct SplatSettings {
+    double kernelScale = 0.7;   // reconstruction sigma in voxel spacings; 0.7 keeps sum_k r_k within
+                                // 1e-3 of 1 on the grid (partition of unity), smaller ripples
+    double cutoffSigmas = 3.0;  // footprints are evaluated where (p-c)^T V^-1 (p-c) <= cutoff^2
+    double density = 1.0;       // extinction per voxel length (mean spacing) at TF opacity 1
+    FilterMode filter = FilterMode::Ewa;
+    Compositing compositing = Compositing::SplatEverySample;
+    double maxFootprintFraction = 2.0;  // footprints whose cutoff radius exceeds this times the
+                                        // image diagonal are culled (near-camera blow-up guard)
+};
+
+} // namespace renderer

@@ -1,0 +1,41 @@
+// Transfer function: control points over the normalised value domain [0,1] -> an RGBA lookup table.
+// Opacity is extinction per unit length (EWA_NOTES): a point's `opacity` times SplatSettings::density
+// is the extinction per voxel length. Presets are JSON files; the control points are what is saved.
+#pragma once
+#include "renderer/glm_config.h"
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace renderer {
+
+struct ControlPoint {
+    double value = 0.0;        // normalised data value in [0,1] (0 = range.lo, 1 = range.hi)
+    glm::dvec3 colour{1.0};    // linear RGB in [0,1]
+    double opacity = 0.0;      // in [0,1]; 0 makes voxels of this value invisible (never drawn)
+};
+
+struct TransferFunction {
+    std::string name;
+    std::vector<ControlPoint> points;   // sorted by value; piecewise linear between them
+};
+
+// Entries of the lookup table both the CPU oracle and the GL path index with a voxel's class.
+constexpr int kLutSize = 4096;
+using Lut = std::vector<glm::vec4>;     // kLutSize entries: rgb colour, a = opacity
+
+Lut bakeLut(const TransferFunction& tf);
+// Class of a value: which LUT entry it reads. Normalises over [lo, hi] and clamps; NaN gets class 0.
+uint16_t classOf(float value, float lo, float hi);
+
+// Presets: built-in names ("ct-skin-bone", "ct-bone", "grey-ramp", "soft", "fire") or a JSON file.
+std::vector<std::string> builtinPresetNames();
+TransferFunction builtinPreset(const std::string& name);          // throws RenderError if unknown
+TransferFunction loadTransferFunction(const std::filesystem::path& path);   // throws LoadError
+void saveTransferFunction(const TransferFunction& tf, const std::filesystem::path& path);  // atomic
+// A preset name or a JSON file path, whichever `spec` is.
+TransferFunction transferFunctionFromSpec(const std::string& spec);
+
+} // namespace renderer

@@ -1,0 +1,53 @@
+// The scalar volume every path shares: dims, spacing, origin, values in the data's own units.
+// It owns no GL objects and knows no file format (volume_io.h reads files into it).
+#pragma once
+#include "renderer/glm_config.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace renderer {
+
+enum class VoxelType { U8, U16, I16, F32 };
+
+const char* voxelTypeName(VoxelType t);       // "uint8", "uint16", "int16", "float32"
+size_t voxelTypeBytes(VoxelType t);
+
+struct ValueRange {
+    float lo = 0.0f;
+    float hi = 0.0f;
+};
+
+struct Histogram {
+    ValueRange range;                 // the bins cover [range.lo, range.hi]
+    std::vector<uint64_t> counts;     // equal-width bins
+};
+
+struct Volume {
+    std::string name;                 // shown in the UI and in `info`; usually the file stem
+    glm::ivec3 dims{0};               // voxels along x, y, z
+    glm::dvec3 spacing{1.0};          // distance between voxel centres, object units (mm for CT)
+    glm::dvec3 origin{0.0};           // object-space position of voxel (0,0,0)
+    VoxelType type = VoxelType::F32;  // the type the values had on disk
+    std::vector<float> values;        // x fastest, then y, then z; in the data's own units
+    ValueRange range;                 // min and max of the finite values (see updateRange)
+
+    size_t voxelCount() const { return size_t(dims.x) * size_t(dims.y) * size_t(dims.z); }
+    size_t index(int x, int y, int z) const {
+        return (size_t(z) * size_t(dims.y) + size_t(y)) * size_t(dims.x) + size_t(x);
+    }
+    float at(int x, int y, int z) const { return values[index(x, y, z)]; }
+    glm::dvec3 positionOf(int x, int y, int z) const { return origin + spacing * glm::dvec3(x, y, z); }
+    glm::dvec3 centre() const { return origin + 0.5 * spacing * glm::dvec3(dims - 1); }
+    // Radius of the sphere around centre() that holds every voxel centre.
+    double boundingRadius() const { return 0.5 * glm::length(spacing * glm::dvec3(dims - 1)); }
+};
+
+// Recomputes volume.range from the finite values (NaN and Inf are skipped).
+void updateRange(Volume& volume);
+// Equal-width histogram of the finite values over volume.range.
+Histogram computeHistogram(const Volume& volume, int bins);
+
+} // namespace renderer

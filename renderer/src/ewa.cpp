@@ -1,0 +1,53 @@
+// EWA footprint math in double precision (see ewa.h). Erratum: 000 eq. (3) misprints row 2 of the
+// Jacobian; we use 001 eq. (25), whose determinant is |u| / u2^3 (times fPx^2 in pixel units).
+#include "renderer/ewa.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace renderer {
+
+const char* filterModeName(FilterMode m) {
+    switch (m) {
+    case FilterMode::Reconstruction: return "reconstruction";
+    case FilterMode::LowPass: return "low-pass";
+    case FilterMode::Ewa: return "ewa";
+    }
+    return "?";
+}
+
+glm::dmat3 rayJacobianPx(glm::dvec3 u, double fPx) {
+    const double l = glm::length(u);
+    const double inv = 1.0 / u.z;
+    // Rows: (f/u2, 0, -f u0/u2^2), (0, f/u2, -f u1/u2^2), (u0/l, u1/l, u2/l). glm is column-major.
+    return glm::transpose(glm::dmat3(fPx * inv, 0.0, -fPx * u.x * inv * inv,   //
+                                     0.0, fPx * inv, -fPx * u.y * inv * inv,   //
+                                     u.x / l, u.y / l, u.z / l));
+}
+
+double rayJacobianDet(glm::dvec3 u, double fPx) { return fPx * fPx * glm::length(u) / (u.z * u.z * u.z); }
+
+Footprint projectKernel(glm::dvec3 u, const glm::dmat3& varianceCamera, double fPx, FilterMode mode,
+                        const glm::dmat2& lowPassPx) {
+    const glm::dmat3 j = rayJacobianPx(u, fPx);
+    const glm::dmat3 v = j * varianceCamera * glm::transpose(j);
+    const glm::dmat2 vHat(v[0][0], v[0][1], v[1][0], v[1][1]);
+
+    Footprint f;
+    f.offsetPx = fPx * glm::dvec2(u.x / u.z, u.y / u.z);
+    f.jacobianDet = rayJacobianDet(u, fPx);
+    switch (mode) {
+    case FilterMode::Reconstruction: f.variancePx = vHat; break;
+    case FilterMode::LowPass: f.variancePx = lowPassPx; break;
+    case FilterMode::Ewa: f.variancePx = vHat + lowPassPx; break;
+    }
+    // The |J| normaliser stays in every mode, so each deposits the same total and modes can mix.
+    f.peak = f.jacobianDet / (2.0 * std::numbers::pi * std::sqrt(glm::determinant(f.variancePx)));
+    return f;
+}
+
+double footprintRadius2(const Footprint& f, glm::dvec2 d) { return glm::dot(d, glm::inverse(f.variancePx) * d); }
+
+double footprintAt(const Footprint& f, glm::dvec2 d) { return f.peak * std::exp(-0.5 * footprintRadius2(f, d)); }
+
+} // namespace renderer

@@ -1,0 +1,82 @@
+// Image I/O through OpenImageIO and image statistics.
+#include "renderer/image.h"
+
+#include "renderer/errors.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace renderer {
+
+static bool isFloatFormat(const std::filesystem::path& path) {
+    auto ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    return ext == ".exr" || ext == ".hdr" || ext == ".tif" || ext == ".tiff" || ext == ".pfm";
+}
+
+void writeImage(const Image& image, const std::filesystem::path& path, const float background[3]) {
+    auto out = OIIO::ImageOutput::create(path.string());
+    if (!out) throw LoadError(path.string(), "", "no image writer for this extension: " + OIIO::geterror());
+    const size_t n = size_t(image.width) * size_t(image.height);
+    bool ok;
+    if (isFloatFormat(path)) {
+        OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::FLOAT);
+        ok = out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, image.rgba.data());
+    } else {
+        // For people: composite the premultiplied image over the background, 8-bit RGB.
+        const float zero[3] = {0, 0, 0};
+        const float* bg = background ? background : zero;
+        std::vector<unsigned char> rgb(n * 3);
+        for (size_t i = 0; i < n; ++i) {
+            const float* p = &image.rgba[i * 4];
+            for (int c = 0; c < 3; ++c) {
+                const float v = p[c] + (1.0f - p[3]) * bg[c];
+                rgb[i * 3 + c] = (unsigned char)std::lround(std::clamp(std::isfinite(v) ? v : 0.f, 0.f, 1.f) * 255.f);
+            }
+        }
+        OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+        ok = out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, rgb.data());
+    }
+    if (!ok || !out->close()) throw LoadError(path.string(), "", "cannot write image: " + out->geterror());
+}
+
+Image readImage(const std::filesystem::path& path) {
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) throw LoadError(path.string(), "", "cannot read image: " + OIIO::geterror());
+    const auto& spec = in->spec();
+    if (spec.nchannels < 1) throw LoadError(path.string(), "channels", "image has no channels");
+    std::vector<float> data(size_t(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
+        throw LoadError(path.string(), "", "cannot read pixels: " + in->geterror());
+    Image img(spec.width, spec.height);
+    for (size_t i = 0; i < size_t(spec.width) * spec.height; ++i) {
+        const float* s = &data[i * spec.nchannels];
+        float* d = &img.rgba[i * 4];
+        for (int c = 0; c < 3; ++c) d[c] = s[std::min(c, spec.nchannels - 1)];
+        d[3] = spec.nchannels >= 4 ? s[3] : 1.0f;
+    }
+    return img;
+}
+
+ImageStats imageStats(const Image& image) {
+    ImageStats s;
+    const size_t n = size_t(image.width) * size_t(image.height);
+    if (n == 0) return s;
+    size_t covered = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const float* p = &image.rgba[i * 4];
+        for (int c = 0; c < 4; ++c) s.finite = s.finite && std::isfinite(p[c]);
+        s.meanAlpha += p[3];
+        s.maxAlpha = std::max(s.maxAlpha, double(p[3]));
+        s.meanLuminance += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        covered += p[3] > 1.0f / 255.0f;
+    }
+    s.meanAlpha /= double(n);
+    s.meanLuminance /= double(n);
+    s.coveredFraction = double(covered) / double(n);
+    return s;
+}
+
+} // namespace renderer

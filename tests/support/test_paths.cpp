@@ -1,0 +1,26 @@
+#include "test_paths.h"
+
+#include <cstdlib>
+
+namespace testing_support {
+
+static std::filesystem::path envPath(const char* name, const char* fallback) {
+    const char* v = std::getenv(name);
+    return (v && *v) ? std::filesystem::path(v) : std::filesystem::path(fallback);
+}
+
+std::filesystem::path assetDir() { return envPath("SPLATLAB_ASSET_DIR", "assets"); }
+
+std::optional<std::filesystem::path> sharedDataDir() {
+    auto p = envPath("SPLATLAB_DATA_DIR", "../shared/data/volumes");
+    if (std::filesystem::is_directory(p)) return p;
+    return std::nullopt;
+}
+
+std::filesystem::path testOutputDir() {
+    auto p = envPath("SPLATLAB_TEST_OUT", "test_out");
+    std::filesystem::create_directories(p);
+    return p;
+}
+
+} // namespace testing_support

@@ -1,0 +1,74 @@
+// ui layer, end to end: the real editor runs under Xvfb (Mesa llvmpipe) and writes a screenshot; the
+// test checks that the viewport shows the volume and that the panels look unlike the viewport. It
+// compares regions with each other, never with a stored image.
+#include "renderer/image.h"
+#include "test_paths.h"
+#include "ui/dock_layout.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+
+namespace {
+
+double luminance(const float* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
+
+// The most common 8-bit luminance in `r`: a flat background wins over the shaded volume and text.
+double modalLuminance(const renderer::Image& image, const ui::Rect& r) {
+    std::array<int, 256> counts{};
+    for (int y = int(r.y); y < int(r.bottom()); ++y)
+        for (int x = int(r.x); x < int(r.right()); ++x) ++counts[size_t(std::lround(luminance(image.pixel(x, y)) * 255.0))];
+    return double(std::max_element(counts.begin(), counts.end()) - counts.begin()) / 255.0;
+}
+
+double fractionBrighterThan(const renderer::Image& image, const ui::Rect& r, double threshold) {
+    size_t bright = 0, all = 0;
+    for (int y = int(r.y); y < int(r.bottom()); ++y)
+        for (int x = int(r.x); x < int(r.right()); ++x, ++all) bright += luminance(image.pixel(x, y)) > threshold;
+    return all ? double(bright) / double(all) : 0.0;
+}
+
+ui::Rect shrink(const ui::Rect& r, float top, float fraction) {
+    const ui::Rect body{r.x, r.y + top, r.w, r.h - top};
+    return {body.x + body.w * fraction, body.y + body.h * fraction, body.w * (1 - 2 * fraction),
+            body.h * (1 - 2 * fraction)};
+}
+
+} // namespace
+
+TEST(EditorScreenshot, ViewportShowsTheVolumeAndPanelsDifferFromIt) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    const std::filesystem::path volume = testing_support::assetDir() / "volumes" / "headsq.nhdr";
+    ASSERT_TRUE(std::filesystem::exists(volume)) << volume << " is missing from the bundled assets";
+    const std::filesystem::path shot = testing_support::testOutputDir() / "editor.png";
+    std::filesystem::remove(shot);
+
+    const std::string command = "LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE
+                                "\" editor \"" + volume.string() + "\" --screenshot \"" + shot.string() +
+                                "\" --frames 5 --size 1280x800";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    const renderer::Image image = renderer::readImage(shot);
+    ASSERT_EQ(image.width, 1280);
+    ASSERT_EQ(image.height, 800);
+
+    // Regions come from the editor's own layout at this window size. 30 px skips the tab bars.
+    const ui::DockLayout layout = ui::makeEditorLayout();
+    const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    const ui::Rect viewport = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.0f);
+    const ui::Rect centre = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.25f);
+    const ui::Rect left = shrink(rects.node[size_t(layout.find("left"))], 30.0f, 0.0f);
+
+    // 1. The viewport's centre half shows the volume: a good share of it clearly above the background.
+    //    0.08 is about 20 grey levels, far above the 8-bit rounding of the flat background.
+    const double background = modalLuminance(image, viewport);
+    const double covered = fractionBrighterThan(image, centre, background + 0.08);
+    EXPECT_GT(covered, 0.05) << "viewport background " << background << ", see " << shot;
+
+    // 2. The settings panel is not more viewport: another flat colour, and text on it.
+    EXPECT_GT(std::abs(modalLuminance(image, left) - background), 2.0 / 255.0) << "see " << shot;
+    EXPECT_GT(fractionBrighterThan(image, left, 0.5), 0.002) << "no text in the settings panel, see " << shot;
+}

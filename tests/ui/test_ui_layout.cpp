@@ -1,0 +1,361 @@
+// ui layer: the dock layout math and the orbit rule as pure functions, then the panels and the dock
+// space driven through ImGui with no renderer backend (mouse events in, settings structs out; no pixels).
+#include "ui/dock_layout.h"
+#include "ui/panels.h"
+
+#include <gtest/gtest.h>
+#include <imgui.h>
+#include <imgui_internal.h>   // ImGuiContext::HoveredId and FindWindowByName, to find widgets to click
+
+#include <functional>
+#include <map>
+
+namespace {
+
+using ui::DockLayout;
+using ui::Rect;
+
+float area(const Rect& r) { return r.w * r.h; }
+
+bool overlaps(const Rect& a, const Rect& b) {
+    return a.x < b.right() && b.x < a.right() && a.y < b.bottom() && b.y < a.bottom();
+}
+
+// The pieces that must tile the window: every leaf and every splitter bar.
+std::vector<Rect> tiles(const DockLayout& layout, const ui::DockRects& rects) {
+    std::vector<Rect> out;
+    for (size_t i = 0; i < layout.nodes.size(); ++i)
+        out.push_back(layout.nodes[i].isLeaf() ? rects.node[i] : rects.splitter[i]);
+    return out;
+}
+
+float extent(const DockLayout& layout, const ui::DockRects& rects, const char* region, bool width) {
+    const Rect& r = rects.node[layout.find(region)];
+    return width ? r.w : r.h;
+}
+
+} // namespace
+
+// == Dock layout math
+
+TEST(DockLayout, LeavesAndSplittersTileTheWindowWithoutGapsOrOverlaps) {
+    const DockLayout layout = ui::makeEditorLayout();
+    for (Rect window : {Rect{0, 0, 1280, 800}, Rect{0, 0, 1920, 1080}, Rect{10, 20, 641, 479},
+                        Rect{0, 0, 300, 200}, Rect{0, 0, 3, 2}}) {
+        SCOPED_TRACE(testing::Message() << window.w << "x" << window.h);
+        const std::vector<Rect> pieces = tiles(layout, ui::computeDockRects(layout, window));
+        float covered = 0;
+        for (size_t i = 0; i < pieces.size(); ++i) {
+            const Rect& p = pieces[i];
+            EXPECT_GE(p.w, 0);
+            EXPECT_GE(p.h, 0);
+            EXPECT_GE(p.x, window.x);
+            EXPECT_GE(p.y, window.y);
+            EXPECT_LE(p.right(), window.right());
+            EXPECT_LE(p.bottom(), window.bottom());
+            covered += area(p);
+            for (size_t j = i + 1; j < pieces.size(); ++j) EXPECT_FALSE(overlaps(p, pieces[j])) << i << " vs " << j;
+        }
+        // Inside the window and pairwise disjoint, so equal total area means no gaps.
+        EXPECT_FLOAT_EQ(covered, area(window));
+    }
+}
+
+TEST(DockLayout, EditorLayoutPlacesLeftColumnViewportAndBottomStrip) {
+    const DockLayout layout = ui::makeEditorLayout();
+    const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    const Rect left = rects.node[layout.find("left")];
+    const Rect viewport = rects.node[layout.find("viewport")];
+    const Rect bottom = rects.node[layout.find("bottom")];
+    EXPECT_EQ(left.x, 0);
+    EXPECT_EQ(left.h, 800);                        // the left column runs the full height
+    EXPECT_EQ(viewport.x, left.right() + layout.splitterPx);
+    EXPECT_EQ(viewport.w, bottom.w);               // the bottom strip sits under the viewport only
+    EXPECT_EQ(bottom.bottom(), 800);
+    EXPECT_EQ(left.w, std::round(0.25f * (1280 - layout.splitterPx)));
+    EXPECT_EQ(layout.find("nowhere"), -1);
+}
+
+TEST(DockLayout, SplitterDragsStopAtMinSizes) {
+    DockLayout layout = ui::makeEditorLayout();
+    ui::DockNode& root = layout.nodes[0];
+    ui::DockNode& centre = layout.nodes[size_t(layout.find("centre"))];
+    const Rect window{0, 0, 1280, 800};
+    const float columnsAvail = window.w - layout.splitterPx;
+
+    ui::setFirstExtentPx(root, 5.0f, columnsAvail);   // drag the left column almost shut
+    auto rects = ui::computeDockRects(layout, window);
+    EXPECT_EQ(extent(layout, rects, "left", true), root.minFirstPx);
+
+    ui::setFirstExtentPx(root, 5000.0f, columnsAvail);   // and far past the right edge
+    rects = ui::computeDockRects(layout, window);
+    EXPECT_EQ(extent(layout, rects, "viewport", true), root.minSecondPx);
+
+    const float rowsAvail = window.h - layout.splitterPx;
+    ui::setFirstExtentPx(centre, 5000.0f, rowsAvail);   // bottom strip dragged off the screen
+    rects = ui::computeDockRects(layout, window);
+    EXPECT_EQ(extent(layout, rects, "bottom", false), centre.minSecondPx);
+    ui::setFirstExtentPx(centre, -50.0f, rowsAvail);
+    rects = ui::computeDockRects(layout, window);
+    EXPECT_EQ(extent(layout, rects, "viewport", false), centre.minFirstPx);
+}
+
+TEST(DockLayout, WindowResizeKeepsRatios) {
+    DockLayout layout = ui::makeEditorLayout();
+    ui::setFirstExtentPx(layout.nodes[0], 400.0f, 1280 - layout.splitterPx);
+    const auto before = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    EXPECT_EQ(extent(layout, before, "left", true), 400.0f);
+
+    // Larger: the left column keeps its share, to the rounding pixel.
+    const auto larger = ui::computeDockRects(layout, {0, 0, 1920, 1200});
+    EXPECT_NEAR(extent(layout, larger, "left", true) / (1920 - layout.splitterPx), 400.0f / (1280 - layout.splitterPx),
+                0.5f / (1920 - layout.splitterPx));
+
+    // Too small for the min sizes, then back: the clamped layout did not overwrite the ratios.
+    const auto tiny = ui::computeDockRects(layout, {0, 0, 400, 200});
+    EXPECT_EQ(extent(layout, tiny, "left", true), std::floor(394.0f * 220.0f / 540.0f));   // shared by mins
+    const auto again = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    for (size_t i = 0; i < layout.nodes.size(); ++i) {
+        EXPECT_EQ(again.node[i].x, before.node[i].x);
+        EXPECT_EQ(again.node[i].w, before.node[i].w);
+        EXPECT_EQ(again.node[i].h, before.node[i].h);
+    }
+}
+
+// == Orbit rule
+
+TEST(OrbitInput, HorizontalDragTurnsAzimuthByTheStatedGain) {
+    renderer::Camera camera;
+    camera.azimuthDeg = 30.0;
+    EXPECT_TRUE(ui::applyOrbitInput(camera, {.rotateDxPx = 100.0f}));
+    EXPECT_NEAR(camera.azimuthDeg, 30.0 - 100.0 * ui::kOrbitDegPerPx, 1e-9);
+    EXPECT_EQ(camera.elevationDeg, renderer::Camera{}.elevationDeg);
+}
+
+TEST(OrbitInput, AzimuthWrapsIntoHalfOpenRange) {
+    renderer::Camera camera;
+    camera.azimuthDeg = 170.0;
+    ui::applyOrbitInput(camera, {.rotateDxPx = -200.0f});   // +60 degrees at 0.3 degrees a pixel
+    EXPECT_NEAR(camera.azimuthDeg, 170.0 + 200.0 * ui::kOrbitDegPerPx - 360.0, 1e-9);
+}
+
+TEST(OrbitInput, ElevationClampsShortOfThePoles) {
+    renderer::Camera camera;
+    ui::applyOrbitInput(camera, {.rotateDyPx = 1e5f});
+    EXPECT_EQ(camera.elevationDeg, ui::kMaxElevationDeg);
+    ui::applyOrbitInput(camera, {.rotateDyPx = -1e5f});
+    EXPECT_EQ(camera.elevationDeg, -ui::kMaxElevationDeg);
+    EXPECT_LT(ui::kMaxElevationDeg, 90.0);
+}
+
+TEST(OrbitInput, WheelZoomScalesDistanceAndClampsToRange) {
+    renderer::Camera camera;
+    const double start = camera.distance;
+    ui::applyOrbitInput(camera, {.wheelNotches = 1.0f});
+    EXPECT_NEAR(camera.distance, start * ui::kZoomPerNotch, 1e-12);
+    ui::applyOrbitInput(camera, {.wheelNotches = 200.0f});
+    EXPECT_EQ(camera.distance, ui::kMinDistance);
+    ui::applyOrbitInput(camera, {.wheelNotches = -200.0f});
+    EXPECT_EQ(camera.distance, ui::kMaxDistance);
+}
+
+TEST(OrbitInput, PanMovesOrbitCentreWithTheMouseAndNoInputChangesNothing) {
+    renderer::Camera camera;
+    EXPECT_FALSE(ui::applyOrbitInput(camera, {}));
+    EXPECT_TRUE(ui::applyOrbitInput(camera, {.panDxPx = 12.0f, .panDyPx = -5.0f}));
+    EXPECT_EQ(camera.panPx, glm::dvec2(12.0, -5.0));
+    EXPECT_EQ(camera.azimuthDeg, renderer::Camera{}.azimuthDeg);
+}
+
+// == Panels and dock space through ImGui with no renderer backend
+
+namespace {
+
+class ImGuiNull : public testing::Test {
+protected:
+    void SetUp() override {
+        ImGui::CreateContext();
+        ImGuiIO& io = ImGui::GetIO();
+        io.DisplaySize = ImVec2(1280, 800);
+        io.DeltaTime = 1.0f / 60.0f;
+        io.IniFilename = nullptr;
+        unsigned char* pixels = nullptr;
+        int w = 0, h = 0;
+        io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);   // builds the atlas; nothing uploads it
+    }
+    void TearDown() override { ImGui::DestroyContext(); }
+
+    // One frame with `body` inside a fixed 400x700 window at the origin.
+    void frame(const std::function<void()>& body) {
+        ImGui::NewFrame();
+        ImGui::SetNextWindowPos(ImVec2(0, 0));
+        ImGui::SetNextWindowSize(ImVec2(400, 700));
+        ImGui::Begin("Panel", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
+        body();
+        ImGui::End();
+        ImGui::Render();
+    }
+    void mouse(float x, float y, bool down) {
+        ImGui::GetIO().MousePos = ImVec2(x, y);
+        ImGui::GetIO().MouseDown[0] = down;
+    }
+    // Moves the mouse down the column x = `x` between y0 and y1 until the item `id` is hovered; returns
+    // the y where it was, or -1. Widget positions come from ImGui's own layout, not from constants.
+    float findItem(ImGuiID id, float x, float y0, float y1, const std::function<void()>& body) {
+        for (float y = y0; y < y1; y += 2.0f) {
+            mouse(x, y, false);
+            frame(body);
+            if (ImGui::GetCurrentContext()->HoveredId == id) return y;
+        }
+        return -1.0f;
+    }
+};
+
+void expectSameState(const ui::EditorState& a, const ui::EditorState& b) {
+    EXPECT_EQ(a.presetName, b.presetName);
+    EXPECT_EQ(a.settings.kernelScale, b.settings.kernelScale);
+    EXPECT_EQ(a.settings.cutoffSigmas, b.settings.cutoffSigmas);
+    EXPECT_EQ(a.settings.density, b.settings.density);
+    EXPECT_EQ(a.settings.filter, b.settings.filter);
+    EXPECT_EQ(a.settings.compositing, b.settings.compositing);
+    EXPECT_EQ(a.camera.fovYDeg, b.camera.fovYDeg);
+    EXPECT_EQ(a.camera.azimuthDeg, b.camera.azimuthDeg);
+    EXPECT_EQ(a.camera.distance, b.camera.distance);
+}
+
+} // namespace
+
+TEST_F(ImGuiNull, SettingsPanelLeavesStateAloneWithoutInput) {
+    ui::EditorState state;
+    const ui::EditorState before = state;
+    for (int i = 0; i < 3; ++i) {
+        mouse(900, 700, false);   // outside the panel
+        frame([&] { EXPECT_FALSE(ui::drawSettingsPanel(state).any()); });
+    }
+    expectSameState(state, before);
+}
+
+TEST_F(ImGuiNull, ClickingCompositingComboAndXrayItemSelectsXray) {
+    ui::EditorState state;
+    ui::SettingsChanges changes;
+    ImGuiID comboId = 0;
+    auto body = [&] {
+        comboId = ImGui::GetID("Compositing");
+        const ui::SettingsChanges c = ui::drawSettingsPanel(state);
+        changes.settingsChanged |= c.settingsChanged;
+        changes.tfChanged |= c.tfChanged;
+    };
+    frame(body);   // lay the panel out once so the id is known
+
+    // 1. Hover and click the combo: its popup opens.
+    const float comboY = findItem(comboId, 40.0f, 0.0f, 700.0f, body);
+    ASSERT_GE(comboY, 0.0f) << "the Compositing combo was never hovered";
+    mouse(40.0f, comboY, true);
+    frame(body);
+    mouse(40.0f, comboY, false);
+    frame(body);
+    const ImGuiWindow* popup = ImGui::FindWindowByName("##Combo_00");
+    ASSERT_NE(popup, nullptr);
+    ASSERT_TRUE(popup->Active) << "the combo's popup did not open";
+    EXPECT_FALSE(changes.settingsChanged);
+
+    // 2. Hover and click "xray" in the popup, which opens below the combo.
+    const ImGuiID xrayId = ImHashStr("xray", 0, popup->ID);
+    const float x = 40.0f;
+    const float itemY = findItem(xrayId, x, comboY, comboY + 200.0f, body);
+    ASSERT_GE(itemY, 0.0f) << "the xray item was never hovered";
+    EXPECT_FALSE(changes.settingsChanged);
+    mouse(x, itemY, true);
+    frame(body);
+    mouse(x, itemY, false);
+    frame(body);
+
+    EXPECT_EQ(state.settings.compositing, renderer::Compositing::XRay);
+    EXPECT_TRUE(changes.settingsChanged);
+    EXPECT_FALSE(changes.tfChanged);
+}
+
+TEST_F(ImGuiNull, ResetCameraButtonRestoresTheDefaultCamera) {
+    ui::EditorState state;
+    state.camera.azimuthDeg = 123.0;
+    state.camera.distance = 7.0;
+    bool cameraChanged = false;
+    ImGuiID buttonId = 0;
+    auto body = [&] {
+        buttonId = ImGui::GetID("Reset camera");
+        cameraChanged |= ui::drawSettingsPanel(state).cameraChanged;
+    };
+    frame(body);
+    const float y = findItem(buttonId, 30.0f, 0.0f, 700.0f, body);
+    ASSERT_GE(y, 0.0f);
+    EXPECT_FALSE(cameraChanged);
+    mouse(30.0f, y, true);
+    frame(body);
+    mouse(30.0f, y, false);
+    frame(body);
+    EXPECT_TRUE(cameraChanged);
+    EXPECT_EQ(state.camera.azimuthDeg, renderer::Camera{}.azimuthDeg);
+    EXPECT_EQ(state.camera.distance, renderer::Camera{}.distance);
+}
+
+TEST_F(ImGuiNull, LeftDragInViewportOrbitsByTheStatedGain) {
+    ui::EditorState state;
+    const double azimuth = state.camera.azimuthDeg;
+    ui::ViewportResult result;
+    auto body = [&] { result = ui::drawViewportPanel(state, 0); };
+    mouse(200, 300, false);
+    frame(body);
+    mouse(200, 300, true);
+    frame(body);
+    mouse(250, 300, true);   // 50 px to the right while held
+    frame(body);
+    EXPECT_TRUE(result.cameraChanged);
+    mouse(250, 300, false);
+    frame(body);
+    EXPECT_NEAR(state.camera.azimuthDeg, azimuth - 50.0 * ui::kOrbitDegPerPx, 1e-6);
+    EXPECT_GT(result.widthPx, 300);   // the panel's content region, in pixels
+    EXPECT_GT(result.heightPx, 600);
+}
+
+TEST_F(ImGuiNull, DockSpaceDrawsFrontTabsAndDraggingTheColumnSplitterMovesIt) {
+    DockLayout layout = ui::makeEditorLayout();
+    std::map<std::string, int> drawn;
+    std::vector<ui::DockPanel> panels;
+    for (auto [title, region] : {std::pair{"Settings", "left"}, std::pair{"Viewport", "viewport"},
+                                 std::pair{"Stats", "bottom"}, std::pair{"Help", "bottom"}})
+        panels.push_back({title, region, [&drawn, t = std::string(title)] { ++drawn[t]; }});
+    auto body = [&] {
+        ImGui::NewFrame();
+        ui::drawDockSpace(layout, panels);
+        ImGui::Render();
+    };
+    const Rect window{0, 0, 1280, 800};
+    const Rect bar = ui::computeDockRects(layout, window).splitter[0];
+    const float leftBefore = ui::computeDockRects(layout, window).node[size_t(layout.find("left"))].w;
+
+    ImGui::GetIO().MousePos = ImVec2(bar.x + bar.w * 0.5f, 400.0f);
+    body();
+    body();
+    EXPECT_EQ(drawn["Settings"], 2);
+    EXPECT_EQ(drawn["Viewport"], 2);
+    EXPECT_EQ(drawn["Stats"], 2);   // the first tab of the bottom strip is the one shown
+    EXPECT_EQ(drawn["Help"], 0);
+    // The splitter gap belongs to the host window, the regions to their own windows (on top of it).
+    ASSERT_NE(ImGui::GetCurrentContext()->HoveredWindow, nullptr);
+    EXPECT_STREQ(ImGui::GetCurrentContext()->HoveredWindow->Name, "##dock_host");
+    const Rect viewport = ui::computeDockRects(layout, window).node[size_t(layout.find("viewport"))];
+    ImGui::GetIO().MousePos = ImVec2(viewport.x + viewport.w * 0.5f, viewport.y + viewport.h * 0.5f);
+    body();
+    ASSERT_NE(ImGui::GetCurrentContext()->HoveredWindow, nullptr);
+    EXPECT_STREQ(ImGui::GetCurrentContext()->HoveredWindow->Name, "##dock_viewport");
+    ImGui::GetIO().MousePos = ImVec2(bar.x + bar.w * 0.5f, 400.0f);
+    body();
+
+    ImGui::GetIO().MouseDown[0] = true;
+    body();
+    ImGui::GetIO().MousePos.x += 60.0f;
+    body();
+    ImGui::GetIO().MouseDown[0] = false;
+    body();
+    EXPECT_EQ(ui::computeDockRects(layout, window).node[size_t(layout.find("left"))].w, leftBefore + 60.0f);
+}

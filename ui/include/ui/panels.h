@@ -1,0 +1,71 @@
+// The editor's panels: each draws into the current ImGui window and edits EditorState; none owns GL
+// objects. applyOrbitInput() is the pure camera rule behind the viewport's mouse handling.
+#pragma once
+#include "renderer/camera.h"
+#include "renderer/splat_renderer.h"
+#include "renderer/volume.h"
+#include "ui/editor_state.h"
+
+#include <span>
+#include <string>
+
+namespace ui {
+
+// == Settings
+
+struct SettingsChanges {
+    bool tfChanged = false;         // presetName changed: re-bake the LUT and rebuild the visible lists
+    bool settingsChanged = false;   // a SplatSettings field changed
+    bool cameraChanged = false;     // field of view or "Reset camera"
+    bool any() const { return tfChanged || settingsChanged || cameraChanged; }
+};
+
+// TF preset, kernel scale, cutoff, density, filter mode, compositing, field of view, camera reset.
+SettingsChanges drawSettingsPanel(EditorState& state);
+
+// == Viewport
+
+// Mouse motion over the viewport during one frame, in display pixels (x right, y down).
+struct OrbitInput {
+    float rotateDxPx = 0, rotateDyPx = 0;   // left-button drag
+    float panDxPx = 0, panDyPx = 0;         // right- or middle-button drag
+    float wheelNotches = 0;                 // positive = wheel turned away from the user = zoom in
+};
+
+constexpr double kOrbitDegPerPx = 0.3;      // a 300 px drag turns the camera 90 degrees
+constexpr double kZoomPerNotch = 0.9;       // distance multiplier per notch of zoom in (1/0.9 out)
+constexpr double kMinDistance = 1.05;       // in bounding radii: just outside the volume's sphere
+constexpr double kMaxDistance = 20.0;
+constexpr double kMaxElevationDeg = 89.0;   // short of the poles, where the azimuth degenerates
+
+// Drag right: azimuth decreases (the volume turns right). Drag down: elevation increases. Pan moves the
+// orbit centre with the mouse. Azimuth wraps to [-180, 180); elevation and distance clamp to the
+// limits above. Returns whether the camera changed.
+bool applyOrbitInput(renderer::Camera& camera, const OrbitInput& input);
+
+struct ViewportResult {
+    int widthPx = 0, heightPx = 0;   // framebuffer pixels the panel shows: render at this size
+    bool cameraChanged = false;
+};
+
+// Shows `texture` (a GL texture name, 0 for none) stretched over the panel's whole content region;
+// mouse drags and the wheel inside it move state.camera.
+ViewportResult drawViewportPanel(EditorState& state, unsigned texture);
+
+// == Stats and help
+
+struct StatsView {
+    renderer::FrameStats frame;                  // of the last render
+    const renderer::Volume* volume = nullptr;    // null when no volume is loaded
+    size_t visibleSplats = 0;                    // voxels the TF leaves visible
+    std::string glRenderer;                      // GL_RENDERER of the editor's context
+    std::span<const float> frameMsHistory;       // recent whole-frame times, oldest first
+};
+void drawStatsPanel(const StatsView& stats);
+
+void drawHelpPanel();
+
+// Opens a modal with state.errorMessage while it is non-empty; "OK" clears it.
+void drawErrorModal(EditorState& state);
+
+} // namespace ui

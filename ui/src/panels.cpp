@@ -1,0 +1,216 @@
+// The settings, viewport, stats and help panels and the error modal. They edit EditorState and show
+// what the app hands them; they never call GL or touch renderer objects beyond reading their stats.
+#include "ui/panels.h"
+
+#include "renderer/transfer_function.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+
+namespace ui {
+
+namespace {
+
+// A tooltip on the item just drawn: says what a setting does, not what it is called.
+void hint(const char* text) {
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+}
+
+void sectionTitle(const char* title) {
+    ImGui::Spacing();
+    ImGui::TextDisabled("%s", title);
+    ImGui::Separator();
+}
+
+bool sliderDouble(const char* label, double& value, double lo, double hi, const char* format,
+                  ImGuiSliderFlags flags = 0) {
+    return ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &lo, &hi, format, flags);
+}
+
+// A combo over an enum's values, labelled with the renderer's own names for them.
+template <class E, size_t N>
+bool enumCombo(const char* label, E& value, const std::array<E, N>& options, const char* (*nameOf)(E)) {
+    bool changed = false;
+    if (ImGui::BeginCombo(label, nameOf(value))) {
+        for (E option : options) {
+            const bool selected = option == value;
+            if (ImGui::Selectable(nameOf(option), selected) && !selected) value = option, changed = true;
+            if (selected) ImGui::SetItemDefaultFocus();
+        }
+        ImGui::EndCombo();
+    }
+    return changed;
+}
+
+} // namespace
+
+SettingsChanges drawSettingsPanel(EditorState& state) {
+    SettingsChanges changes;
+    renderer::SplatSettings& s = state.settings;
+    ImGui::PushItemWidth(-ImGui::GetFontSize() * 7.0f);   // leaves room for the labels on the right
+
+    sectionTitle("Transfer function");
+    if (ImGui::BeginCombo("Preset", state.presetName.c_str())) {
+        for (const std::string& name : renderer::builtinPresetNames()) {
+            const bool selected = name == state.presetName;
+            if (ImGui::Selectable(name.c_str(), selected) && !selected)
+                state.presetName = name, changes.tfChanged = true;
+            if (selected) ImGui::SetItemDefaultFocus();
+        }
+        ImGui::EndCombo();
+    }
+    hint("Built-in transfer functions: value -> colour and extinction");
+
+    sectionTitle("Splatting");
+    changes.settingsChanged |= sliderDouble("Kernel scale", s.kernelScale, 0.3, 2.0, "%.2f");
+    hint("Reconstruction sigma in voxel spacings; 0.7 keeps the kernels a partition of unity");
+    changes.settingsChanged |= sliderDouble("Cutoff", s.cutoffSigmas, 1.0, 5.0, "%.1f sigmas");
+    hint("Footprints are evaluated out to this many standard deviations");
+    changes.settingsChanged |=
+        sliderDouble("Density", s.density, 0.01, 100.0, "%.3g", ImGuiSliderFlags_Logarithmic);
+    hint("Extinction per voxel length at TF opacity 1");
+    changes.settingsChanged |= enumCombo("Filter", s.filter,
+                                         std::array{renderer::FilterMode::Reconstruction,
+                                                    renderer::FilterMode::LowPass, renderer::FilterMode::Ewa},
+                                         &renderer::filterModeName);
+    hint("reconstruction: kernel only (aliases when minified)\nlow-pass: screen filter only\n"
+         "ewa: both convolved, the resampling filter");
+    changes.settingsChanged |= enumCombo(
+        "Compositing", s.compositing,
+        std::array{renderer::Compositing::SplatEverySample, renderer::Compositing::XRay},
+        &renderer::compositingName);
+    hint("splat-every-sample: back-to-front 'over' in slice order\nxray: additive, order-free");
+
+    sectionTitle("Camera");
+    changes.cameraChanged |= sliderDouble("Field of view", state.camera.fovYDeg, 10.0, 100.0, "%.0f deg");
+    if (ImGui::Button("Reset camera")) state.camera = renderer::Camera{}, changes.cameraChanged = true;
+    const renderer::Camera& c = state.camera;
+    ImGui::TextDisabled("azimuth %.1f  elevation %.1f  distance %.2f", c.azimuthDeg, c.elevationDeg, c.distance);
+
+    ImGui::PopItemWidth();
+    return changes;
+}
+
+bool applyOrbitInput(renderer::Camera& camera, const OrbitInput& input) {
+    const renderer::Camera before = camera;
+    if (input.rotateDxPx != 0.0f) {
+        const double azimuth = std::fmod(camera.azimuthDeg - kOrbitDegPerPx * input.rotateDxPx + 180.0, 360.0);
+        camera.azimuthDeg = (azimuth < 0.0 ? azimuth + 360.0 : azimuth) - 180.0;
+    }
+    if (input.rotateDyPx != 0.0f)
+        camera.elevationDeg = std::clamp(camera.elevationDeg + kOrbitDegPerPx * input.rotateDyPx,
+                                         -kMaxElevationDeg, kMaxElevationDeg);
+    camera.panPx += glm::dvec2(input.panDxPx, input.panDyPx);
+    if (input.wheelNotches != 0.0f)
+        camera.distance = std::clamp(camera.distance * std::pow(kZoomPerNotch, double(input.wheelNotches)),
+                                     kMinDistance, kMaxDistance);
+    return camera.azimuthDeg != before.azimuthDeg || camera.elevationDeg != before.elevationDeg ||
+           camera.panPx != before.panPx || camera.distance != before.distance;
+}
+
+ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
+    const ImGuiIO& io = ImGui::GetIO();
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const ImVec2 avail = ImGui::GetContentRegionAvail();
+    const ImVec2 extent{std::max(avail.x, 1.0f), std::max(avail.y, 1.0f)};
+    const ImVec2 end{origin.x + extent.x, origin.y + extent.y};
+
+    // 1. One button over the whole region captures left, right and middle drags (and the wheel).
+    ImGui::InvisibleButton("##viewport", extent,
+                           ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight |
+                               ImGuiButtonFlags_MouseButtonMiddle);
+    OrbitInput input;
+    if (ImGui::IsItemActive()) {
+        const float scaleX = io.DisplayFramebufferScale.x, scaleY = io.DisplayFramebufferScale.y;
+        if (ImGui::IsMouseDown(ImGuiMouseButton_Left))
+            input.rotateDxPx = io.MouseDelta.x, input.rotateDyPx = io.MouseDelta.y;
+        else if (ImGui::IsMouseDown(ImGuiMouseButton_Right) || ImGui::IsMouseDown(ImGuiMouseButton_Middle))
+            input.panDxPx = io.MouseDelta.x * scaleX, input.panDyPx = io.MouseDelta.y * scaleY;   // pan is in render pixels
+    }
+    if (ImGui::IsItemHovered()) input.wheelNotches = io.MouseWheel;
+
+    ViewportResult result;
+    result.cameraChanged = applyOrbitInput(state.camera, input);
+    result.widthPx = std::max(1, int(std::lround(extent.x * io.DisplayFramebufferScale.x)));
+    result.heightPx = std::max(1, int(std::lround(extent.y * io.DisplayFramebufferScale.y)));
+
+    // 2. The image, or a note saying why there is none. The renderer's texture has row 0 at the top
+    //    of the image, so it maps straight onto ImGui's y-down rectangle.
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    const auto& bg = state.background;
+    draw->AddRectFilled(origin, end, ImGui::GetColorU32(ImVec4(bg[0], bg[1], bg[2], 1.0f)));
+    if (texture != 0) {
+        draw->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture)), origin, end);
+    } else {
+        const char* note = "No volume loaded: splatlab editor VOLUME";
+        const ImVec2 size = ImGui::CalcTextSize(note);
+        draw->AddText(ImVec2(origin.x + (extent.x - size.x) * 0.5f, origin.y + (extent.y - size.y) * 0.5f),
+                      ImGui::GetColorU32(ImGuiCol_TextDisabled), note);
+    }
+    return result;
+}
+
+void drawStatsPanel(const StatsView& stats) {
+    if (!ImGui::BeginTable("##stats", 3, ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchSame))
+        return;
+    ImGui::TableNextRow();
+
+    // Render column: timings, counts and a frame-time plot.
+    ImGui::TableNextColumn();
+    const renderer::FrameStats& f = stats.frame;
+    ImGui::Text("render  cpu %.2f ms   gpu %.2f ms", f.cpuMs, f.gpuMs);
+    ImGui::Text("splats  %llu drawn of %zu visible", static_cast<unsigned long long>(f.splatsDrawn),
+                stats.visibleSplats);
+    ImGui::Text("upload  %.1f KiB", double(f.uploadBytes) / 1024.0);
+    if (!stats.frameMsHistory.empty()) {
+        const float peak = *std::max_element(stats.frameMsHistory.begin(), stats.frameMsHistory.end());
+        char label[48];
+        std::snprintf(label, sizeof label, "frame %.1f ms", stats.frameMsHistory.back());
+        ImGui::PlotLines("##frame_ms", stats.frameMsHistory.data(), int(stats.frameMsHistory.size()), 0, label,
+                         0.0f, std::max(peak * 1.2f, 1.0f), ImVec2(-1.0f, ImGui::GetFontSize() * 3.0f));
+    }
+
+    // Volume column.
+    ImGui::TableNextColumn();
+    if (const renderer::Volume* v = stats.volume) {
+        ImGui::Text("volume  %s", v->name.c_str());
+        ImGui::Text("dims    %d x %d x %d  %s", v->dims.x, v->dims.y, v->dims.z, renderer::voxelTypeName(v->type));
+        ImGui::Text("spacing %.3g x %.3g x %.3g", v->spacing.x, v->spacing.y, v->spacing.z);
+        ImGui::Text("range   [%g, %g]", double(v->range.lo), double(v->range.hi));
+    } else {
+        ImGui::TextDisabled("no volume loaded");
+    }
+
+    // GL column.
+    ImGui::TableNextColumn();
+    ImGui::TextWrapped("GL_RENDERER  %s", stats.glRenderer.c_str());
+    ImGui::Text("ui      %.1f fps", double(ImGui::GetIO().Framerate));
+    ImGui::EndTable();
+}
+
+void drawHelpPanel() {
+    ImGui::BulletText("Left drag in the viewport: orbit");
+    ImGui::BulletText("Right or middle drag: pan");
+    ImGui::BulletText("Wheel: zoom (distance %.2f to %.0f bounding radii)", kMinDistance, kMaxDistance);
+    ImGui::BulletText("Drag the bars between regions to resize them");
+}
+
+void drawErrorModal(EditorState& state) {
+    if (!state.errorMessage.empty() && !ImGui::IsPopupOpen("Error")) ImGui::OpenPopup("Error");
+    if (!ImGui::BeginPopupModal("Error", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+    ImGui::PushTextWrapPos(ImGui::GetFontSize() * 40.0f);
+    ImGui::TextUnformatted(state.errorMessage.c_str());
+    ImGui::PopTextWrapPos();
+    if (ImGui::Button("OK", ImVec2(ImGui::GetFontSize() * 6.0f, 0.0f))) {
+        state.errorMessage.clear();
+        ImGui::CloseCurrentPopup();
+    }
+    ImGui::EndPopup();
+}
+
+} // namespace ui
