@@ -30,7 +30,7 @@
 
 namespace {
 
-std::string g_glfwError = "no message from GLFW";   // GLFW reports errors through a callback only
+std::string g_glfwError = "no message from GLFW"; // GLFW reports errors through a callback only
 
 void onGlfwError(int code, const char* description) {
     char codeText[16];
@@ -96,8 +96,9 @@ renderer::Image readBackBuffer(int width, int height) {
         const unsigned char* row = &bytes[size_t(height - 1 - y) * size_t(width) * 4];
         for (int x = 0; x < width; ++x) {
             float* p = image.pixel(x, y);
-            for (int c = 0; c < 3; ++c) p[c] = float(row[x * 4 + c]) / 255.0f;
-            p[3] = 1.0f;   // the window is opaque; its alpha channel holds whatever blending left there
+            for (int c = 0; c < 3; ++c)
+                p[c] = float(row[x * 4 + c]) / 255.0f;
+            p[3] = 1.0f; // the window is opaque; its alpha channel holds whatever blending left there
         }
     }
     return image;
@@ -106,7 +107,7 @@ renderer::Image readBackBuffer(int width, int height) {
 } // namespace
 
 int runEditor(const EditorOptions& options) {
-    const bool scripted = options.frames > 0;   // runs N frames and exits; errors end it with code 1
+    const bool scripted = options.frames > 0; // runs N frames and exits; errors end it with code 1
 
     // 1. Window with a GL 4.5 core context, made current; KHR_debug collects GL errors from here on.
     GlfwSession glfw;
@@ -127,7 +128,8 @@ int runEditor(const EditorOptions& options) {
     const std::string title = volumeName.empty() ? "SplatLab" : "SplatLab \xE2\x80\x94 " + volumeName;
     glfw.window = glfwCreateWindow(options.width, options.height, title.c_str(), nullptr, nullptr);
     if (!glfw.window) {
-        std::fprintf(stderr, "splatlab editor: cannot open a %dx%d window with an OpenGL 4.5 core context: %s\n",
+        std::fprintf(stderr,
+                     "splatlab editor: cannot open a %dx%d window with an OpenGL 4.5 core context: %s\n",
                      options.width, options.height, g_glfwError.c_str());
         return 1;
     }
@@ -140,7 +142,7 @@ int runEditor(const EditorOptions& options) {
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGuiSession imgui;
-    ImGui::GetIO().IniFilename = nullptr;   // the layout is ours (ui::DockLayout), nothing to persist
+    ImGui::GetIO().IniFilename = nullptr; // the layout is ours (ui::DockLayout), nothing to persist
     applyTheme();
     imgui.glfwBackend = ImGui_ImplGlfw_InitForOpenGL(glfw.window, true);
     imgui.glBackend = imgui.glfwBackend && ImGui_ImplOpenGL3_Init("#version 450");
@@ -182,6 +184,8 @@ int runEditor(const EditorOptions& options) {
     Document doc;
     std::unique_ptr<renderer::SplatRenderer> splats;
     guarded([&] {
+        state.camera = options.camera;
+        state.camera.up = renderer::axisFromName(options.upAxis);
         if (options.volumePath.empty()) return;
         const renderer::TransferFunction tf = renderer::transferFunctionFromSpec(options.tfSpec);
         state.presetName = tf.name.empty() ? options.tfSpec : tf.name;
@@ -199,10 +203,10 @@ int runEditor(const EditorOptions& options) {
     ui::DockLayout layout = ui::makeEditorLayout();
     ui::SettingsChanges settingsChanges;
     ui::ViewportResult viewport;
-    unsigned texture = 0;             // the renderer's display texture; 0 until something was rendered
+    unsigned texture = 0; // the renderer's display texture; 0 until something was rendered
     int renderWidth = 0, renderHeight = 0;
     bool tfPending = false, renderPending = true;
-    std::vector<float> frameMs;       // recent whole-frame times for the stats plot, oldest first
+    std::vector<float> frameMs; // recent whole-frame times for the stats plot, oldest first
     auto lastFrame = std::chrono::steady_clock::now();
     const std::vector<ui::DockPanel> panels = {
         {"Settings", "left", [&] { settingsChanges = ui::drawSettingsPanel(state); }},
@@ -219,17 +223,23 @@ int runEditor(const EditorOptions& options) {
     };
 
     for (int frame = 1; !glfwWindowShouldClose(glfw.window); ++frame) {
-        glfwPollEvents();
+        // Idle: sleep until an event (or 50 ms for the GPU timer); busy or scripted: keep going.
+        if (scripted || renderPending || tfPending) glfwPollEvents();
+        else glfwWaitEventsTimeout(0.05);
+        if (splats) splats->collectTimers();
 
-        // 5a. Renderer work for last frame's edits.
-        if (splats && (tfPending || (renderPending && renderWidth > 0))) {
+        // 5a. Renderer work for last frame's edits. A failed step waits for the next edit instead of
+        //     repeating (and re-opening the error modal) every frame.
+        if (splats && tfPending) {
+            tfPending = false;
+            guarded([&] {
+                renderer::setTransferFunction(doc.scene, renderer::builtinPreset(state.presetName));
+                splats->setScene(doc.scene);
+            });
+        }
+        if (splats && renderPending && renderWidth > 0) {
+            renderPending = false;
             const bool rendered = guarded([&] {
-                if (tfPending) {
-                    tfPending = false;
-                    renderer::setTransferFunction(doc.scene, renderer::builtinPreset(state.presetName));
-                    splats->setScene(doc.scene);
-                }
-                renderPending = false;   // a failed render waits for the next edit instead of repeating
                 const renderer::ImagePlane plane = renderer::makeImagePlane(
                     state.camera, doc.scene.centre, doc.scene.radius, renderWidth, renderHeight);
                 splats->render(plane, state.settings);
@@ -243,6 +253,7 @@ int runEditor(const EditorOptions& options) {
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
         settingsChanges = {};
+        viewport.cameraChanged = false;
         ui::drawDockSpace(layout, panels);
         ui::drawErrorModal(state);
         ImGui::Render();

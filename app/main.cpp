@@ -218,18 +218,26 @@ int main(int argc, char** argv) {
 
     EditorOptions e;
     e.volumePath = std::filesystem::path(SPLATLAB_ASSET_DIR) / "volumes" / "headsq.nhdr";
-    std::string editorSize = "1280x800", editorVolume, screenshot;
+    std::string editorSize = "1280x800", editorVolume, screenshot, editorUp, editorCamera;
     auto* editor = app.add_subcommand("editor", "Open the editor window (default: the bundled headsq)");
     editor->add_option("volume", editorVolume, "Volume file");
     editor->add_option("--tf", e.tfSpec, "Transfer function: a preset name or a JSON file")->capture_default_str();
     editor->add_option("--screenshot", screenshot, "Write a PNG of the window after --frames frames, then exit");
     editor->add_option("--frames", e.frames, "Exit after this many frames (0: run until closed)");
     editor->add_option("--size", editorSize, "Window size WxH")->capture_default_str();
+    editor->add_option("--camera", editorCamera, "Starting view: azimuth,elevation,distance,fov");
+    editor->add_option("--up", editorUp, "Object axis shown upwards: x, y, z, -x, -y, -z (default: z; "
+                                         "-z for the bundled headsq)");
 
     try {
         app.parse(argc, argv);
         if (*render) return runRender(r);
         if (*info) return runInfo(infoPath, infoRaw);
+        // The bundled headsq stores its slices from the crown down, so it is shown with -z up.
+        e.upAxis = editorVolume.empty() ? "-z" : "z";
+        if (editorVolume.empty()) e.camera = parseCamera("60,15,2.5,30");   // a three-quarter view of the face
+        if (!editorCamera.empty()) e.camera = parseCamera(editorCamera);
+        if (!editorUp.empty()) e.upAxis = (axisFromName(editorUp), editorUp);
         if (!editorVolume.empty()) e.volumePath = editorVolume;
         if (!screenshot.empty()) e.screenshotPath = screenshot;
         const glm::ivec2 s = parseSize(editorSize, "--size");

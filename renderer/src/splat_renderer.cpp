@@ -150,6 +150,8 @@ struct SplatRenderer::Gl {
     int width = 0, height = 0;
     std::array<GLuint, kTimerRing> timers{};
     std::array<bool, kTimerRing> timerPending{};
+    std::array<uint64_t, kTimerRing> timerFrame{};
+    uint64_t frameCounter = 0, newestTimed = 0;
     int timerNext = 0;
     // Scene constants the vertex stage needs.
     glm::ivec3 dims{0};
@@ -266,18 +268,10 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     if (!g.classTexture) throw RenderError("SplatRenderer::render called before setScene");
     g.ensureTargets(plane.width, plane.height);
 
-    // Collect the oldest finished timer without waiting for it.
-    GLuint& timer = g.timers[size_t(g.timerNext)];
-    if (g.timerPending[size_t(g.timerNext)]) {
-        GLint ready = 0;
-        glGetQueryObjectiv(timer, GL_QUERY_RESULT_AVAILABLE, &ready);
-        if (ready) {
-            GLuint64 ns = 0;
-            glGetQueryObjectui64v(timer, GL_QUERY_RESULT, &ns);
-            m_stats.gpuMs = double(ns) * 1e-6;
-        }
-    }
-    glBeginQuery(GL_TIME_ELAPSED, timer);
+    collectTimers();
+    const size_t slot = size_t(g.timerNext);
+    const bool timed = !g.timerPending[slot];   // ring full of unfinished frames: skip, never stall
+    if (timed) glBeginQuery(GL_TIME_ELAPSED, g.timers[slot]);
 
     const Traversal trav = chooseTraversal(plane);
     const bool xray = settings.compositing == Compositing::XRay;
@@ -334,9 +328,12 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glBindTextureUnit(0, g.accumTexture);
         glDrawArrays(GL_TRIANGLES, 0, 3);
     }
-    glEndQuery(GL_TIME_ELAPSED);
-    g.timerPending[size_t(g.timerNext)] = true;
-    g.timerNext = (g.timerNext + 1) % kTimerRing;
+    if (timed) {
+        glEndQuery(GL_TIME_ELAPSED);
+        g.timerPending[slot] = true;
+        g.timerFrame[slot] = ++g.frameCounter;
+        g.timerNext = (g.timerNext + 1) % kTimerRing;
+    }
     glDisable(GL_BLEND);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlErrors("SplatRenderer::render");
@@ -344,6 +341,23 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     m_stats.splatsDrawn = count;
     m_stats.uploadBytes = 0;   // a frame uploads uniforms only
     m_stats.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
+}
+
+void SplatRenderer::collectTimers() {
+    Gl& g = *m_gl;
+    for (int i = 0; i < kTimerRing; ++i) {
+        if (!g.timerPending[size_t(i)]) continue;
+        GLint ready = 0;
+        glGetQueryObjectiv(g.timers[size_t(i)], GL_QUERY_RESULT_AVAILABLE, &ready);
+        if (!ready) continue;
+        GLuint64 ns = 0;
+        glGetQueryObjectui64v(g.timers[size_t(i)], GL_QUERY_RESULT, &ns);
+        g.timerPending[size_t(i)] = false;
+        if (g.timerFrame[size_t(i)] > g.newestTimed) {   // keep the newest finished frame's time
+            g.newestTimed = g.timerFrame[size_t(i)];
+            m_stats.gpuMs = double(ns) * 1e-6;
+        }
+    }
 }
 
 Image SplatRenderer::readback() const {

@@ -9,16 +9,16 @@ static std::filesystem::path envPath(const char* name, const char* fallback) {
     return (v && *v) ? std::filesystem::path(v) : std::filesystem::path(fallback);
 }
 
-std::filesystem::path assetDir() { return envPath("SPLATLAB_ASSET_DIR", "assets"); }
+std::filesystem::path assetDir() { return envPath("SPLATLAB_ASSET_DIR", SPLATLAB_DEFAULT_ASSET_DIR); }
 
 std::optional<std::filesystem::path> sharedDataDir() {
-    auto p = envPath("SPLATLAB_DATA_DIR", "../shared/data/volumes");
+    auto p = envPath("SPLATLAB_DATA_DIR", SPLATLAB_DEFAULT_DATA_DIR);
     if (std::filesystem::is_directory(p)) return p;
     return std::nullopt;
 }
 
 std::filesystem::path testOutputDir() {
-    auto p = envPath("SPLATLAB_TEST_OUT", "test_out");
+    auto p = envPath("SPLATLAB_TEST_OUT", SPLATLAB_DEFAULT_TEST_OUT);
     std::filesystem::create_directories(p);
     return p;
 }

@@ -20,14 +20,16 @@ double luminance(const float* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722
 double modalLuminance(const renderer::Image& image, const ui::Rect& r) {
     std::array<int, 256> counts{};
     for (int y = int(r.y); y < int(r.bottom()); ++y)
-        for (int x = int(r.x); x < int(r.right()); ++x) ++counts[size_t(std::lround(luminance(image.pixel(x, y)) * 255.0))];
+        for (int x = int(r.x); x < int(r.right()); ++x)
+            ++counts[size_t(std::lround(luminance(image.pixel(x, y)) * 255.0))];
     return double(std::max_element(counts.begin(), counts.end()) - counts.begin()) / 255.0;
 }
 
 double fractionBrighterThan(const renderer::Image& image, const ui::Rect& r, double threshold) {
     size_t bright = 0, all = 0;
     for (int y = int(r.y); y < int(r.bottom()); ++y)
-        for (int x = int(r.x); x < int(r.right()); ++x, ++all) bright += luminance(image.pixel(x, y)) > threshold;
+        for (int x = int(r.x); x < int(r.right()); ++x, ++all)
+            bright += luminance(image.pixel(x, y)) > threshold;
     return all ? double(bright) / double(all) : 0.0;
 }
 
@@ -47,8 +49,11 @@ TEST(EditorScreenshot, ViewportShowsTheVolumeAndPanelsDifferFromIt) {
     const std::filesystem::path shot = testing_support::testOutputDir() / "editor.png";
     std::filesystem::remove(shot);
 
-    const std::string command = "LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE
-                                "\" editor \"" + volume.string() + "\" --screenshot \"" + shot.string() +
+    // Leak checking is off for the child only: Mesa and libX11 leak from a driver module they have
+    // already unloaded, which no suppression can name (a bare GLFW window leaks 5 KB the same way).
+    const std::string command = "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" "
+                                "xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor \"" +
+                                volume.string() + "\" --screenshot \"" + shot.string() +
                                 "\" --frames 5 --size 1280x800";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
     const renderer::Image image = renderer::readImage(shot);

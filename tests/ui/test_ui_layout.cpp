@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <imgui.h>
-#include <imgui_internal.h>   // ImGuiContext::HoveredId and FindWindowByName, to find widgets to click
+#include <imgui_internal.h> // ImGuiContext::HoveredId and FindWindowByName, to find widgets to click
 
 #include <functional>
 #include <map>
@@ -54,7 +54,8 @@ TEST(DockLayout, LeavesAndSplittersTileTheWindowWithoutGapsOrOverlaps) {
             EXPECT_LE(p.right(), window.right());
             EXPECT_LE(p.bottom(), window.bottom());
             covered += area(p);
-            for (size_t j = i + 1; j < pieces.size(); ++j) EXPECT_FALSE(overlaps(p, pieces[j])) << i << " vs " << j;
+            for (size_t j = i + 1; j < pieces.size(); ++j)
+                EXPECT_FALSE(overlaps(p, pieces[j])) << i << " vs " << j;
         }
         // Inside the window and pairwise disjoint, so equal total area means no gaps.
         EXPECT_FLOAT_EQ(covered, area(window));
@@ -68,9 +69,9 @@ TEST(DockLayout, EditorLayoutPlacesLeftColumnViewportAndBottomStrip) {
     const Rect viewport = rects.node[layout.find("viewport")];
     const Rect bottom = rects.node[layout.find("bottom")];
     EXPECT_EQ(left.x, 0);
-    EXPECT_EQ(left.h, 800);                        // the left column runs the full height
+    EXPECT_EQ(left.h, 800); // the left column runs the full height
     EXPECT_EQ(viewport.x, left.right() + layout.splitterPx);
-    EXPECT_EQ(viewport.w, bottom.w);               // the bottom strip sits under the viewport only
+    EXPECT_EQ(viewport.w, bottom.w); // the bottom strip sits under the viewport only
     EXPECT_EQ(bottom.bottom(), 800);
     EXPECT_EQ(left.w, std::round(0.25f * (1280 - layout.splitterPx)));
     EXPECT_EQ(layout.find("nowhere"), -1);
@@ -83,16 +84,16 @@ TEST(DockLayout, SplitterDragsStopAtMinSizes) {
     const Rect window{0, 0, 1280, 800};
     const float columnsAvail = window.w - layout.splitterPx;
 
-    ui::setFirstExtentPx(root, 5.0f, columnsAvail);   // drag the left column almost shut
+    ui::setFirstExtentPx(root, 5.0f, columnsAvail); // drag the left column almost shut
     auto rects = ui::computeDockRects(layout, window);
     EXPECT_EQ(extent(layout, rects, "left", true), root.minFirstPx);
 
-    ui::setFirstExtentPx(root, 5000.0f, columnsAvail);   // and far past the right edge
+    ui::setFirstExtentPx(root, 5000.0f, columnsAvail); // and far past the right edge
     rects = ui::computeDockRects(layout, window);
     EXPECT_EQ(extent(layout, rects, "viewport", true), root.minSecondPx);
 
     const float rowsAvail = window.h - layout.splitterPx;
-    ui::setFirstExtentPx(centre, 5000.0f, rowsAvail);   // bottom strip dragged off the screen
+    ui::setFirstExtentPx(centre, 5000.0f, rowsAvail); // bottom strip dragged off the screen
     rects = ui::computeDockRects(layout, window);
     EXPECT_EQ(extent(layout, rects, "bottom", false), centre.minSecondPx);
     ui::setFirstExtentPx(centre, -50.0f, rowsAvail);
@@ -108,12 +109,12 @@ TEST(DockLayout, WindowResizeKeepsRatios) {
 
     // Larger: the left column keeps its share, to the rounding pixel.
     const auto larger = ui::computeDockRects(layout, {0, 0, 1920, 1200});
-    EXPECT_NEAR(extent(layout, larger, "left", true) / (1920 - layout.splitterPx), 400.0f / (1280 - layout.splitterPx),
-                0.5f / (1920 - layout.splitterPx));
+    EXPECT_NEAR(extent(layout, larger, "left", true) / (1920 - layout.splitterPx),
+                400.0f / (1280 - layout.splitterPx), 0.5f / (1920 - layout.splitterPx));
 
     // Too small for the min sizes, then back: the clamped layout did not overwrite the ratios.
     const auto tiny = ui::computeDockRects(layout, {0, 0, 400, 200});
-    EXPECT_EQ(extent(layout, tiny, "left", true), std::floor(394.0f * 220.0f / 540.0f));   // shared by mins
+    EXPECT_EQ(extent(layout, tiny, "left", true), std::floor(394.0f * 220.0f / 540.0f)); // shared by mins
     const auto again = ui::computeDockRects(layout, {0, 0, 1280, 800});
     for (size_t i = 0; i < layout.nodes.size(); ++i) {
         EXPECT_EQ(again.node[i].x, before.node[i].x);
@@ -135,7 +136,7 @@ TEST(OrbitInput, HorizontalDragTurnsAzimuthByTheStatedGain) {
 TEST(OrbitInput, AzimuthWrapsIntoHalfOpenRange) {
     renderer::Camera camera;
     camera.azimuthDeg = 170.0;
-    ui::applyOrbitInput(camera, {.rotateDxPx = -200.0f});   // +60 degrees at 0.3 degrees a pixel
+    ui::applyOrbitInput(camera, {.rotateDxPx = -200.0f}); // +60 degrees at 0.3 degrees a pixel
     EXPECT_NEAR(camera.azimuthDeg, 170.0 + 200.0 * ui::kOrbitDegPerPx - 360.0, 1e-9);
 }
 
@@ -172,7 +173,7 @@ TEST(OrbitInput, PanMovesOrbitCentreWithTheMouseAndNoInputChangesNothing) {
 namespace {
 
 class ImGuiNull : public testing::Test {
-protected:
+  protected:
     void SetUp() override {
         ImGui::CreateContext();
         ImGuiIO& io = ImGui::GetIO();
@@ -181,7 +182,7 @@ protected:
         io.IniFilename = nullptr;
         unsigned char* pixels = nullptr;
         int w = 0, h = 0;
-        io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);   // builds the atlas; nothing uploads it
+        io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h); // builds the atlas; nothing uploads it
     }
     void TearDown() override { ImGui::DestroyContext(); }
 
@@ -229,7 +230,7 @@ TEST_F(ImGuiNull, SettingsPanelLeavesStateAloneWithoutInput) {
     ui::EditorState state;
     const ui::EditorState before = state;
     for (int i = 0; i < 3; ++i) {
-        mouse(900, 700, false);   // outside the panel
+        mouse(900, 700, false); // outside the panel
         frame([&] { EXPECT_FALSE(ui::drawSettingsPanel(state).any()); });
     }
     expectSameState(state, before);
@@ -245,7 +246,7 @@ TEST_F(ImGuiNull, ClickingCompositingComboAndXrayItemSelectsXray) {
         changes.settingsChanged |= c.settingsChanged;
         changes.tfChanged |= c.tfChanged;
     };
-    frame(body);   // lay the panel out once so the id is known
+    frame(body); // lay the panel out once so the id is known
 
     // 1. Hover and click the combo: its popup opens.
     const float comboY = findItem(comboId, 40.0f, 0.0f, 700.0f, body);
@@ -307,13 +308,13 @@ TEST_F(ImGuiNull, LeftDragInViewportOrbitsByTheStatedGain) {
     frame(body);
     mouse(200, 300, true);
     frame(body);
-    mouse(250, 300, true);   // 50 px to the right while held
+    mouse(250, 300, true); // 50 px to the right while held
     frame(body);
     EXPECT_TRUE(result.cameraChanged);
     mouse(250, 300, false);
     frame(body);
     EXPECT_NEAR(state.camera.azimuthDeg, azimuth - 50.0 * ui::kOrbitDegPerPx, 1e-6);
-    EXPECT_GT(result.widthPx, 300);   // the panel's content region, in pixels
+    EXPECT_GT(result.widthPx, 300); // the panel's content region, in pixels
     EXPECT_GT(result.heightPx, 600);
 }
 
@@ -338,7 +339,7 @@ TEST_F(ImGuiNull, DockSpaceDrawsFrontTabsAndDraggingTheColumnSplitterMovesIt) {
     body();
     EXPECT_EQ(drawn["Settings"], 2);
     EXPECT_EQ(drawn["Viewport"], 2);
-    EXPECT_EQ(drawn["Stats"], 2);   // the first tab of the bottom strip is the one shown
+    EXPECT_EQ(drawn["Stats"], 2); // the first tab of the bottom strip is the one shown
     EXPECT_EQ(drawn["Help"], 0);
     // The splitter gap belongs to the host window, the regions to their own windows (on top of it).
     ASSERT_NE(ImGui::GetCurrentContext()->HoveredWindow, nullptr);

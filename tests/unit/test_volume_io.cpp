@@ -40,9 +40,13 @@ std::string readFile(const fs::path& path) {
     return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-// Compresses through zlib's gzip file API, the way other tools write .gz files.
+// Compresses through zlib's gzip file API, the way other tools write .gz files. The scratch file is
+// named after the running test because ctest -j runs each test in its own process at the same time.
 std::string gzipBytes(const std::string& bytes) {
-    const fs::path tmp = outDir() / "gzip_scratch.gz";
+    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string scratch = std::string(test->test_suite_name()) + "." + test->name() + ".scratch.gz";
+    std::replace(scratch.begin(), scratch.end(), '/', '_');
+    const fs::path tmp = outDir() / scratch;
     gzFile gz = gzopen(tmp.string().c_str(), "wb");
     EXPECT_NE(gz, nullptr);
     EXPECT_EQ(gzwrite(gz, bytes.data(), unsigned(bytes.size())), int(bytes.size()));
@@ -50,7 +54,7 @@ std::string gzipBytes(const std::string& bytes) {
     return readFile(tmp);
 }
 
-// 0, 1, 2, ... as bytes: every voxel differs from its neighbours, so a shifted read is caught.
+// A byte pattern with period 251 (prime): a read shifted by any voxel size or header length is caught.
 std::string rampBytes(size_t n) {
     std::string s(n, '\0');
     for (size_t i = 0; i < n; ++i) s[i] = char(i * 7 % 251);
@@ -108,9 +112,8 @@ TEST(SharedVolumes, LoadWithTheManifestDimsTypeSpacingAndRange) {
         for (int axis = 0; axis < 3; ++axis) EXPECT_DOUBLE_EQ(v.spacing[axis], d.spacing[axis]);
         EXPECT_EQ(v.origin, glm::dvec3(0.0));
         EXPECT_EQ(v.values.size(), v.voxelCount());
-        // Integer types are exact; hydrogen's float max is listed rounded to "1" in the manifest.
-        EXPECT_NEAR(v.range.lo, d.lo, 1e-3);
-        EXPECT_NEAR(v.range.hi, d.hi, 1e-3);
+        EXPECT_EQ(v.range.lo, d.lo);   // exact: hydrogen's float32 data also spans exactly 0..1
+        EXPECT_EQ(v.range.hi, d.hi);
         EXPECT_EQ(v.name, fs::path(d.file).stem().string());
     }
 }

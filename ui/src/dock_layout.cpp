@@ -18,11 +18,21 @@ int DockLayout::find(const std::string& name) const {
 DockLayout makeEditorLayout() {
     DockLayout layout;
     layout.nodes.resize(5);
-    layout.nodes[0] = {.name = "root", .first = 1, .second = 2, .axis = SplitAxis::Columns, .ratio = 0.25f,
-                       .minFirstPx = 220.0f, .minSecondPx = 320.0f};
+    layout.nodes[0] = {.name = "root",
+                       .first = 1,
+                       .second = 2,
+                       .axis = SplitAxis::Columns,
+                       .ratio = 0.25f,
+                       .minFirstPx = 220.0f,
+                       .minSecondPx = 320.0f};
     layout.nodes[1] = {.name = "left"};
-    layout.nodes[2] = {.name = "centre", .first = 3, .second = 4, .axis = SplitAxis::Rows, .ratio = 0.78f,
-                       .minFirstPx = 160.0f, .minSecondPx = 90.0f};
+    layout.nodes[2] = {.name = "centre",
+                       .first = 3,
+                       .second = 4,
+                       .axis = SplitAxis::Rows,
+                       .ratio = 0.78f,
+                       .minFirstPx = 160.0f,
+                       .minSecondPx = 90.0f};
     layout.nodes[3] = {.name = "viewport", .fill = true};
     layout.nodes[4] = {.name = "bottom"};
     return layout;
@@ -92,15 +102,18 @@ void drawSplitter(DockLayout& layout, int index, const Rect& area, const Rect& b
         const ImVec2 drag = ImGui::GetMouseDragDelta(ImGuiMouseButton_Left, 0.0f);
         setFirstExtentPx(node, layout.dragStartPx + (columns ? drag.x : drag.y), availPx);
     }
-    if (hovered || active) ImGui::SetMouseCursor(columns ? ImGuiMouseCursor_ResizeEW : ImGuiMouseCursor_ResizeNS);
-    const ImU32 colour = ImGui::GetColorU32(active ? ImGuiCol_SeparatorActive
+    if (hovered || active)
+        ImGui::SetMouseCursor(columns ? ImGuiMouseCursor_ResizeEW : ImGuiMouseCursor_ResizeNS);
+    const ImU32 colour = ImGui::GetColorU32(active    ? ImGuiCol_SeparatorActive
                                             : hovered ? ImGuiCol_SeparatorHovered
                                                       : ImGuiCol_Separator);
     // Idle bars draw a 1 px line in their middle; hovered or dragged ones light up whole.
     ImVec2 lo = topLeft(bar), hi{bar.right(), bar.bottom()};
     if (!hovered && !active) {
-        if (columns) lo.x = hi.x = std::floor(bar.x + bar.w * 0.5f), hi.x += 1.0f;
-        else lo.y = hi.y = std::floor(bar.y + bar.h * 0.5f), hi.y += 1.0f;
+        if (columns)
+            lo.x = hi.x = std::floor(bar.x + bar.w * 0.5f), hi.x += 1.0f;
+        else
+            lo.y = hi.y = std::floor(bar.y + bar.h * 0.5f), hi.y += 1.0f;
     }
     ImGui::GetWindowDrawList()->AddRectFilled(lo, hi, colour);
 }
@@ -123,7 +136,7 @@ void drawDockSpace(DockLayout& layout, const std::vector<DockPanel>& panels) {
                                         ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoBringToFrontOnFocus |
                                         ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoSavedSettings;
 
-    ImGui::PushStyleVar(ImGuiStyleVar_WindowRounding, 0.0f);   // docked windows are square (all of them)
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowRounding, 0.0f); // docked windows are square (all of them)
     // 1. One window per leaf with a tab bar of the panels docked there.
     for (size_t i = 0; i < layout.nodes.size(); ++i) {
         const DockNode& leaf = layout.nodes[i];

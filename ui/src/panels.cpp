@@ -47,12 +47,32 @@ bool enumCombo(const char* label, E& value, const std::array<E, N>& options, con
     return changed;
 }
 
+// The axis names renderer::axisFromName() understands; an up vector that is none of them (set
+// programmatically) shows as "custom" until one is picked.
+bool drawUpAxisCombo(glm::dvec3& up) {
+    static const std::array<const char*, 6> kAxes{"z", "-z", "y", "-y", "x", "-x"};
+    const char* current = "custom";
+    for (const char* axis : kAxes)
+        if (renderer::axisFromName(axis) == up) current = axis;
+    bool changed = false;
+    if (ImGui::BeginCombo("Up axis", current)) {
+        for (const char* axis : kAxes) {
+            const bool selected = axis == current;
+            if (ImGui::Selectable(axis, selected) && !selected)
+                up = renderer::axisFromName(axis), changed = true;
+            if (selected) ImGui::SetItemDefaultFocus();
+        }
+        ImGui::EndCombo();
+    }
+    return changed;
+}
+
 } // namespace
 
 SettingsChanges drawSettingsPanel(EditorState& state) {
     SettingsChanges changes;
     renderer::SplatSettings& s = state.settings;
-    ImGui::PushItemWidth(-ImGui::GetFontSize() * 7.0f);   // leaves room for the labels on the right
+    ImGui::PushItemWidth(-ImGui::GetFontSize() * 7.0f); // leaves room for the labels on the right
 
     sectionTitle("Transfer function");
     if (ImGui::BeginCombo("Preset", state.presetName.c_str())) {
@@ -80,17 +100,25 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
                                          &renderer::filterModeName);
     hint("reconstruction: kernel only (aliases when minified)\nlow-pass: screen filter only\n"
          "ewa: both convolved, the resampling filter");
-    changes.settingsChanged |= enumCombo(
-        "Compositing", s.compositing,
-        std::array{renderer::Compositing::SplatEverySample, renderer::Compositing::XRay},
-        &renderer::compositingName);
+    changes.settingsChanged |=
+        enumCombo("Compositing", s.compositing,
+                  std::array{renderer::Compositing::SplatEverySample, renderer::Compositing::XRay},
+                  &renderer::compositingName);
     hint("splat-every-sample: back-to-front 'over' in slice order\nxray: additive, order-free");
 
     sectionTitle("Camera");
     changes.cameraChanged |= sliderDouble("Field of view", state.camera.fovYDeg, 10.0, 100.0, "%.0f deg");
-    if (ImGui::Button("Reset camera")) state.camera = renderer::Camera{}, changes.cameraChanged = true;
+    changes.cameraChanged |= drawUpAxisCombo(state.camera.up);
+    hint("Object axis shown upwards; CT stacks such as headsq need -z");
+    if (ImGui::Button("Reset camera")) {
+        renderer::Camera reset;
+        reset.up = state.camera.up; // the up axis belongs to the data, not to the view
+        state.camera = reset;
+        changes.cameraChanged = true;
+    }
     const renderer::Camera& c = state.camera;
-    ImGui::TextDisabled("azimuth %.1f  elevation %.1f  distance %.2f", c.azimuthDeg, c.elevationDeg, c.distance);
+    ImGui::TextDisabled("azimuth %.1f  elevation %.1f  distance %.2f", c.azimuthDeg, c.elevationDeg,
+                        c.distance);
 
     ImGui::PopItemWidth();
     return changes;
@@ -99,7 +127,8 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
 bool applyOrbitInput(renderer::Camera& camera, const OrbitInput& input) {
     const renderer::Camera before = camera;
     if (input.rotateDxPx != 0.0f) {
-        const double azimuth = std::fmod(camera.azimuthDeg - kOrbitDegPerPx * input.rotateDxPx + 180.0, 360.0);
+        const double azimuth =
+            std::fmod(camera.azimuthDeg - kOrbitDegPerPx * input.rotateDxPx + 180.0, 360.0);
         camera.azimuthDeg = (azimuth < 0.0 ? azimuth + 360.0 : azimuth) - 180.0;
     }
     if (input.rotateDyPx != 0.0f)
@@ -130,7 +159,8 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
         if (ImGui::IsMouseDown(ImGuiMouseButton_Left))
             input.rotateDxPx = io.MouseDelta.x, input.rotateDyPx = io.MouseDelta.y;
         else if (ImGui::IsMouseDown(ImGuiMouseButton_Right) || ImGui::IsMouseDown(ImGuiMouseButton_Middle))
-            input.panDxPx = io.MouseDelta.x * scaleX, input.panDyPx = io.MouseDelta.y * scaleY;   // pan is in render pixels
+            input.panDxPx = io.MouseDelta.x * scaleX,
+            input.panDyPx = io.MouseDelta.y * scaleY; // pan is in render pixels
     }
     if (ImGui::IsItemHovered()) input.wheelNotches = io.MouseWheel;
 
@@ -163,7 +193,11 @@ void drawStatsPanel(const StatsView& stats) {
     // Render column: timings, counts and a frame-time plot.
     ImGui::TableNextColumn();
     const renderer::FrameStats& f = stats.frame;
-    ImGui::Text("render  cpu %.2f ms   gpu %.2f ms", f.cpuMs, f.gpuMs);
+    // The GPU timer is read a few renders late (no stalls), and the editor renders only on edits.
+    if (f.gpuMs > 0.0)
+        ImGui::Text("render  cpu %.2f ms   gpu %.2f ms", f.cpuMs, f.gpuMs);
+    else
+        ImGui::Text("render  cpu %.2f ms   gpu (pending)", f.cpuMs);
     ImGui::Text("splats  %llu drawn of %zu visible", static_cast<unsigned long long>(f.splatsDrawn),
                 stats.visibleSplats);
     ImGui::Text("upload  %.1f KiB", double(f.uploadBytes) / 1024.0);
@@ -171,15 +205,18 @@ void drawStatsPanel(const StatsView& stats) {
         const float peak = *std::max_element(stats.frameMsHistory.begin(), stats.frameMsHistory.end());
         char label[48];
         std::snprintf(label, sizeof label, "frame %.1f ms", stats.frameMsHistory.back());
-        ImGui::PlotLines("##frame_ms", stats.frameMsHistory.data(), int(stats.frameMsHistory.size()), 0, label,
-                         0.0f, std::max(peak * 1.2f, 1.0f), ImVec2(-1.0f, ImGui::GetFontSize() * 3.0f));
+        ImGui::PlotLines("##frame_ms", stats.frameMsHistory.data(), int(stats.frameMsHistory.size()), 0,
+                         label, 0.0f, std::max(peak * 1.2f, 1.0f),
+                         ImVec2(ImGui::GetContentRegionAvail().x,
+                                ImGui::GetFontSize() * 3.0f)); // 1.86's PlotLines takes no -1 width
     }
 
     // Volume column.
     ImGui::TableNextColumn();
     if (const renderer::Volume* v = stats.volume) {
         ImGui::Text("volume  %s", v->name.c_str());
-        ImGui::Text("dims    %d x %d x %d  %s", v->dims.x, v->dims.y, v->dims.z, renderer::voxelTypeName(v->type));
+        ImGui::Text("dims    %d x %d x %d  %s", v->dims.x, v->dims.y, v->dims.z,
+                    renderer::voxelTypeName(v->type));
         ImGui::Text("spacing %.3g x %.3g x %.3g", v->spacing.x, v->spacing.y, v->spacing.z);
         ImGui::Text("range   [%g, %g]", double(v->range.lo), double(v->range.hi));
     } else {

@@ -34,6 +34,8 @@ public:
     // The last frame composited over `background` in an RGBA8 texture, for display (GL name). Memory
     // row 0 is the image's top row, so ImGui::Image's default uvs show it upright.
     unsigned displayTexture(const float background[3]);
+    // Reads finished GPU timer queries without waiting (call once per UI frame); render() calls it too.
+    void collectTimers();
     const FrameStats& stats() const { return m_stats; }
     // Bytes of GPU memory the scene holds (textures and buffers), for the bytes-per-voxel budget.
     uint64_t sceneBytes() const;

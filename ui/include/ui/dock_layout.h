@@ -9,34 +9,34 @@
 namespace ui {
 
 struct Rect {
-    float x = 0, y = 0, w = 0, h = 0;   // display pixels, origin top-left, y down (ImGui's convention)
+    float x = 0, y = 0, w = 0, h = 0; // display pixels, origin top-left, y down (ImGui's convention)
     float right() const { return x + w; }
     float bottom() const { return y + h; }
 };
 
 enum class SplitAxis {
-    Columns,   // first child left of the splitter bar, second right of it
-    Rows,      // first child above the splitter bar, second below it
+    Columns, // first child left of the splitter bar, second right of it
+    Rows,    // first child above the splitter bar, second below it
 };
 
 struct DockNode {
-    std::string name;                 // a leaf's region name; panels name it in DockPanel::region
-    int first = -1, second = -1;      // child node indices; a leaf has first == -1
+    std::string name;            // a leaf's region name; panels name it in DockPanel::region
+    int first = -1, second = -1; // child node indices; a leaf has first == -1
     SplitAxis axis = SplitAxis::Columns;
-    float ratio = 0.5f;               // first child's share of the extent left after the splitter bar
-    float minFirstPx = 100.0f;        // smallest extent along the axis each child gets while the
-    float minSecondPx = 100.0f;       // split is at least minFirstPx + minSecondPx wide
-    bool fill = false;                // leaf: no padding or scrolling, the panel fills it (viewport)
+    float ratio = 0.5f;         // first child's share of the extent left after the splitter bar
+    float minFirstPx = 100.0f;  // smallest extent along the axis each child gets while the
+    float minSecondPx = 100.0f; // split is at least minFirstPx + minSecondPx wide
+    bool fill = false;          // leaf: no padding or scrolling, the panel fills it (viewport)
 
     bool isLeaf() const { return first < 0; }
 };
 
 struct DockLayout {
-    std::vector<DockNode> nodes;      // nodes[0] is the root
-    float splitterPx = 6.0f;          // thickness of every splitter bar
-    float dragStartPx = 0.0f;         // first child's extent when the active splitter drag began
+    std::vector<DockNode> nodes; // nodes[0] is the root
+    float splitterPx = 6.0f;     // thickness of every splitter bar
+    float dragStartPx = 0.0f;    // first child's extent when the active splitter drag began
 
-    int find(const std::string& name) const;   // index of the node called `name`; -1 when absent
+    int find(const std::string& name) const; // index of the node called `name`; -1 when absent
 };
 
 // The editor's tree: left column | (centre viewport over bottom strip). Regions: "left", "viewport",
@@ -44,8 +44,8 @@ struct DockLayout {
 DockLayout makeEditorLayout();
 
 struct DockRects {
-    std::vector<Rect> node;           // per node: the area it covers (leaves tile the window)
-    std::vector<Rect> splitter;       // per node: its splitter bar; zero-sized for leaves
+    std::vector<Rect> node;     // per node: the area it covers (leaves tile the window)
+    std::vector<Rect> splitter; // per node: its splitter bar; zero-sized for leaves
 };
 
 // Tiles `window` with the leaves and splitter bars: no gaps, no overlaps, whole pixels when the
@@ -61,9 +61,9 @@ float firstExtentPx(const DockNode& split, float availPx);
 void setFirstExtentPx(DockNode& split, float firstPx, float availPx);
 
 struct DockPanel {
-    std::string title;                // tab label, unique across panels
-    std::string region;               // name of the leaf it is docked in
-    std::function<void()> draw;       // draws the contents inside the tab
+    std::string title;          // tab label, unique across panels
+    std::string region;         // name of the leaf it is docked in
+    std::function<void()> draw; // draws the contents inside the tab
 };
 
 // Fills ImGui's main viewport: splitter bars (drags edit the layout's ratios) in a host window behind,

@@ -10,11 +10,11 @@
 namespace ui {
 
 struct EditorState {
-    renderer::Camera camera;                  // orbit camera; "Reset camera" restores renderer::Camera{}
-    renderer::SplatSettings settings;         // what every render of the viewport uses
-    std::string presetName = "ct-skin-bone";  // built-in TF preset, or the file name of a TF loaded from disk
-    std::array<float, 3> background{0.055f, 0.060f, 0.075f};   // linear RGB behind the volume
-    std::string errorMessage;                 // shown in a modal until dismissed; empty when none
+    renderer::Camera camera; // orbit camera; "Reset camera" restores renderer::Camera{}, keeping `up`
+    renderer::SplatSettings settings;        // what every render of the viewport uses
+    std::string presetName = "ct-skin-bone"; // built-in TF preset, or the file name of a TF loaded from disk
+    std::array<float, 3> background{0.055f, 0.060f, 0.075f}; // linear RGB behind the volume
+    std::string errorMessage; // shown in a modal until dismissed; empty when none
 };
 
 } // namespace ui

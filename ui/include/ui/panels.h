@@ -14,29 +14,29 @@ namespace ui {
 // == Settings
 
 struct SettingsChanges {
-    bool tfChanged = false;         // presetName changed: re-bake the LUT and rebuild the visible lists
-    bool settingsChanged = false;   // a SplatSettings field changed
-    bool cameraChanged = false;     // field of view or "Reset camera"
+    bool tfChanged = false;       // presetName changed: re-bake the LUT and rebuild the visible lists
+    bool settingsChanged = false; // a SplatSettings field changed
+    bool cameraChanged = false;   // field of view, up axis or "Reset camera"
     bool any() const { return tfChanged || settingsChanged || cameraChanged; }
 };
 
-// TF preset, kernel scale, cutoff, density, filter mode, compositing, field of view, camera reset.
+// TF preset, kernel scale, cutoff, density, filter mode, compositing, field of view, up axis, camera reset.
 SettingsChanges drawSettingsPanel(EditorState& state);
 
 // == Viewport
 
 // Mouse motion over the viewport during one frame, in display pixels (x right, y down).
 struct OrbitInput {
-    float rotateDxPx = 0, rotateDyPx = 0;   // left-button drag
-    float panDxPx = 0, panDyPx = 0;         // right- or middle-button drag
-    float wheelNotches = 0;                 // positive = wheel turned away from the user = zoom in
+    float rotateDxPx = 0, rotateDyPx = 0; // left-button drag
+    float panDxPx = 0, panDyPx = 0;       // right- or middle-button drag
+    float wheelNotches = 0;               // positive = wheel turned away from the user = zoom in
 };
 
-constexpr double kOrbitDegPerPx = 0.3;      // a 300 px drag turns the camera 90 degrees
-constexpr double kZoomPerNotch = 0.9;       // distance multiplier per notch of zoom in (1/0.9 out)
-constexpr double kMinDistance = 1.05;       // in bounding radii: just outside the volume's sphere
+constexpr double kOrbitDegPerPx = 0.3; // a 300 px drag turns the camera 90 degrees
+constexpr double kZoomPerNotch = 0.9;  // distance multiplier per notch of zoom in (1/0.9 out)
+constexpr double kMinDistance = 1.05;  // in bounding radii: just outside the volume's sphere
 constexpr double kMaxDistance = 20.0;
-constexpr double kMaxElevationDeg = 89.0;   // short of the poles, where the azimuth degenerates
+constexpr double kMaxElevationDeg = 89.0; // short of the poles, where the azimuth degenerates
 
 // Drag right: azimuth decreases (the volume turns right). Drag down: elevation increases. Pan moves the
 // orbit centre with the mouse. Azimuth wraps to [-180, 180); elevation and distance clamp to the
@@ -44,7 +44,7 @@ constexpr double kMaxElevationDeg = 89.0;   // short of the poles, where the azi
 bool applyOrbitInput(renderer::Camera& camera, const OrbitInput& input);
 
 struct ViewportResult {
-    int widthPx = 0, heightPx = 0;   // framebuffer pixels the panel shows: render at this size
+    int widthPx = 0, heightPx = 0; // framebuffer pixels the panel shows: render at this size
     bool cameraChanged = false;
 };
 
@@ -55,11 +55,11 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture);
 // == Stats and help
 
 struct StatsView {
-    renderer::FrameStats frame;                  // of the last render
-    const renderer::Volume* volume = nullptr;    // null when no volume is loaded
-    size_t visibleSplats = 0;                    // voxels the TF leaves visible
-    std::string glRenderer;                      // GL_RENDERER of the editor's context
-    std::span<const float> frameMsHistory;       // recent whole-frame times, oldest first
+    renderer::FrameStats frame;               // of the last render
+    const renderer::Volume* volume = nullptr; // null when no volume is loaded
+    size_t visibleSplats = 0;                 // voxels the TF leaves visible
+    std::string glRenderer;                   // GL_RENDERER of the editor's context
+    std::span<const float> frameMsHistory;    // recent whole-frame times, oldest first
 };
 void drawStatsPanel(const StatsView& stats);
 

@@ -1,0 +1,200 @@
+// Camera, transfer function, pre-classification and the CPU oracle's own invariants.
+#include "renderer/camera.h"
+#include "renderer/errors.h"
+#include "renderer/procedural.h"
+#include "renderer/reference_renderer.h"
+#include "renderer/splat_scene.h"
+#include "test_paths.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+
+using namespace renderer;
+using ::testing::HasSubstr;
+
+namespace {
+
+TransferFunction flat(double opacity) { return {"flat", {{0.0, {1, 1, 1}, opacity}, {1.0, {1, 1, 1}, opacity}}}; }
+
+Volume oneVoxel(float value) {
+    Volume v;
+    v.name = "one";
+    v.dims = {1, 1, 1};
+    v.values = {value};
+    v.range = {0.0f, 1.0f};
+    return v;
+}
+
+} // namespace
+
+TEST(Camera, WIsARotationAndTheCentreProjectsToThePrincipalPoint) {
+    for (double az : {0.0, 37.0, 181.0})
+        for (double el : {-60.0, 0.0, 45.0})
+            for (auto up : {glm::dvec3(0, 0, 1), glm::dvec3(0, 0, -1), glm::dvec3(0, 1, 0)}) {
+                const ImagePlane p = makeImagePlane({az, el, 3.0, 40.0, {0, 0}, up}, {5, -2, 7}, 10.0, 64, 48);
+                const glm::dmat3 w = p.viewFromObject;
+                EXPECT_NEAR(glm::determinant(w), 1.0, 1e-12);
+                const glm::dmat3 i = w * glm::transpose(w);
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c) EXPECT_NEAR(i[c][r], r == c ? 1.0 : 0.0, 1e-12);
+                const glm::dvec3 u = p.toCamera({5, -2, 7});
+                EXPECT_NEAR(u.x, 0.0, 1e-9);
+                EXPECT_NEAR(u.y, 0.0, 1e-9);
+                EXPECT_NEAR(u.z, 30.0, 1e-9);   // distance 3 radii of 10
+                // `up` points up the image: a point above the centre has u1 < 0 (rows grow downwards).
+                if (std::abs(el) < 50) {
+                    EXPECT_LT(p.toCamera(glm::dvec3(5, -2, 7) + up).y, 0.0);
+                }
+            }
+}
+
+TEST(Camera, FocalLengthFollowsTheFieldOfView) {
+    const ImagePlane p = makeImagePlane({0, 0, 2, 30, {0, 0}}, {0, 0, 0}, 1.0, 48, 48);
+    EXPECT_NEAR(p.fPx, 89.569219, 1e-6);   // EWA_NOTES: 48 px, 30 degrees
+}
+
+TEST(Camera, UpAxisNamesParse) {
+    EXPECT_EQ(axisFromName("-z"), glm::dvec3(0, 0, -1));
+    EXPECT_EQ(axisFromName("+y"), glm::dvec3(0, 1, 0));
+    EXPECT_THROW(axisFromName("w"), RenderError);
+}
+
+TEST(TransferFunction, LutInterpolatesControlPoints) {
+    const TransferFunction tf{"t", {{0.0, {0, 0, 0}, 0.0}, {0.5, {1, 0, 0}, 1.0}, {1.0, {0, 0, 1}, 0.5}}};
+    const Lut lut = bakeLut(tf);
+    ASSERT_EQ(lut.size(), size_t(kLutSize));
+    const auto at = [&](double v) { return lut[size_t(std::floor(v * kLutSize))]; };
+    EXPECT_NEAR(at(0.25).a, 0.5, 1e-3);
+    EXPECT_NEAR(at(0.25).r, 0.5, 1e-3);
+    EXPECT_NEAR(at(0.75).a, 0.75, 1e-3);
+    EXPECT_NEAR(at(0.75).b, 0.5, 1e-3);
+    EXPECT_EQ(lut[0].a, lut[0].a);   // finite
+    EXPECT_LT(lut[0].a, 1e-3);
+}
+
+TEST(TransferFunction, ClassOfClampsAndHandlesNaN) {
+    EXPECT_EQ(classOf(-5.0f, 0.0f, 1.0f), 0);
+    EXPECT_EQ(classOf(5.0f, 0.0f, 1.0f), kLutSize - 1);
+    EXPECT_EQ(classOf(std::nanf(""), 0.0f, 1.0f), 0);
+    EXPECT_EQ(classOf(0.5f, 1.0f, 1.0f), 0);   // empty window
+    EXPECT_EQ(classOf(0.5f, 0.0f, 1.0f), kLutSize / 2);
+}
+
+TEST(TransferFunction, JsonRoundTripsAndRejectsBadFiles) {
+    const auto dir = testing_support::testOutputDir();
+    const TransferFunction tf = builtinPreset("ct-skin-bone");
+    saveTransferFunction(tf, dir / "tf.json");
+    const TransferFunction back = loadTransferFunction(dir / "tf.json");
+    ASSERT_EQ(back.points.size(), tf.points.size());
+    for (size_t i = 0; i < tf.points.size(); ++i) {
+        EXPECT_DOUBLE_EQ(back.points[i].value, tf.points[i].value);
+        EXPECT_DOUBLE_EQ(back.points[i].opacity, tf.points[i].opacity);
+        EXPECT_DOUBLE_EQ(back.points[i].colour.g, tf.points[i].colour.g);
+    }
+    const std::pair<const char*, const char*> bad[] = {
+        {"{", "not valid JSON"},
+        {"[]", "expected a JSON object"},
+        {"{\"name\": \"x\"}", "'points'"},
+        {"{\"points\": [{\"value\": 0.5, \"colour\": [1, 1], \"opacity\": 1}]}", "'colour'"},
+        {"{\"points\": [{\"value\": 1.5, \"colour\": [1, 1, 1], \"opacity\": 1}]}", "expected [0,1]"},
+        {"{\"points\": [{\"value\": 0.5, \"colour\": [1, 1, 1]}]}", "'points'"},
+        {"{\"points\": []}", "no control points"},
+    };
+    for (auto [text, expect] : bad) {
+        std::ofstream(dir / "bad_tf.json") << text;
+        try {
+            loadTransferFunction(dir / "bad_tf.json");
+            ADD_FAILURE() << "accepted: " << text;
+        } catch (const LoadError& e) {
+            EXPECT_THAT(e.what(), HasSubstr("bad_tf.json"));
+            EXPECT_THAT(e.what(), HasSubstr(expect)) << text;
+        }
+    }
+    EXPECT_THROW(transferFunctionFromSpec("no-such-preset"), RenderError);
+}
+
+TEST(SplatScene, OnlyVisibleVoxelsAreListedInSliceOrder) {
+    Volume v = makeSphereShells(12, 4.0, 1.5);
+    const TransferFunction tf{"t", {{0.0, {1, 1, 1}, 0.0}, {0.4, {1, 1, 1}, 0.0}, {0.6, {1, 1, 1}, 1.0}}};
+    const SplatScene s = buildSplatScene(v, tf);
+    size_t expected = 0;
+    for (uint16_t c : s.classes) expected += s.lut[c].a > 0.0f;
+    ASSERT_GT(expected, 0u);
+    ASSERT_LT(expected, s.classes.size());
+    for (int axis = 0; axis < 3; ++axis) {
+        const auto& list = s.visible[size_t(axis)];
+        ASSERT_EQ(list.size(), expected);
+        for (size_t k = 1; k < list.size(); ++k) {
+            const auto coord = [&](uint32_t i) { return glm::ivec3(s.positionOf(i))[axis]; };
+            ASSERT_TRUE(coord(list[k - 1]) < coord(list[k]) ||
+                        (coord(list[k - 1]) == coord(list[k]) && list[k - 1] < list[k]));
+        }
+        for (uint32_t i : list) EXPECT_GT(s.lut[s.classes[i]].a, 0.0f);
+    }
+}
+
+TEST(SplatScene, TraversalFollowsTheMajorViewAxisBackToFront) {
+    ImagePlane p;
+    p.viewDirObject = {0.2, -0.9, 0.3};
+    EXPECT_EQ(chooseTraversal(p).axis, 1);
+    EXPECT_FALSE(chooseTraversal(p).descending);   // looking towards -y: far slices have low y
+    p.viewDirObject = {0.1, 0.2, 0.97};
+    EXPECT_EQ(chooseTraversal(p).axis, 2);
+    EXPECT_TRUE(chooseTraversal(p).descending);
+}
+
+TEST(ReferenceRenderer, OneSplatDepositsItsOpticalDepth) {
+    // X-ray of one voxel with a wide cutoff: sum over pixels of -log(1 - alpha) = g vol |J| (mass
+    // inside 8 sigma is 1 - 1e-14; a footprint of sigma >= 2 px samples the Gaussian's integral to
+    // 1e-12 on a unit grid).
+    const Volume v = oneVoxel(1.0f);
+    const SplatScene scene = buildSplatScene(v, flat(0.2));
+    SplatSettings s;
+    s.compositing = Compositing::XRay;
+    s.cutoffSigmas = 8.0;
+    s.kernelScale = 0.7;
+    s.density = 1e-3;   // optical depth well below 1 everywhere, so the float image keeps its digits
+    for (auto mode : {FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Ewa}) {
+        s.filter = mode;
+        // Sigma ~17 px at 30 units: the 8-sigma ellipse (139 px) fits in the 400 px image.
+        const ImagePlane plane = makeImagePlane({0, 0, 20.0, 30.0}, {0.3, 0.2, 0.0}, 1.5, 400, 400);
+        SplatCounters counters;
+        const Image img = renderReference(scene, plane, s, &counters);
+        ASSERT_EQ(counters.drawn, 1u);
+        double depth = 0.0;
+        for (size_t i = 3; i < img.rgba.size(); i += 4) depth += -std::log1p(-double(img.rgba[i]));
+        const glm::dvec3 u = plane.toCamera({0, 0, 0});
+        const double expected = extinctionOf(scene, s, scene.classes[0]) * rayJacobianDet(u, plane.fPx);
+        EXPECT_NEAR(depth / expected, 1.0, 2e-6) << filterModeName(mode);   // float image: 1e-7 per pixel
+    }
+}
+
+TEST(ReferenceRenderer, NearPlaneAndHugeFootprintsAreCulledAndCounted) {
+    const Volume v = makeCheckerboard({8, 8, 8}, 1);
+    const SplatScene scene = buildSplatScene(v, flat(0.5));
+    // Camera inside the volume: voxels behind the eye are culled by the near plane, never drawn.
+    const ImagePlane plane = makeImagePlane({0, 0, 0.2, 90.0}, scene.centre, scene.radius, 64, 64);
+    SplatSettings s;
+    SplatCounters c;
+    const Image img = renderReference(scene, plane, s, &c);
+    EXPECT_GT(c.culledNear, 0u);
+    EXPECT_EQ(c.visible, c.drawn + c.culledNear + c.culledOffscreen + c.culledHuge + c.culledDegenerate);
+    EXPECT_TRUE(imageStats(img).finite);
+    s.maxFootprintFraction = 0.01;   // every footprint is now "huge"
+    renderReference(scene, plane, s, &c);
+    EXPECT_EQ(c.drawn, 0u);
+    EXPECT_GT(c.culledHuge, 0u);
+}
+
+TEST(ReferenceRenderer, ResultDoesNotDependOnTheThreadCount) {
+    // Bands of rows are independent: rendering twice (different scheduling) gives identical bits.
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(16), flat(0.3));
+    const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, 48, 40);
+    const Image a = renderReference(scene, plane, SplatSettings{});
+    const Image b = renderReference(scene, plane, SplatSettings{});
+    EXPECT_EQ(a.rgba, b.rgba);
+}
