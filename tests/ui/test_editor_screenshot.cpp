@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 namespace {
@@ -67,11 +68,13 @@ TEST(EditorScreenshot, ViewportShowsTheVolumeAndPanelsDifferFromIt) {
     const ui::Rect centre = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.25f);
     const ui::Rect left = shrink(rects.node[size_t(layout.find("left"))], 30.0f, 0.0f);
 
-    // 1. The viewport's centre half shows the volume: a good share of it clearly above the background.
+    // 1. The viewport's centre half shows the volume: most of it clearly above the background
+    //    (measured 0.90 on llvmpipe; an empty or misplaced image leaves it near 0).
     //    0.08 is about 20 grey levels, far above the 8-bit rounding of the flat background.
     const double background = modalLuminance(image, viewport);
     const double covered = fractionBrighterThan(image, centre, background + 0.08);
-    EXPECT_GT(covered, 0.05) << "viewport background " << background << ", see " << shot;
+    std::printf("[ editor   ] viewport centre covered by the volume: %.3f\n", covered);
+    EXPECT_GT(covered, 0.5) << "viewport background " << background << ", see " << shot;
 
     // 2. The settings panel is not more viewport: another flat colour, and text on it.
     EXPECT_GT(std::abs(modalLuminance(image, left) - background), 2.0 / 255.0) << "see " << shot;

@@ -279,6 +279,8 @@ struct BadHeader {
     std::vector<std::string> expect;   // substrings of what() besides the file name
     DataKind data = DataKind::Valid;
 };
+// Short names in test listings (gtest would otherwise print the struct's bytes).
+void PrintTo(const BadHeader& b, std::ostream* os) { *os << b.name; }
 
 // A valid detached header for 4x4x4 uint8 raw data in "<name>.data", then `edits` in order:
 // "field: value" replaces that field (or appends it), "+field: value" appends a line, "-field" drops it.
@@ -358,6 +360,7 @@ struct BadFile {
     std::string content;               // the file's bytes (gzip-compressed when the name ends in .gz)
     std::vector<std::string> expect;   // substrings of what() besides the file name
 };
+void PrintTo(const BadFile& b, std::ostream* os) { *os << b.file; }
 
 const BadFile kBadFiles[] = {
     {"wrong_magic.nhdr", "NRRD9\ntype: uint8\n", {"not a NRRD file", "'NRRD9'", "NRRD0001..NRRD0005"}},

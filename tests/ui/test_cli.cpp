@@ -1,0 +1,88 @@
+// The command line as a user meets it: `render` writes a picture without an X server, `info` reports
+// the volume, and mistakes get one clear line on stderr and a non-zero exit.
+#include "renderer/image.h"
+#include "test_paths.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <string>
+#include <sys/wait.h>
+
+using ::testing::HasSubstr;
+
+namespace {
+
+struct CliRun {
+    int status = -1;
+    std::string output;   // stdout and stderr together
+};
+
+CliRun splatlab(const std::string& args) {
+    // No DISPLAY: render and info must not need an X server.
+    const std::string command = "env -u DISPLAY LIBGL_ALWAYS_SOFTWARE=1 \"" SPLATLAB_EXE "\" " + args + " 2>&1";
+    CliRun r;
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buf;
+    while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) r.output.append(buf.data(), n);
+    const int status = pclose(pipe);
+    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+std::string headsq() { return (testing_support::assetDir() / "volumes" / "headsq.nhdr").string(); }
+
+} // namespace
+
+TEST(Cli, RenderWritesAPictureOfTheVolumeHeadless) {
+    const auto out = testing_support::testOutputDir() / "cli_headsq.png";
+    std::filesystem::remove(out);
+    const CliRun r = splatlab("render \"" + headsq() + "\" --out \"" + out.string() +
+                           "\" --size 96x80 --frames 1 --up -z --camera 60,15,2.5,30");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_THAT(r.output, HasSubstr("96x80"));
+    EXPECT_THAT(r.output, HasSubstr("ms/frame"));
+    const renderer::Image img = renderer::readImage(out);
+    ASSERT_EQ(img.width, 96);
+    ASSERT_EQ(img.height, 80);
+    // The PNG is opaque; the head covers a good part of the frame and is brighter than the background.
+    size_t bright = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) bright += img.pixel(x, y)[0] > 0.2f;
+    EXPECT_GT(double(bright) / (96.0 * 80.0), 0.2);
+}
+
+TEST(Cli, InfoPrintsDimsTypeSpacingAndRange) {
+    const CliRun r = splatlab("info \"" + headsq() + "\"");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_THAT(r.output, HasSubstr("64 x 64 x 93"));
+    EXPECT_THAT(r.output, HasSubstr("int16"));
+    EXPECT_THAT(r.output, HasSubstr("3.2 x 3.2 x 1.5"));
+    EXPECT_THAT(r.output, HasSubstr("0 .. 3926"));
+    EXPECT_THAT(r.output, HasSubstr("histogram"));
+}
+
+TEST(Cli, MistakesGetOneClearLineAndAFailingExit) {
+    const std::string out = (testing_support::testOutputDir() / "never.png").string();
+    const std::pair<std::string, std::string> cases[] = {
+        {"render \"" + headsq() + "\" --out " + out + " --size 64", "expected WxH"},
+        {"render \"" + headsq() + "\" --out " + out + " --camera 1,2,3", "azimuth,elevation,distance,fov"},
+        {"render \"" + headsq() + "\" --out " + out + " --camera 0,0,2,200", "fov must be 1..170"},
+        {"render \"" + headsq() + "\" --out " + out + " --compositing sheet", "known: splat-every-sample, xray"},
+        {"render \"" + headsq() + "\" --out " + out + " --filter box", "known: reconstruction, low-pass, ewa"},
+        {"render \"" + headsq() + "\" --out " + out + " --tf nonsense", "known: ct-skin-bone"},
+        {"render \"" + headsq() + "\" --out " + out + " --up w", "expected x, y, z"},
+        {"render no_such_volume.nhdr --out " + out, "no_such_volume.nhdr: cannot open"},
+        {"render \"" + headsq() + "\"", "--out is required"},
+        {"info", "volume is required"},
+        {"frobnicate", "frobnicate"},
+    };
+    for (const auto& [args, expect] : cases) {
+        const CliRun r = splatlab(args);
+        EXPECT_NE(r.status, 0) << args;
+        EXPECT_THAT(r.output, HasSubstr(expect)) << args;
+    }
+}
