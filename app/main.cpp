@@ -5,6 +5,8 @@
 #include "renderer/camera.h"
 #include "renderer/errors.h"
 #include "renderer/gl_context.h"
+#include "renderer/ground_truth.h"
+#include "renderer/metrics.h"
 #include "renderer/reference_renderer.h"
 #include "renderer/splat_renderer.h"
 #include "renderer/volume_io.h"
@@ -69,11 +71,7 @@ Camera parseCamera(const std::string& text) {
     return c;
 }
 
-FilterMode parseFilter(const std::string& s) {
-    for (auto m : {FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Ewa})
-        if (s == filterModeName(m)) return m;
-    throw CLI::ValidationError("--filter", "'" + s + "': unknown filter (known: reconstruction, low-pass, ewa)");
-}
+FilterMode parseFilter(const std::string& s) { return filterModeFromName(s); }
 
 struct RawFlags {
     std::string dims, type, endian = "little";
@@ -124,64 +122,136 @@ int runInfo(const std::string& path, const RawFlags& raw) {
     return 0;
 }
 
-struct RenderArgs {
+// What `render` and `reference` share: the volume, the view and the splatting settings.
+struct SceneArgs {
     std::string volume, out, size = "512x512", camera = "30,20,2.5,30", tf = "ct-skin-bone";
     std::string compositing = "splat-every-sample", filter = "ewa", up = "z";
     double kernelScale = SplatSettings{}.kernelScale, density = 1.0;
-    int frames = 5;
-    bool cpu = false;
+    bool orthographic = false;
     RawFlags raw;
 };
 
-int runRender(const RenderArgs& a) {
+void addSceneOptions(CLI::App* cmd, SceneArgs& a) {
+    cmd->add_option("volume", a.volume, "Volume file (.nrrd, .nhdr, .raw, .raw.gz)")->required();
+    cmd->add_option("--out,-o", a.out, "Output image; .png for people, .exr for float data")->required();
+    cmd->add_option("--size", a.size, "Image size WxH")->capture_default_str();
+    cmd->add_option("--camera", a.camera, "azimuth,elevation,distance,fov (deg, bounding radii, deg)")
+        ->capture_default_str();
+    cmd->add_option("--up", a.up, "Object axis shown upwards: x, y, z, -x, -y, -z (headsq: -z)")->capture_default_str();
+    cmd->add_flag("--ortho", a.orthographic, "Parallel projection (framed like the perspective view)");
+    cmd->add_option("--tf", a.tf, "Transfer function: a preset name or a JSON file")->capture_default_str();
+    cmd->add_option("--kernel-scale", a.kernelScale, "Reconstruction sigma in voxel spacings")->capture_default_str();
+    cmd->add_option("--density", a.density, "Extinction per voxel length at TF opacity 1")->capture_default_str();
+    addRawFlags(cmd, a.raw);
+}
+
+struct Scene {
+    SplatScene scene;
+    ImagePlane plane;
+    SplatSettings settings;
+};
+
+Scene buildScene(const SceneArgs& a) {
     const glm::ivec2 size = parseSize(a.size, "--size");
     Camera camera = parseCamera(a.camera);
     camera.up = axisFromName(a.up);
-    SplatSettings settings;
-    settings.compositing = compositingFromName(a.compositing);
-    settings.filter = parseFilter(a.filter);
+    camera.orthographic = a.orthographic;
+    Scene s;
+    s.settings.compositing = compositingFromName(a.compositing);
+    s.settings.filter = parseFilter(a.filter);
     if (!(a.kernelScale > 0.05 && a.kernelScale <= 10))
         throw CLI::ValidationError("--kernel-scale", "must be in (0.05, 10] voxel spacings");
     if (!(a.density > 0)) throw CLI::ValidationError("--density", "must be > 0");
-    if (a.frames < 1) throw CLI::ValidationError("--frames", "must be >= 1");
-    settings.kernelScale = a.kernelScale;
-    settings.density = a.density;
+    s.settings.kernelScale = a.kernelScale;
+    s.settings.density = a.density;
     const TransferFunction tf = transferFunctionFromSpec(a.tf);
-    const Volume volume = loadVolume(a.volume, rawOptions(a.raw));
-    const SplatScene scene = buildSplatScene(volume, tf);
-    const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, size.x, size.y);
+    s.scene = buildSplatScene(loadVolume(a.volume, rawOptions(a.raw)), tf);
+    s.plane = makeImagePlane(camera, s.scene.centre, s.scene.radius, size.x, size.y);
+    return s;
+}
 
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+int runRender(const SceneArgs& a, int frames, bool cpu) {
+    if (frames < 1) throw CLI::ValidationError("--frames", "must be >= 1");
+    const Scene s = buildScene(a);
     Image image;
     std::vector<double> ms;
     std::string device;
-    if (a.cpu) {
+    SplatCounters counters;
+    if (cpu) {
         device = "CPU oracle (double)";
-        for (int i = 0; i < a.frames; ++i) {
+        for (int i = 0; i < frames; ++i) {
             const auto t0 = std::chrono::steady_clock::now();
-            image = renderReference(scene, plane, settings);
-            ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            image = renderReference(s.scene, s.plane, s.settings, &counters);
+            ms.push_back(msSince(t0));
         }
     } else {
         auto context = HeadlessGl::create();
         device = glRendererName();
         SplatRenderer gl;
-        gl.setScene(scene);
-        gl.render(plane, settings);   // warm-up: shader compilation and first-use costs
+        gl.setScene(s.scene);
+        gl.render(s.plane, s.settings);   // warm-up: shader compilation and first-use costs
         glFinish();
-        for (int i = 0; i < a.frames; ++i) {
+        for (int i = 0; i < frames; ++i) {
             const auto t0 = std::chrono::steady_clock::now();
-            gl.render(plane, settings);
+            gl.render(s.plane, s.settings);
             glFinish();
-            ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            ms.push_back(msSince(t0));
         }
         image = gl.readback();
     }
     writeImage(image, a.out);
     std::sort(ms.begin(), ms.end());
-    const double median = ms[ms.size() / 2];
-    std::printf("%s: %dx%d, %zu splats, %s, %s, %.2f ms/frame (median of %d) on %s\n", a.out.c_str(), size.x,
-                size.y, scene.visibleCount(), filterModeName(settings.filter), compositingName(settings.compositing),
-                median, a.frames, device.c_str());
+    std::printf("%s: %dx%d, %zu splats, %s, %s, %.2f ms/frame (median of %d) on %s\n", a.out.c_str(),
+                s.plane.width, s.plane.height, s.scene.visibleCount(), filterModeName(s.settings.filter),
+                compositingName(s.settings.compositing), ms[ms.size() / 2], frames, device.c_str());
+    if (cpu)
+        std::printf("  drawn %llu (reconstruction %llu, low-pass %llu, ewa %llu); culled near %llu, offscreen %llu, "
+                    "huge %llu, degenerate %llu\n",
+                    (unsigned long long)counters.drawn, (unsigned long long)counters.drawnPerMode[0],
+                    (unsigned long long)counters.drawnPerMode[1], (unsigned long long)counters.drawnPerMode[2],
+                    (unsigned long long)counters.culledNear, (unsigned long long)counters.culledOffscreen,
+                    (unsigned long long)counters.culledHuge, (unsigned long long)counters.culledDegenerate);
+    return 0;
+}
+
+// A one-line progress bar on stderr, redrawn in place.
+bool printProgress(double fraction) {
+    const int width = 40, filled = int(fraction * width + 0.5);
+    std::fprintf(stderr, "\r  [%s%s] %5.1f%%", std::string(size_t(filled), '#').c_str(),
+                 std::string(size_t(width - filled), '.').c_str(), 100.0 * fraction);
+    if (fraction >= 1.0) std::fprintf(stderr, "\n");
+    return true;
+}
+
+int runReference(const SceneArgs& a, const GroundTruthOptions& options, const std::string& cacheDir, bool noCache) {
+    const Scene s = buildScene(a);
+    GroundTruthStats stats;
+    const Image image = noCache ? renderGroundTruth(s.scene, s.plane, s.settings, options, printProgress, &stats)
+                                : cachedGroundTruth(s.scene, s.plane, s.settings, options,
+                                                    cacheDir.empty() ? defaultGroundTruthCacheDir() : std::filesystem::path(cacheDir),
+                                                    printProgress, &stats);
+    writeImage(image, a.out);
+    if (stats.fromCache)
+        std::printf("%s: reference from the cache (key %s)\n", a.out.c_str(),
+                    groundTruthKey(s.scene, s.plane, s.settings, options).c_str());
+    else
+        std::printf("%s: reference of %llu rays in %.1f s, %.2f step halvings per ray, %llu rays not converged "
+                    "to %.1e\n",
+                    a.out.c_str(), (unsigned long long)stats.rays, stats.seconds, stats.meanHalvings,
+                    (unsigned long long)stats.unconvergedRays, options.tolerance);
+    return 0;
+}
+
+int runCompare(const std::string& a, const std::string& b, const std::string& diff, double gain) {
+    const Image image = readImage(a), reference = readImage(b);
+    const ImageError e = compareImages(image, reference);
+    std::printf("%s vs %s: RMSE %.6f  PSNR %.2f dB  SSIM %.5f  max error %.6f at (%d, %d)\n", a.c_str(), b.c_str(),
+                e.rmse, e.psnrDb, e.ssim, e.maxAbs, e.maxX, e.maxY);
+    if (!diff.empty()) writeImage(differenceImage(image, reference, gain), diff);
     return 0;
 }
 
@@ -191,24 +261,38 @@ int main(int argc, char** argv) {
     CLI::App app{"SplatLab: adaptive EWA volume splatting"};
     app.require_subcommand(0, 1);
 
-    RenderArgs r;
+    SceneArgs r;
+    int frames = 5;
+    bool cpu = false;
     auto* render = app.add_subcommand("render", "Render a volume headless to an image (PNG, EXR, ...)");
-    render->add_option("volume", r.volume, "Volume file (.nrrd, .nhdr, .raw, .raw.gz)")->required();
-    render->add_option("--out,-o", r.out, "Output image; .png for people, .exr for float data")->required();
-    render->add_option("--size", r.size, "Image size WxH")->capture_default_str();
-    render->add_option("--camera", r.camera, "azimuth,elevation,distance,fov (deg, bounding radii, deg)")
+    addSceneOptions(render, r);
+    render->add_option("--compositing", r.compositing,
+                       "splat-every-sample, xray; with --cpu also sheet-back-to-front, sheet-front-to-back")
         ->capture_default_str();
-    render->add_option("--tf", r.tf, "Transfer function: a preset name or a JSON file")->capture_default_str();
-    render->add_option("--compositing", r.compositing, "splat-every-sample or xray")->capture_default_str();
-    render->add_option("--filter", r.filter, "reconstruction, low-pass or ewa")->capture_default_str();
-    render->add_option("--kernel-scale", r.kernelScale, "Reconstruction sigma in voxel spacings")
+    render->add_option("--filter", r.filter, "reconstruction, low-pass, ewa or adaptive")->capture_default_str();
+    render->add_option("--frames", frames, "Timed frames (the median is printed)")->capture_default_str();
+    render->add_flag("--cpu", cpu, "Render with the double-precision CPU oracle instead of GL");
+
+    SceneArgs ref;
+    GroundTruthOptions gt;
+    std::string cacheDir;
+    bool noCache = false;
+    auto* reference = app.add_subcommand("reference", "Compute (or reuse) the ground-truth image of a view");
+    addSceneOptions(reference, ref);
+    reference->add_option("--tolerance", gt.tolerance, "Per-ray convergence: max RGBA change when the step halves")
         ->capture_default_str();
-    render->add_option("--density", r.density, "Extinction per voxel length at TF opacity 1")->capture_default_str();
-    render->add_option("--frames", r.frames, "Timed frames (the median is printed)")->capture_default_str();
-    render->add_option("--up", r.up, "Object axis shown upwards: x, y, z, -x, -y, -z (headsq: -z)")
+    reference->add_option("--aa", gt.antialiasNodes, "Gauss-Hermite rays per pixel axis for V_h (1..5)")
         ->capture_default_str();
-    render->add_flag("--cpu", r.cpu, "Render with the double-precision CPU oracle instead of GL");
-    addRawFlags(render, r.raw);
+    reference->add_option("--cache", cacheDir, "Cache folder (default: ~/.cache/splatlab/reference)");
+    reference->add_flag("--no-cache", noCache, "Always compute, never read or write the cache");
+
+    std::string cmpA, cmpB, cmpDiff;
+    double cmpGain = 10.0;
+    auto* compare = app.add_subcommand("compare", "Error of image A against reference B: RMSE, PSNR, SSIM, max");
+    compare->add_option("image", cmpA, "Image to judge (EXR keeps float data)")->required();
+    compare->add_option("reference", cmpB, "Reference image")->required();
+    compare->add_option("--diff", cmpDiff, "Write |A - B| x gain as an image");
+    compare->add_option("--gain", cmpGain, "Amplification of the difference image")->capture_default_str();
 
     std::string infoPath;
     RawFlags infoRaw;
@@ -231,7 +315,9 @@ int main(int argc, char** argv) {
 
     try {
         app.parse(argc, argv);
-        if (*render) return runRender(r);
+        if (*render) return runRender(r, frames, cpu);
+        if (*reference) return runReference(ref, gt, cacheDir, noCache);
+        if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);
         if (*info) return runInfo(infoPath, infoRaw);
         // The bundled headsq stores its slices from the crown down, so it is shown with -z up.
         e.upAxis = editorVolume.empty() ? "-z" : "z";

@@ -29,13 +29,18 @@ ImagePlane makeImagePlane(const Camera& camera, glm::dvec3 centre, double radius
     ImagePlane p;
     p.width = width;
     p.height = height;
-    p.fPx = 0.5 * height / std::tan(0.5 * camera.fovYDeg * deg);
+    p.tanHalfFovY = std::tan(0.5 * camera.fovYDeg * deg);
+    p.fPx = 0.5 * height / p.tanHalfFovY;
     p.centrePx = glm::dvec2(0.5 * width, 0.5 * height);
     // Rows of W are the camera axes in object space.
     p.viewFromObject = glm::transpose(glm::dmat3(right, down, forward));
     const double eyeDistance = camera.distance * r;
+    p.orthographic = camera.orthographic;
+    // Orthographic: the view height equals the perspective one at the orbit centre's depth.
+    if (p.orthographic) p.fPx /= eyeDistance;
     // Panning moves eye and orbit centre together along the image plane, by pixels at the centre depth.
-    const glm::dvec3 pan = (right * camera.panPx.x + down * camera.panPx.y) * (eyeDistance / p.fPx);
+    const double objectPerPx = p.orthographic ? 1.0 / p.fPx : eyeDistance / p.fPx;
+    const glm::dvec3 pan = (right * camera.panPx.x + down * camera.panPx.y) * objectPerPx;
     const glm::dvec3 eye = centre + toEye * eyeDistance - pan;
     p.translation = -(p.viewFromObject * eye);
     // Near plane: a fixed fraction of the volume's size, so the guard scales with the scene.

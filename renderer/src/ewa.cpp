@@ -2,6 +2,10 @@
 // Jacobian; we use 001 eq. (25), whose determinant is |u| / u2^3 (times fPx^2 in pixel units).
 #include "renderer/ewa.h"
 
+#include "renderer/errors.h"
+
+#include <cassert>
+
 #include <cmath>
 #include <numbers>
 
@@ -12,8 +16,15 @@ const char* filterModeName(FilterMode m) {
     case FilterMode::Reconstruction: return "reconstruction";
     case FilterMode::LowPass: return "low-pass";
     case FilterMode::Ewa: return "ewa";
+    case FilterMode::Adaptive: return "adaptive";
     }
     return "?";
+}
+
+FilterMode filterModeFromName(const std::string& name) {
+    for (auto m : {FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Ewa, FilterMode::Adaptive})
+        if (name == filterModeName(m)) return m;
+    throw RenderError("unknown filter '" + name + "' (known: reconstruction, low-pass, ewa, adaptive)");
 }
 
 glm::dmat3 rayJacobianPx(glm::dvec3 u, double fPx) {
@@ -28,18 +39,21 @@ glm::dmat3 rayJacobianPx(glm::dvec3 u, double fPx) {
 double rayJacobianDet(glm::dvec3 u, double fPx) { return fPx * fPx * glm::length(u) / (u.z * u.z * u.z); }
 
 Footprint projectKernel(glm::dvec3 u, const glm::dmat3& varianceCamera, double fPx, FilterMode mode,
-                        const glm::dmat2& lowPassPx) {
-    const glm::dmat3 j = rayJacobianPx(u, fPx);
+                        const glm::dmat2& lowPassPx, bool orthographic) {
+    assert(mode != FilterMode::Adaptive && "resolve Adaptive with the classifier first");
+    const glm::dmat3 j = orthographic ? glm::dmat3(glm::dvec3(fPx, 0, 0), glm::dvec3(0, fPx, 0), glm::dvec3(0, 0, 1))
+                                      : rayJacobianPx(u, fPx);
     const glm::dmat3 v = j * varianceCamera * glm::transpose(j);
     const glm::dmat2 vHat(v[0][0], v[0][1], v[1][0], v[1][1]);
 
     Footprint f;
-    f.offsetPx = fPx * glm::dvec2(u.x / u.z, u.y / u.z);
-    f.jacobianDet = rayJacobianDet(u, fPx);
+    f.offsetPx = orthographic ? fPx * glm::dvec2(u.x, u.y) : fPx * glm::dvec2(u.x / u.z, u.y / u.z);
+    f.jacobianDet = orthographic ? fPx * fPx : rayJacobianDet(u, fPx);
     switch (mode) {
     case FilterMode::Reconstruction: f.variancePx = vHat; break;
     case FilterMode::LowPass: f.variancePx = lowPassPx; break;
-    case FilterMode::Ewa: f.variancePx = vHat + lowPassPx; break;
+    case FilterMode::Ewa:
+    case FilterMode::Adaptive: f.variancePx = vHat + lowPassPx; break;
     }
     // The |J| normaliser stays in every mode, so each deposits the same total and modes can mix.
     f.peak = f.jacobianDet / (2.0 * std::numbers::pi * std::sqrt(glm::determinant(f.variancePx)));

@@ -5,6 +5,7 @@
 #include "renderer/splat_renderer.h"
 
 #include "gl_util.h"
+#include "renderer/classifier.h"
 #include "renderer/errors.h"
 #include "renderer/gl_context.h"
 
@@ -32,7 +33,11 @@ uniform float uFPx;
 uniform vec2 uCentrePx, uViewport;
 uniform float uNear;
 uniform mat3 uVarCamera;      // W V'' W^T, shared by every voxel of a rectilinear grid
-uniform int uFilter;          // 0 reconstruction, 1 low-pass, 2 EWA
+uniform int uFilter;          // 0 reconstruction, 1 low-pass, 2 EWA, 3 adaptive (classifier.h)
+uniform bool uOrtho;          // constant affine projection diag(f, f, 1)
+uniform int uAxis;            // traversal axis: patches lie in its slices
+uniform int uPatchSize;
+uniform float uReconAbovePx, uLowPassBelowPx, uSigmaMin, uSigmaMax;
 uniform float uCutoff;        // in sigmas
 uniform float uExtinctionScale;   // density / mean spacing * voxel volume
 uniform float uMaxHalfExtent;     // huge-footprint guard, pixels
@@ -41,6 +46,31 @@ flat out vec2 vCentre;
 flat out vec3 vConic;         // (a, b, c): e = a dx^2 + 2 b dx dy + c dy^2
 flat out float vAmplitude;
 flat out vec3 vColour;
+
+int classifyDepth(float u2) {
+    if (!uOrtho && !(u2 > uNear)) return 0;
+    float pxPerUnit = uOrtho ? uFPx : uFPx / u2;
+    if (uSigmaMin * pxPerUnit > uReconAbovePx) return 0;
+    if (uSigmaMax * pxPerUnit < uLowPassBelowPx) return 1;
+    return 2;
+}
+
+// The patch's filter from its four corner voxels, as classifyPatch() does on the CPU.
+int classifyPatch(ivec3 ijk) {
+    int a = (uAxis + 1) % 3, b = (uAxis + 2) % 3;
+    int a0 = ijk[a] / uPatchSize * uPatchSize, b0 = ijk[b] / uPatchSize * uPatchSize;
+    int a1 = min(a0 + uPatchSize - 1, uDims[a] - 1), b1 = min(b0 + uPatchSize - 1, uDims[b] - 1);
+    int mode = 2;
+    for (int corner = 0; corner < 4; ++corner) {
+        ivec3 c = ijk;
+        c[a] = (corner & 1) != 0 ? a1 : a0;
+        c[b] = (corner & 2) != 0 ? b1 : b0;
+        int m = classifyDepth((uViewFromObject * (uOrigin + uSpacing * vec3(c)) + uTranslation).z);
+        if (corner == 0) mode = m;
+        else if (m != mode) return 2;
+    }
+    return mode;
+}
 
 const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
 
@@ -57,20 +87,23 @@ void main() {
     if (!(u.z > uNear)) return;
     float l = length(u);
     float iz = 1.0 / u.z;
-    // Pixel-unit Jacobian (001 eq. 25), written row by row, transposed into GLSL's column order.
-    mat3 J = transpose(mat3(uFPx * iz, 0.0, -uFPx * u.x * iz * iz,
-                            0.0, uFPx * iz, -uFPx * u.y * iz * iz,
-                            u.x / l, u.y / l, u.z / l));
+    // Pixel-unit Jacobian (001 eq. 25), written row by row, transposed into GLSL's column order;
+    // orthographic: the constant affine map.
+    mat3 J = uOrtho ? mat3(uFPx, 0.0, 0.0, 0.0, uFPx, 0.0, 0.0, 0.0, 1.0)
+                    : transpose(mat3(uFPx * iz, 0.0, -uFPx * u.x * iz * iz,
+                                     0.0, uFPx * iz, -uFPx * u.y * iz * iz,
+                                     u.x / l, u.y / l, u.z / l));
     mat3 V = J * uVarCamera * transpose(J);
     mat2 vHat = mat2(V[0][0], V[0][1], V[1][0], V[1][1]);
-    mat2 M = uFilter == 0 ? vHat : (uFilter == 1 ? mat2(1.0) : vHat + mat2(1.0));
+    int mode = uFilter == 3 ? classifyPatch(ijk) : uFilter;
+    mat2 M = mode == 0 ? vHat : (mode == 1 ? mat2(1.0) : vHat + mat2(1.0));
     float det = M[0][0] * M[1][1] - M[0][1] * M[1][0];
     if (!(det > 1e-12)) return;
     vec2 halfExtent = uCutoff * sqrt(vec2(M[0][0], M[1][1]));
     if (max(halfExtent.x, halfExtent.y) > uMaxHalfExtent) return;
 
-    float detJ = uFPx * uFPx * l * iz * iz * iz;
-    vCentre = uCentrePx + uFPx * u.xy * iz;
+    float detJ = uOrtho ? uFPx * uFPx : uFPx * uFPx * l * iz * iz * iz;
+    vCentre = uCentrePx + uFPx * (uOrtho ? u.xy : u.xy * iz);
     vConic = vec3(M[1][1], -M[0][1], M[0][0]) / det;
     vAmplitude = tf.a * uExtinctionScale * detJ / (6.283185307 * sqrt(det));
     vColour = tf.rgb;
@@ -274,6 +307,9 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     if (timed) glBeginQuery(GL_TIME_ELAPSED, g.timers[slot]);
 
     const Traversal trav = chooseTraversal(plane);
+    if (settings.compositing == Compositing::SheetBackToFront || settings.compositing == Compositing::SheetFrontToBack)
+        throw RenderError(std::string(compositingName(settings.compositing)) +
+                          " compositing runs on the CPU oracle only so far (use --cpu)");
     const bool xray = settings.compositing == Compositing::XRay;
     const GLuint target = xray ? g.accumFbo : g.resultFbo;
     const float zero[4] = {0, 0, 0, 0};
@@ -310,6 +346,14 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glUniform1f(glGetUniformLocation(p, "uNear"), float(plane.nearDepth));
     glUniformMatrix3fv(glGetUniformLocation(p, "uVarCamera"), 1, GL_FALSE, glm::value_ptr(varCamera));
     glUniform1i(glGetUniformLocation(p, "uFilter"), int(settings.filter));
+    const AdaptiveThresholds thresholds = adaptiveThresholds(g.spacing, plane, settings);
+    glUniform1i(glGetUniformLocation(p, "uOrtho"), plane.orthographic);
+    glUniform1i(glGetUniformLocation(p, "uAxis"), trav.axis);
+    glUniform1i(glGetUniformLocation(p, "uPatchSize"), std::max(settings.patchSize, 1));
+    glUniform1f(glGetUniformLocation(p, "uReconAbovePx"), float(thresholds.reconstructionAbovePx));
+    glUniform1f(glGetUniformLocation(p, "uLowPassBelowPx"), float(thresholds.lowPassBelowPx));
+    glUniform1f(glGetUniformLocation(p, "uSigmaMin"), float(thresholds.sigmaMin));
+    glUniform1f(glGetUniformLocation(p, "uSigmaMax"), float(thresholds.sigmaMax));
     glUniform1f(glGetUniformLocation(p, "uCutoff"), float(settings.cutoffSigmas));
     glUniform1f(glGetUniformLocation(p, "uExtinctionScale"),
                 float(settings.density / meanSpacing * g.spacing.x * g.spacing.y * g.spacing.z));

@@ -9,14 +9,18 @@ const char* compositingName(Compositing c) {
     switch (c) {
     case Compositing::SplatEverySample: return "splat-every-sample";
     case Compositing::XRay: return "xray";
+    case Compositing::SheetBackToFront: return "sheet-back-to-front";
+    case Compositing::SheetFrontToBack: return "sheet-front-to-back";
     }
     return "?";
 }
 
 Compositing compositingFromName(const std::string& name) {
-    for (auto c : {Compositing::SplatEverySample, Compositing::XRay})
+    for (auto c : {Compositing::SplatEverySample, Compositing::XRay, Compositing::SheetBackToFront,
+                   Compositing::SheetFrontToBack})
         if (name == compositingName(c)) return c;
-    throw RenderError("unknown compositing '" + name + "' (known: splat-every-sample, xray)");
+    throw RenderError("unknown compositing '" + name +
+                      "' (known: splat-every-sample, xray, sheet-back-to-front, sheet-front-to-back)");
 }
 
 } // namespace renderer

@@ -1,275 +1,24 @@
-// Raw and NRRD readers: header parsing, size checks, gzip inflation and conversion of voxel bytes to
-// floats. Every failure is a LoadError naming the file and field; the Volume itself knows no format.
+// Raw and NRRD readers and the dispatch by file name (loadVolume). The other formats live in
+// volume_io_<format>.cpp; what they share (size checks, decompression, voxel decoding) in
+// volume_io_common.cpp. Every failure is a LoadError naming the file and field.
 #include "renderer/volume_io.h"
 
 #include "renderer/errors.h"
-
-#include <zlib.h>
+#include "volume_io_detail.h"
 
 #include <algorithm>
-#include <bit>
-#include <cctype>
-#include <cerrno>
 #include <charconv>
-#include <climits>
 #include <cmath>
-#include <cstring>
 #include <fstream>
-#include <limits>
 #include <map>
 #include <string_view>
 
 namespace renderer {
 namespace {
 
-namespace fs = std::filesystem;
+using namespace io;
 
-constexpr size_t kChunkBytes = size_t(1) << 16;   // read/inflate granularity; a multiple of every voxel size
 constexpr size_t kMaxHeaderLineBytes = size_t(1) << 16;   // longer "lines" mean binary data, not a header
-
-[[noreturn]] void fail(const fs::path& path, const std::string& field, const std::string& reason) {
-    throw LoadError(path.string(), field, reason);
-}
-
-std::string lower(std::string_view s) {
-    std::string out(s);
-    for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return out;
-}
-
-std::string_view trim(std::string_view s) {
-    const auto isSpace = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
-    while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
-    while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
-    return s;
-}
-
-std::vector<std::string_view> splitWords(std::string_view s) {
-    std::vector<std::string_view> words;
-    size_t i = 0;
-    while (i < s.size()) {
-        while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-        const size_t start = i;
-        while (i < s.size() && !std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-        if (i > start) words.push_back(s.substr(start, i - start));
-    }
-    return words;
-}
-
-// Quotes text read from a file for an error message: binary junk becomes '?', long lines are cut.
-std::string excerpt(std::string_view s) {
-    std::string out = "'";
-    for (char c : s.substr(0, 60)) out += std::isprint(static_cast<unsigned char>(c)) ? c : '?';
-    return out + (s.size() > 60 ? "...'" : "'");
-}
-
-std::optional<long long> parseInt(std::string_view s) {
-    long long v = 0;
-    auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
-    return v;
-}
-
-std::optional<double> parseDouble(std::string_view s) {
-    double v = 0;
-    auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
-    return v;
-}
-
-std::string layoutText(glm::ivec3 dims, VoxelType type) {
-    return std::to_string(dims.x) + "x" + std::to_string(dims.y) + "x" + std::to_string(dims.z) + " " +
-           voxelTypeName(type);
-}
-
-// Checks three axis sizes before anything is allocated: each positive and fitting an int, and their
-// product within kMaxVoxels (so voxels * 4 bytes cannot overflow size_t either).
-glm::ivec3 checkedDims(const fs::path& path, const std::string& field, long long x, long long y,
-                       long long z) {
-    const long long sizes[3] = {x, y, z};
-    for (long long s : sizes)
-        if (s <= 0) fail(path, field, "size " + std::to_string(s) + " must be a positive integer");
-    const std::string text = std::to_string(x) + " x " + std::to_string(y) + " x " + std::to_string(z);
-    unsigned long long product = 1;
-    for (long long s : sizes) {
-        if (s > INT_MAX || product > kMaxVoxels / (unsigned long long)s)
-            fail(path, field, text + " voxels is more than the " + std::to_string(kMaxVoxels) + " supported");
-        product *= (unsigned long long)s;
-    }
-    return {int(x), int(y), int(z)};
-}
-
-// The name shown for a volume: the file name without .gz and then .raw/.nrrd/.nhdr.
-std::string volumeName(const fs::path& path) {
-    std::string name = path.filename().string();
-    for (std::string_view ext : {".gz", ".raw", ".nrrd", ".nhdr"}) {
-        if (name.size() > ext.size() && lower(name).ends_with(ext)) name.resize(name.size() - ext.size());
-    }
-    return name;
-}
-
-std::ifstream openFile(const fs::path& file, const fs::path& report, const std::string& field) {
-    const std::string what = file == report ? "cannot open: " : "cannot open '" + file.string() + "': ";
-    std::error_code ec;
-    if (fs::is_directory(file, ec)) fail(report, field, what + "is a directory");
-    std::ifstream in(file, std::ios::binary);
-    if (!in) fail(report, field, what + std::strerror(errno));
-    return in;
-}
-
-// Sequential bytes of the voxel stream, inflated on the fly when the data is gzip-compressed.
-class ByteReader {
-public:
-    ByteReader(std::ifstream& in, bool gzip, fs::path report)
-        : m_in(in), m_gzip(gzip), m_report(std::move(report)) {
-        // 16 + MAX_WBITS: expect a gzip wrapper (header + CRC), not a bare zlib stream.
-        if (m_gzip && inflateInit2(&m_zs, 16 + MAX_WBITS) != Z_OK)
-            fail(m_report, "data", "cannot start zlib");
-    }
-    ~ByteReader() {
-        if (m_gzip) inflateEnd(&m_zs);
-    }
-    ByteReader(const ByteReader&) = delete;
-    ByteReader& operator=(const ByteReader&) = delete;
-
-    // Fills dst with n bytes; fewer only when the file (or the gzip stream) ended first.
-    size_t read(unsigned char* dst, size_t n) {
-        if (!m_gzip) {
-            m_in.read(reinterpret_cast<char*>(dst), std::streamsize(n));
-            return size_t(m_in.gcount());
-        }
-        size_t got = 0;
-        while (got < n && !m_ended) {
-            if (m_zs.avail_in == 0) {
-                m_in.read(reinterpret_cast<char*>(m_buffer.data()), std::streamsize(m_buffer.size()));
-                m_zs.next_in = m_buffer.data();
-                m_zs.avail_in = uInt(m_in.gcount());
-                if (m_zs.avail_in == 0) break;   // the file ended inside the stream: truncated
-            }
-            const size_t want = std::min(n - got, kChunkBytes);   // avail_out is a 32-bit uInt
-            m_zs.next_out = dst + got;
-            m_zs.avail_out = uInt(want);
-            const int rc = inflate(&m_zs, Z_NO_FLUSH);
-            got += want - m_zs.avail_out;
-            if (rc == Z_STREAM_END) {
-                // gzip allows concatenated members (cat a.gz b.gz); carry on when more input follows.
-                if (m_zs.avail_in == 0 && m_in.peek() == std::char_traits<char>::eof())
-                    m_ended = true;
-                else
-                    inflateReset(&m_zs);
-            } else if (rc != Z_OK && rc != Z_BUF_ERROR) {
-                fail(m_report, "data",
-                     std::string("gzip stream is corrupt: ") + (m_zs.msg ? m_zs.msg : zError(rc)));
-            }
-        }
-        return got;
-    }
-
-private:
-    std::ifstream& m_in;
-    bool m_gzip;
-    fs::path m_report;
-    z_stream m_zs{};
-    bool m_ended = false;
-    std::vector<unsigned char> m_buffer = std::vector<unsigned char>(kChunkBytes);
-};
-
-void decodeVoxels(const unsigned char* bytes, size_t count, VoxelType type, Endian endian, float* out) {
-    const bool little = endian == Endian::Little;
-    for (size_t i = 0; i < count; ++i) {
-        const unsigned char* b = bytes + i * voxelTypeBytes(type);
-        switch (type) {
-        case VoxelType::U8: out[i] = float(b[0]); break;
-        case VoxelType::U16: out[i] = float(uint16_t(little ? b[0] | b[1] << 8 : b[1] | b[0] << 8)); break;
-        case VoxelType::I16:
-            out[i] = float(int16_t(uint16_t(little ? b[0] | b[1] << 8 : b[1] | b[0] << 8)));
-            break;
-        case VoxelType::F32: {
-            const uint32_t b0 = b[little ? 0 : 3], b1 = b[little ? 1 : 2], b2 = b[little ? 2 : 1],
-                           b3 = b[little ? 3 : 0];
-            out[i] = std::bit_cast<float>(b0 | b1 << 8 | b2 << 16 | b3 << 24);
-            break;
-        }
-        }
-    }
-}
-
-// Where the voxel bytes are and how they are stored.
-struct DataSource {
-    fs::path file;               // the file holding the bytes (the header itself when attached)
-    std::streamoff offset = 0;   // where the stored (possibly compressed) data starts in `file`
-    size_t lineSkip = 0;         // text lines to skip from `offset` before the data (NRRD "line skip")
-    size_t byteSkip = 0;         // bytes to drop before the voxels, counted after decompression
-    bool gzip = false;
-    bool exact = false;   // trailing bytes are an error (raw files) instead of being ignored (NRRD)
-    Endian endian = Endian::Little;
-};
-
-// Reads dims/type voxels from `src` into floats. `report` is the file named in errors.
-std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm::ivec3 dims,
-                              VoxelType type) {
-    const size_t count = size_t(dims.x) * size_t(dims.y) * size_t(dims.z);   // checkedDims() bounded it
-    const size_t needed = count * voxelTypeBytes(type);
-    const std::string where = src.file == report ? "file" : "data file '" + src.file.string() + "'";
-    const std::string expected =
-        std::to_string(needed) + " bytes (" + layoutText(dims, type) +
-        (src.byteSkip ? " after a " + std::to_string(src.byteSkip) + "-byte skip)" : ")");
-
-    // 1. Open and find where the stored data starts (after the header and any skipped lines).
-    std::ifstream in = openFile(src.file, report, src.file == report ? "" : "data file");
-    in.seekg(src.offset);
-    for (size_t line = 0; line < src.lineSkip; ++line) {
-        in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-        if (!in)
-            fail(report, "line skip", where + " has fewer than " + std::to_string(src.lineSkip) + " lines");
-    }
-    const std::streamoff start = in.tellg();
-    if (start < 0) fail(report, "data", "cannot seek in " + where);
-
-    // 2. Uncompressed data: compare the file size with what the header promises before allocating.
-    if (!src.gzip) {
-        std::error_code ec;
-        const uintmax_t fileSize = fs::file_size(src.file, ec);
-        if (ec) fail(report, "data", "cannot read the size of " + where + ": " + ec.message());
-        const uintmax_t available = fileSize - uintmax_t(start);
-        const std::string after = start > 0 ? " after the header" : "";
-        if (available < src.byteSkip || available - src.byteSkip < needed)
-            fail(report, "data",
-                 where + " has " + std::to_string(available) + " bytes" + after + ", expected " + expected);
-        if (src.exact && available - src.byteSkip > needed)
-            fail(report, "data",
-                 where + " has " + std::to_string(available) + " bytes" + after + ", expected " + expected +
-                     "; " + std::to_string(available - src.byteSkip - needed) + " trailing bytes");
-        in.seekg(std::streamoff(src.byteSkip), std::ios::cur);
-    }
-
-    // 3. Stream the data in chunks: drop the byte skip, then decode each chunk straight into floats.
-    ByteReader reader(in, src.gzip, report);
-    std::vector<unsigned char> chunk(kChunkBytes);
-    const auto shortRead = [&](size_t got) {
-        fail(report, "data",
-             std::string(src.gzip ? "gzip stream" : where) + " ended after " + std::to_string(got) + " of " +
-                 std::to_string(src.byteSkip + needed) + " bytes");
-    };
-    for (size_t skipped = 0; src.gzip && skipped < src.byteSkip;) {   // raw data was skipped by seeking
-        const size_t want = std::min(kChunkBytes, src.byteSkip - skipped);
-        const size_t got = reader.read(chunk.data(), want);
-        skipped += got;
-        if (got < want) shortRead(skipped);
-    }
-    std::vector<float> values(count);
-    const size_t voxelBytes = voxelTypeBytes(type);
-    for (size_t done = 0; done < needed;) {
-        const size_t want = std::min(kChunkBytes, needed - done);
-        const size_t got = reader.read(chunk.data(), want);
-        if (got < want) shortRead(src.byteSkip + done + got);
-        decodeVoxels(chunk.data(), want / voxelBytes, type, src.endian, values.data() + done / voxelBytes);
-        done += want;
-    }
-    if (src.exact && src.gzip && reader.read(chunk.data(), 1) == 1)
-        fail(report, "data", "gzip stream holds more than the expected " + expected);
-    return values;
-}
 
 // == NRRD header
 
@@ -402,7 +151,9 @@ std::vector<std::vector<double>> parseVectors(const fs::path& path, const NrrdFi
     return vectors;
 }
 
-glm::dvec3 nrrdSpacing(const fs::path& path, const NrrdHeader& header) {
+// Spacing from 'spacings' or the lengths of the 'space directions' vectors; `directions` gets the
+// unit vectors (identity when the header gives none).
+glm::dvec3 nrrdSpacing(const fs::path& path, const NrrdHeader& header, glm::dmat3& directionsOut) {
     const NrrdField* spacings = header.find("spacings");
     const NrrdField* directions = header.find("spacedirections");
     if (spacings && directions)
@@ -423,7 +174,7 @@ glm::dvec3 nrrdSpacing(const fs::path& path, const NrrdHeader& header) {
             spacing[axis] = *s;
         }
     } else if (directions) {
-        // Volume has no direction matrix, so only each axis' step length is kept (a rotation is dropped).
+        // The step lengths are the spacing; their unit vectors are kept as Volume::directions.
         const auto vectors = parseVectors(path, *directions);
         if (vectors.size() != 3)
             fail(path, directions->name,
@@ -438,6 +189,7 @@ glm::dvec3 nrrdSpacing(const fs::path& path, const NrrdHeader& header) {
             if (!(lengthSq > 0) || !std::isfinite(lengthSq))
                 fail(path, directions->name, "axis " + std::to_string(axis) + " has zero length");
             spacing[axis] = std::sqrt(lengthSq);
+            if (v.size() == 3) directionsOut[axis] = glm::dvec3(v[0], v[1], v[2]) / spacing[axis];
         }
     }
     return spacing;
@@ -503,7 +255,8 @@ Volume loadRaw(const std::filesystem::path& path, const RawOptions& options) {
     std::ifstream probe = openFile(path, path, "");
     unsigned char magic[2] = {0, 0};
     probe.read(reinterpret_cast<char*>(magic), 2);
-    src.gzip = lower(path.filename().string()).ends_with(".gz") || (magic[0] == 0x1f && magic[1] == 0x8b);
+    if (lower(path.filename().string()).ends_with(".gz") || (magic[0] == 0x1f && magic[1] == 0x8b))
+        src.compression = Compression::Zlib;
 
     volume.name = volumeName(path);
     volume.type = options.type;
@@ -551,7 +304,7 @@ Volume loadNrrd(const std::filesystem::path& path) {
     volume.dims = checkedDims(path, sizesField.name, sizes[0], sizes[1], sizes[2]);
 
     // 3. Geometry: spacing from 'spacings' or the lengths of 'space directions'; origin from 'space origin'.
-    volume.spacing = nrrdSpacing(path, header);
+    volume.spacing = nrrdSpacing(path, header, volume.directions);
     if (const NrrdField* origin = header.find("spaceorigin")) {
         const auto vectors = parseVectors(path, *origin);
         if (vectors.size() != 1 || vectors[0].size() != 3)
@@ -564,9 +317,15 @@ Volume loadNrrd(const std::filesystem::path& path) {
     const NrrdField& encoding = require("encoding", "encoding");
     const std::string enc = lower(encoding.value);
     if (enc == "gzip" || enc == "gz")
-        src.gzip = true;
+        src.compression = Compression::Zlib;
+    else if (enc == "bzip2" || enc == "bz2")
+        src.compression = Compression::Bzip2;
     else if (enc != "raw")
-        fail(path, encoding.name, excerpt(encoding.value) + " is not supported (supported: raw, gzip)");
+        fail(path, encoding.name,
+             excerpt(encoding.value) + " is not supported (supported: raw, gzip" +
+                 (bzip2Available() ? ", bzip2)" : "; bzip2 needs a build with libbz2)"));
+    if (src.compression == Compression::Bzip2 && !bzip2Available())
+        fail(path, encoding.name, "bzip2 needs a build with libbz2 (apt install libbz2-dev, rebuild)");
     if (const NrrdField* endian = header.find("endian")) {
         const std::string e = lower(endian->value);
         if (e != "little" && e != "big")
@@ -597,11 +356,23 @@ Volume loadNrrd(const std::filesystem::path& path) {
     return volume;
 }
 
+const char* supportedVolumeTypes() {
+    return ".nrrd, .nhdr, .mhd, .mha, .nii, .nii.gz, .slc, .dat, .tif, .tiff, .raw, .raw.gz, a folder of "
+           ".tif/.png slices or a slice pattern such as slice_%03d.png";
+}
+
 Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOptions>& raw) {
     std::error_code ec;
-    if (!fs::exists(path, ec)) fail(path, "", "cannot open: no such file");
     const std::string name = lower(path.filename().string());
+    if (name.find('%') != std::string::npos) return loadImageStack(path);
+    if (!fs::exists(path, ec)) fail(path, "", "cannot open: no such file");
+    if (fs::is_directory(path, ec)) return loadImageStack(path);
     if (name.ends_with(".nrrd") || name.ends_with(".nhdr")) return loadNrrd(path);
+    if (name.ends_with(".mhd") || name.ends_with(".mha")) return loadMetaImage(path);
+    if (name.ends_with(".nii") || name.ends_with(".nii.gz")) return loadNifti(path);
+    if (name.ends_with(".slc")) return loadSlc(path);
+    if (name.ends_with(".dat")) return loadDat(path);
+    if (name.ends_with(".tif") || name.ends_with(".tiff")) return loadImageStack(path);
     if (name.ends_with(".raw") || name.ends_with(".raw.gz")) {
         const std::optional<RawOptions> options = raw ? raw : rawOptionsFromFileName(path);
         if (!options)
@@ -610,9 +381,8 @@ Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOpti
                  "name_256x256x128_uint8.raw (types: uint8, uint16, int16, float32)");
         return loadRaw(path, *options);
     }
-    fail(path, "",
-         "unknown file type " + excerpt(path.extension().string()) +
-             " (supported: .nrrd, .nhdr, .raw, .raw.gz)");
+    fail(path, "", "unknown file type " + excerpt(path.extension().string()) + " (supported: " +
+                       supportedVolumeTypes() + ")");
 }
 
 } // namespace renderer

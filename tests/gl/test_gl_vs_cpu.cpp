@@ -13,6 +13,7 @@
 #include "image_compare.h"
 #include "test_paths.h"
 
+#include "renderer/errors.h"
 #include "renderer/procedural.h"
 #include "renderer/reference_renderer.h"
 #include "renderer/splat_renderer.h"
@@ -108,4 +109,44 @@ TEST_F(GlTest, FrameUploadsNothingPerSplat) {
     // Classes (2 bytes) plus three index lists (4 bytes per visible voxel each) plus the LUT.
     const double perVoxel = double(r.sceneBytes() - kLutSize * 16) / double(scene.classes.size());
     EXPECT_LE(perVoxel, 2.0 + 12.0 * double(scene.visibleCount()) / double(scene.classes.size()) + 1e-9);
+}
+
+TEST_F(GlTest, AdaptivePerPatchMatchesCpu) {
+    // Close, wide view of a deep volume so near patches are magnified and far ones are not: the GL
+    // vertex stage classifies patches exactly as the CPU classifier does.
+    Volume v = makeSphereShells(20, 5.0, 2.0);
+    v.spacing = {1.0, 1.0, 4.0};
+    SplatSettings s;
+    s.filter = FilterMode::Adaptive;
+    s.patchSize = 4;
+    s.cMin = 0.6;   // a wider reconstruction band, so all three modes appear at this size
+    const Case c = renderBoth(v, ramp(), Camera{.azimuthDeg = 20, .elevationDeg = 15, .distance = 1.15, .fovYDeg = 70},
+                              s, 128, 128);
+    EXPECT_GT(c.counters.drawnPerMode[0], 0u);
+    EXPECT_GT(c.counters.drawnPerMode[2], 0u);
+    EXPECT_IMAGES_CLOSE(c.gl, c.cpu, kGlVsCpu, "gl_vs_cpu_adaptive");
+}
+
+TEST_F(GlTest, OrthographicMatchesCpu) {
+    Volume v = makeMarschnerLobb(16);
+    v.spacing = {1.0, 2.0, 1.0};
+    const Case c = renderBoth(v, ramp(),
+                              Camera{.azimuthDeg = 50, .elevationDeg = 30, .distance = 2.5, .orthographic = true},
+                              SplatSettings{}, 80, 64);
+    EXPECT_GT(imageStats(c.cpu).meanAlpha, 0.05);
+    EXPECT_IMAGES_CLOSE(c.gl, c.cpu, kGlVsCpu, "gl_vs_cpu_ortho");
+}
+
+TEST_F(GlTest, SheetCompositingSaysItIsCpuOnly) {
+    const SplatScene scene = buildSplatScene(makeSphereShells(8, 4.0, 2.0), ramp());
+    SplatRenderer r;
+    r.setScene(scene);
+    SplatSettings s;
+    s.compositing = Compositing::SheetFrontToBack;
+    try {
+        r.render(makeImagePlane(Camera{}, scene.centre, scene.radius, 16, 16), s);
+        ADD_FAILURE() << "sheet compositing rendered on GL";
+    } catch (const RenderError& e) {
+        EXPECT_NE(std::string(e.what()).find("CPU oracle only"), std::string::npos) << e.what();
+    }
 }

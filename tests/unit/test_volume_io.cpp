@@ -376,7 +376,7 @@ const BadFile kBadFiles[] = {
      {"'data'", "more than the expected 64 bytes"}},
     {"raw_gzip_too_short_4x4x4_uint8.raw.gz", std::string(63, 'x'), {"'data'", "ended after 63 of 64 bytes"}},
     {"raw_without_dims.raw", std::string(64, 'x'), {"--dims", "--type"}},
-    {"unknown_extension.vti", "<VTKFile/>", {"unknown file type '.vti'", ".nrrd, .nhdr, .raw, .raw.gz"}},
+    {"unknown_extension.vti", "<VTKFile/>", {"unknown file type '.vti'", ".nrrd, .nhdr, .mhd, .mha, .nii"}},
 };
 
 class MalformedFile : public ::testing::TestWithParam<BadFile> {};

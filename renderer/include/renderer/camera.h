@@ -15,6 +15,7 @@ struct Camera {
     double fovYDeg = 30.0;         // vertical field of view
     glm::dvec2 panPx{0.0};         // image-plane shift of the orbit centre, pixels at the centre depth
     glm::dvec3 up{0.0, 0.0, 1.0};  // object-space axis shown upwards (CT stacks often need -z)
+    bool orthographic = false;     // parallel rays; frames the centre like the perspective view does
 };
 
 // "x", "-y", "+z", ...: the object axis a user names for Camera::up. Throws RenderError otherwise.
@@ -25,12 +26,19 @@ struct ImagePlane {
     int width = 0, height = 0;
     glm::dmat3 viewFromObject{1.0};   // W: rotation, object -> camera axes
     glm::dvec3 translation{0.0};      // d: u = W t + d
-    double fPx = 1.0;                 // focal length in pixels: (H/2) / tan(fov/2)
+    double fPx = 1.0;                 // focal length in pixels: (H/2) / tan(fov/2); orthographic: pixels
+                                      // per object unit
+    bool orthographic = false;
+    double tanHalfFovY = 0.0;         // the perspective spread the adaptive thresholds account for
     glm::dvec2 centrePx{0.0};         // principal point
     double nearDepth = 0.0;           // splats with u2 below this are culled
     glm::dvec3 viewDirObject{0.0};    // unit viewing direction (towards the scene) in object space
 
     glm::dvec3 toCamera(glm::dvec3 t) const { return viewFromObject * t + translation; }
+    // Pixel position of a camera-space point (x right, y down).
+    glm::dvec2 project(glm::dvec3 u) const {
+        return centrePx + (orthographic ? fPx * glm::dvec2(u.x, u.y) : fPx * glm::dvec2(u.x / u.z, u.y / u.z));
+    }
 };
 
 // `centre` is the orbit centre and `radius` the bounding radius, both in object units.

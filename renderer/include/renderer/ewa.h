@@ -3,10 +3,15 @@
 #pragma once
 #include "renderer/glm_config.h"
 
+#include <string>
+
 namespace renderer {
 
-enum class FilterMode { Reconstruction, LowPass, Ewa };
-const char* filterModeName(FilterMode m);    // "reconstruction", "low-pass", "ewa"
+// The three footprint filters, and Adaptive: per patch, whichever of the three the classifier picks
+// (classifier.h). projectKernel takes only the first three.
+enum class FilterMode { Reconstruction, LowPass, Ewa, Adaptive };
+const char* filterModeName(FilterMode m);    // "reconstruction", "low-pass", "ewa", "adaptive"
+FilterMode filterModeFromName(const std::string& name);   // throws RenderError listing the names
 
 // Pixel-unit Jacobian of camera -> (pixel x, pixel y, ray distance) at camera point u (001 eq. 25
 // with the first two rows scaled by fPx). Columns-major glm: J[col][row].
@@ -22,9 +27,10 @@ struct Footprint {
 };
 
 // Footprint of a unit-mass Gaussian with camera-space variance `varianceCamera` centred at `u`.
-// lowPassPx is V_h (identity by default: sigma 1 px).
+// lowPassPx is V_h (identity by default: sigma 1 px). Orthographic: the constant affine map
+// diag(fPx, fPx, 1) replaces the Jacobian (fPx is then pixels per object unit).
 Footprint projectKernel(glm::dvec3 u, const glm::dmat3& varianceCamera, double fPx, FilterMode mode,
-                        const glm::dmat2& lowPassPx = glm::dmat2(1.0));
+                        const glm::dmat2& lowPassPx = glm::dmat2(1.0), bool orthographic = false);
 // q(p) = |J| G_V(p - centre) at an offset `d` from the projected centre.
 double footprintAt(const Footprint& f, glm::dvec2 d);
 // Squared Mahalanobis radius of offset d under the footprint's variance.

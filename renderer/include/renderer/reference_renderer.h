@@ -14,6 +14,7 @@ struct SplatCounters {
     uint64_t culledOffscreen = 0;  // cutoff ellipse misses the image
     uint64_t culledHuge = 0;       // cutoff radius beyond SplatSettings::maxFootprintFraction
     uint64_t culledDegenerate = 0; // footprint variance not positive definite (det <= 1e-12 px^4)
+    uint64_t drawnPerMode[3] = {}; // drawn splats by filter: reconstruction, low-pass, EWA
 };
 
 // Per-splat quantities both paths derive from one voxel (the GLSL vertex stage mirrors this).
@@ -24,8 +25,9 @@ struct SplatGeometry {
     glm::dvec2 halfExtentPx{0.0};    // bounding box of the cutoff ellipse
     double amplitude = 0.0;          // optical depth at the centre: g_k * voxel volume * peak
 };
+// `mode` is the resolved filter (never Adaptive: see classifier.h).
 SplatGeometry splatGeometry(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
-                            uint32_t voxel, double extinction, SplatCounters* counters = nullptr);
+                            uint32_t voxel, double extinction, FilterMode mode, SplatCounters* counters = nullptr);
 
 // Extinction per object unit of a voxel of the given class (TF opacity x density / mean spacing).
 double extinctionOf(const SplatScene& scene, const SplatSettings& settings, uint16_t cls);

@@ -9,8 +9,11 @@ namespace renderer {
 enum class Compositing {
     SplatEverySample,   // each splat "over" the image, back to front in slice order (000 fig. 9a)
     XRay,               // additive, order-free (002 eq. 4-5); shown as 1 - exp(-sum)
+    SheetBackToFront,   // slice by slice: a slice's splats add into a float sheet (optical depth and
+    SheetFrontToBack,   // emission), each sheet is composited in slice order (000 sec. 4, fig. 9b)
 };
-const char* compositingName(Compositing c);   // "splat-every-sample", "xray"
+// "splat-every-sample", "xray", "sheet-back-to-front", "sheet-front-to-back"
+const char* compositingName(Compositing c);
 Compositing compositingFromName(const std::string& name);   // throws RenderError listing the names
 
 struct SplatSettings {
@@ -22,6 +25,11 @@ struct SplatSettings {
     Compositing compositing = Compositing::SplatEverySample;
     double maxFootprintFraction = 2.0;  // footprints whose cutoff radius exceeds this times the
                                         // image diagonal are culled (near-camera blow-up guard)
+    // Adaptive EWA (000 sec. 3.2): magnified patches use reconstruction only, minified ones low-pass
+    // only. Paper defaults; cMax <= 0 means 2 (1 + 2 tan^2(fov/2)).
+    double cMin = 0.3;
+    double cMax = 0.0;
+    int patchSize = 8;                  // slice voxels per patch side; 1 classifies every voxel
 };
 
 } // namespace renderer

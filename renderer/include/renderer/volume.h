@@ -30,6 +30,10 @@ struct Volume {
     glm::ivec3 dims{0};               // voxels along x, y, z
     glm::dvec3 spacing{1.0};          // distance between voxel centres, object units (mm for CT)
     glm::dvec3 origin{0.0};           // object-space position of voxel (0,0,0)
+    // Unit vector of each index axis in the file's world frame (columns: x, y, z), from NRRD space
+    // directions, a MetaImage TransformMatrix or a NIfTI qform/sform. Metadata only: the renderer
+    // draws every volume axis-aligned (object space = index x spacing + origin) and ignores it.
+    glm::dmat3 directions{1.0};
     VoxelType type = VoxelType::F32;  // the type the values had on disk
     std::vector<float> values;        // x fastest, then y, then z; in the data's own units
     ValueRange range;                 // min and max of the finite values (see updateRange)

@@ -1,6 +1,8 @@
-// Readers for volume files: raw (flags or a name_WxHxD_type.raw name) and NRRD (attached or detached
-// header, raw or gzip encoding). Every failure throws LoadError naming the file, the field and what
-// was expected; nothing returns a partial volume.
+// Readers for volume files: raw (flags or a name_WxHxD_type.raw name), NRRD (attached or detached
+// header; raw, gzip or bzip2), MetaImage (.mhd/.mha, zlib), NIfTI-1 (.nii, .nii.gz), VolVis .slc,
+// .dat (uint16 dims header) and image stacks (a folder, a numbered pattern, a multi-page TIFF) through
+// OpenImageIO. Every failure throws LoadError naming the file, the field and what was expected;
+// nothing returns a partial volume.
 #pragma once
 #include "renderer/volume.h"
 
@@ -25,9 +27,27 @@ std::optional<RawOptions> rawOptionsFromFileName(const std::filesystem::path& pa
 
 Volume loadRaw(const std::filesystem::path& path, const RawOptions& options);
 Volume loadNrrd(const std::filesystem::path& path);
-// Picks the reader from the extension (.nrrd, .nhdr, .raw, .raw.gz); raw files need their dims in
-// the file name unless `raw` is given.
+// MetaImage: .mha (data LOCAL) or .mhd with ElementDataFile; zlib-compressed data, ElementSpacing,
+// Offset and TransformMatrix (kept as Volume::directions).
+Volume loadMetaImage(const std::filesystem::path& path);
+// NIfTI-1 single file (.nii, or gzip-compressed .nii.gz), either byte order; pixdim as spacing,
+// scl_slope/scl_inter applied to the values, the sform (else qform) as origin and directions.
+Volume loadNifti(const std::filesystem::path& path);
+// VolVis SLC: 8-bit voxels, raw or run-length encoded slices.
+Volume loadSlc(const std::filesystem::path& path);
+// The .dat layout of the classic CT datasets: three little-endian uint16 dims, then uint16 voxels.
+Volume loadDat(const std::filesystem::path& path);
+// An image stack through OpenImageIO: a folder of slices (.tif, .tiff, .png; sorted by the number in
+// their names), a printf pattern ("slice_%03d.png", numbered from the lowest that exists) or a
+// multi-page TIFF. Slices must agree in size, channels (1) and pixel type (u8, u16, i16, f32).
+Volume loadImageStack(const std::filesystem::path& pathOrPattern);
+
+// Picks the reader from the path: a folder or a name with '%' is an image stack; otherwise by the
+// extension (.nrrd, .nhdr, .mhd, .mha, .nii, .nii.gz, .slc, .dat, .tif, .tiff, .raw, .raw.gz); raw
+// files need their dims in the file name unless `raw` is given.
 Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOptions>& raw = std::nullopt);
+// The extensions loadVolume() knows, for messages and file dialogs: ".nrrd, .nhdr, ...".
+const char* supportedVolumeTypes();
 
 // Largest volume the loaders accept, in voxels: guards products of lying header fields.
 constexpr size_t kMaxVoxels = size_t(1) << 31;

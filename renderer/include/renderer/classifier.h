@@ -1,0 +1,33 @@
+// The adaptive classifier of 000 sec. 3.2 in pixel units (EWA_NOTES errata): a kernel of sigma r_k
+// at depth u2 projects to R_k = r_k fPx / u2 pixels; with the low-pass sigma r_h = 1 px it takes
+// reconstruction only when R_k > r_h / c_min, low-pass only when R_k < r_h / c_max, EWA otherwise.
+// Rectilinear kernels are not symmetric: the reconstruction test uses the smallest sigma and the
+// low-pass test the largest, so each shortcut is taken only where it holds along every axis.
+// A patch takes a shortcut only when all four corner voxels agree (000 sec. 4.1).
+#pragma once
+#include "renderer/camera.h"
+#include "renderer/splat_scene.h"
+#include "renderer/splat_settings.h"
+
+namespace renderer {
+
+struct AdaptiveThresholds {
+    double reconstructionAbovePx = 0.0;   // r_h / c_min: R_k(smallest sigma) above it -> reconstruction
+    double lowPassBelowPx = 0.0;          // r_h / c_max: R_k(largest sigma) below it -> low-pass
+    double sigmaMin = 0.0, sigmaMax = 0.0;   // kernel sigmas in object units
+};
+AdaptiveThresholds adaptiveThresholds(glm::dvec3 spacing, const ImagePlane& plane, const SplatSettings& s);
+
+// The filter of one kernel centred at camera depth u2.
+FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThresholds& t);
+
+// The filter of the patch holding `voxel` in its slice along `axis` (settings.patchSize voxels a
+// side, clipped at the volume's faces), from the depths of the patch's four corner voxels.
+FilterMode classifyPatch(const SplatScene& scene, const ImagePlane& plane, const AdaptiveThresholds& t,
+                         int patchSize, int axis, uint32_t voxel);
+
+// The filter a splat uses under `settings` (a forced mode, or the patch's adaptive choice).
+FilterMode resolveFilter(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                         const AdaptiveThresholds& t, int axis, uint32_t voxel);
+
+} // namespace renderer

@@ -1,0 +1,59 @@
+// Adaptive filter classification (see classifier.h).
+#include "renderer/classifier.h"
+
+#include <algorithm>
+
+namespace renderer {
+
+AdaptiveThresholds adaptiveThresholds(glm::dvec3 spacing, const ImagePlane& plane, const SplatSettings& s) {
+    // c_max bounds the footprint's elongation at the image border: (u0^2 + u1^2 + u2^2) / u2^2 is at
+    // most 1 + 2 tan^2(fov/2) for perspective rays, 1 for parallel ones.
+    const double spread = plane.orthographic ? 0.0 : plane.tanHalfFovY * plane.tanHalfFovY;
+    const double cMax = s.cMax > 0.0 ? s.cMax : 2.0 * (1.0 + 2.0 * spread);
+    AdaptiveThresholds t;
+    t.reconstructionAbovePx = 1.0 / s.cMin;
+    t.lowPassBelowPx = 1.0 / cMax;
+    const glm::dvec3 sigma = s.kernelScale * spacing;
+    t.sigmaMin = std::min({sigma.x, sigma.y, sigma.z});
+    t.sigmaMax = std::max({sigma.x, sigma.y, sigma.z});
+    return t;
+}
+
+FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThresholds& t) {
+    // At or behind the near plane a kernel is as magnified as it gets (and is culled when drawn).
+    if (!plane.orthographic && !(u2 > plane.nearDepth)) return FilterMode::Reconstruction;
+    const double pxPerUnit = plane.orthographic ? plane.fPx : plane.fPx / u2;
+    if (t.sigmaMin * pxPerUnit > t.reconstructionAbovePx) return FilterMode::Reconstruction;
+    if (t.sigmaMax * pxPerUnit < t.lowPassBelowPx) return FilterMode::LowPass;
+    return FilterMode::Ewa;
+}
+
+FilterMode classifyPatch(const SplatScene& scene, const ImagePlane& plane, const AdaptiveThresholds& t,
+                         int patchSize, int axis, uint32_t voxel) {
+    const glm::ivec3 d = scene.dims;
+    const glm::ivec3 v(int(voxel % uint32_t(d.x)), int((voxel / uint32_t(d.x)) % uint32_t(d.y)),
+                       int(voxel / (uint32_t(d.x) * uint32_t(d.y))));
+    const int p = std::max(patchSize, 1);
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;   // the slice's two in-plane axes
+    const int a0 = v[a] / p * p, b0 = v[b] / p * p;
+    const int a1 = std::min(a0 + p - 1, d[a] - 1), b1 = std::min(b0 + p - 1, d[b] - 1);
+    FilterMode mode = FilterMode::Ewa;
+    for (int corner = 0; corner < 4; ++corner) {
+        glm::ivec3 c = v;
+        c[a] = (corner & 1) ? a1 : a0;
+        c[b] = (corner & 2) ? b1 : b0;
+        const double u2 = plane.toCamera(scene.origin + scene.spacing * glm::dvec3(c)).z;
+        const FilterMode m = classifyDepth(u2, plane, t);
+        if (corner == 0) mode = m;
+        else if (m != mode) return FilterMode::Ewa;   // corners disagree: the full filter
+    }
+    return mode;
+}
+
+FilterMode resolveFilter(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                         const AdaptiveThresholds& t, int axis, uint32_t voxel) {
+    if (settings.filter != FilterMode::Adaptive) return settings.filter;
+    return classifyPatch(scene, plane, t, settings.patchSize, axis, voxel);
+}
+
+} // namespace renderer

@@ -1,0 +1,242 @@
+// Ground truth, metrics, the adaptive classifier and sheet compositing: the pieces that make "error"
+// a trustworthy number.
+#include "renderer/classifier.h"
+#include "renderer/errors.h"
+#include "renderer/ground_truth.h"
+#include "renderer/metrics.h"
+#include "renderer/procedural.h"
+#include "renderer/reference_renderer.h"
+#include "test_paths.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+using namespace renderer;
+
+namespace {
+
+TransferFunction flat(double opacity, glm::dvec3 colour = {1, 1, 1}) {
+    return {"flat", {{0.0, colour, opacity}, {1.0, colour, opacity}}};
+}
+
+TransferFunction ramp() {
+    return {"ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.3}, {1.0, {1.0, 0.8, 0.3}, 0.9}}};
+}
+
+Volume oneVoxel() {
+    Volume v;
+    v.name = "one";
+    v.dims = {1, 1, 1};
+    v.values = {1.0f};
+    v.range = {0.0f, 1.0f};
+    return v;
+}
+
+} // namespace
+
+// == Metrics
+
+TEST(Metrics, IdenticalImagesHaveZeroErrorAndUnitSsim) {
+    Image a(16, 12);
+    for (size_t i = 0; i < a.rgba.size(); ++i) a.rgba[i] = float((i * 37) % 101) / 100.0f;
+    const ImageError e = compareImages(a, a);
+    EXPECT_EQ(e.rmse, 0.0);
+    EXPECT_TRUE(std::isinf(e.psnrDb));
+    EXPECT_NEAR(e.ssim, 1.0, 1e-12);
+}
+
+TEST(Metrics, RmseAndPsnrOfAKnownOffset) {
+    Image a(8, 8), b(8, 8);
+    for (size_t i = 0; i < b.rgba.size(); ++i) b.rgba[i] = 0.5f, a.rgba[i] = 0.5f + ((i % 4 == 0) ? 0.1f : 0.0f);
+    const ImageError e = compareImages(a, b);
+    EXPECT_NEAR(e.rmse, 0.05, 1e-7);   // one channel in four off by 0.1: sqrt(0.01 / 4)
+    EXPECT_NEAR(e.psnrDb, 26.0206, 1e-3);
+    EXPECT_NEAR(e.maxAbs, 0.1, 1e-7);
+}
+
+TEST(Metrics, SsimDropsForStructureNotForIdentity) {
+    Image a(32, 32), noisy(32, 32);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const float v = 0.5f + 0.4f * float(std::sin(x * 0.5) * std::cos(y * 0.3));
+            for (int c = 0; c < 3; ++c) a.pixel(x, y)[c] = v, noisy.pixel(x, y)[c] = v + (((x * 7 + y * 13) % 5) - 2) * 0.05f;
+        }
+    EXPECT_LT(compareImages(noisy, a).ssim, 0.9);
+    EXPECT_THROW(compareImages(a, Image(31, 32)), RenderError);
+}
+
+// == Adaptive classifier
+
+TEST(Classifier, EwaVarianceHasTheRadiiOf000Equation6) {
+    // Isotropic kernel of sigma r_k, V_h = I: the EWA footprint's principal variances are
+    // r0^2 = (f r_k / u2)^2 + 1 and r1^2 = (f r_k |u| / u2^2)^2 + 1 (000 eq. 6 in pixel units).
+    const double f = 400.0, rk = 0.8;
+    for (glm::dvec3 u : {glm::dvec3(0, 0, 30), glm::dvec3(5, -3, 20), glm::dvec3(-9, 7, 12)}) {
+        const Footprint fp = projectKernel(u, glm::dmat3(rk * rk), f, FilterMode::Ewa);
+        const glm::dmat2 m = fp.variancePx;
+        const double tr = m[0][0] + m[1][1], det = glm::determinant(m);
+        const double disc = std::sqrt(std::max(0.0, tr * tr / 4 - det));
+        const double r0sq = std::pow(f * rk / u.z, 2) + 1.0;
+        const double r1sq = std::pow(f * rk * glm::length(u) / (u.z * u.z), 2) + 1.0;
+        EXPECT_NEAR(tr / 2 - disc, r0sq, 1e-9 * r1sq);
+        EXPECT_NEAR(tr / 2 + disc, r1sq, 1e-9 * r1sq);
+    }
+}
+
+TEST(Classifier, ThresholdsFollowCminAndCmaxInPixels) {
+    ImagePlane plane;
+    plane.fPx = 500.0;
+    plane.tanHalfFovY = std::tan(std::numbers::pi / 12);   // 30 degrees
+    plane.nearDepth = 0.01;
+    SplatSettings s;   // cMin 0.3, cMax from the fov
+    const AdaptiveThresholds t = adaptiveThresholds({1, 1, 1}, plane, s);
+    const double cMax = 2.0 * (1.0 + 2.0 * plane.tanHalfFovY * plane.tanHalfFovY);
+    EXPECT_NEAR(t.lowPassBelowPx, 1.0 / cMax, 1e-12);
+    EXPECT_NEAR(t.reconstructionAbovePx, 1.0 / 0.3, 1e-12);
+    // R_k = 0.7 * 500 / u2: reconstruction below u2 = 105, low-pass beyond u2 = 350 * cMax.
+    EXPECT_EQ(classifyDepth(104.0, plane, t), FilterMode::Reconstruction);
+    EXPECT_EQ(classifyDepth(106.0, plane, t), FilterMode::Ewa);
+    EXPECT_EQ(classifyDepth(350.0 * cMax * 0.99, plane, t), FilterMode::Ewa);
+    EXPECT_EQ(classifyDepth(350.0 * cMax * 1.01, plane, t), FilterMode::LowPass);
+    EXPECT_EQ(classifyDepth(-5.0, plane, t), FilterMode::Reconstruction);   // behind the eye: never low-pass
+}
+
+TEST(Classifier, PatchesTakeAShortcutOnlyWhenAllCornersAgree) {
+    // A long bar of voxels seen end-on from close by: near patches are magnified (u2 < 100 here), far
+    // ones minified (u2 > 764), and patches that straddle a threshold take the full filter. Patches
+    // lie in x-slices, so their corners span depth.
+    Volume v;
+    v.dims = {2, 2, 1200};
+    v.values.assign(v.voxelCount(), 1.0f);
+    v.range = {0.0f, 1.0f};
+    const SplatScene scene = buildSplatScene(v, flat(0.5));
+    const ImagePlane plane = makeImagePlane({0, -89.9, 0.3, 30.0}, {0.5, 0.5, 0.0}, 1.0, 256, 256);
+    SplatSettings s;
+    s.filter = FilterMode::Adaptive;
+    s.patchSize = 4;
+    const AdaptiveThresholds t = adaptiveThresholds(scene.spacing, plane, s);
+    int counts[3] = {};
+    for (uint32_t i : scene.visible[0]) {
+        const FilterMode patch = classifyPatch(scene, plane, t, s.patchSize, 0, i);
+        const FilterMode own = classifyDepth(plane.toCamera(scene.positionOf(i)).z, plane, t);
+        ++counts[int(patch)];
+        if (patch != FilterMode::Ewa) {
+            EXPECT_EQ(own, patch) << "a shortcut the voxel itself would not take";
+        }
+    }
+    EXPECT_GT(counts[0], 0);
+    EXPECT_GT(counts[1], 0);
+    EXPECT_GT(counts[2], 0);
+    // The oracle's per-mode counts are the classifier's.
+    SplatCounters c;
+    renderReference(scene, plane, s, &c);
+    EXPECT_EQ(c.drawnPerMode[0] + c.drawnPerMode[1] + c.drawnPerMode[2], c.drawn);
+}
+
+// == Compositing
+
+TEST(SheetBuffer, FrontToBackEqualsBackToFront) {
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(14), ramp());
+    const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, 48, 40);
+    SplatSettings s;
+    s.compositing = Compositing::SheetBackToFront;
+    const Image btf = renderReference(scene, plane, s);
+    s.compositing = Compositing::SheetFrontToBack;
+    const Image ftb = renderReference(scene, plane, s);
+    const ImageError e = compareImages(ftb, btf);
+    EXPECT_LT(e.maxAbs, 1e-6);   // the float image's rounding; the sums agree to 1e-15 in double
+    EXPECT_GT(imageStats(btf).meanAlpha, 0.05);
+}
+
+// == Ground truth
+
+TEST(GroundTruth, OneKernelMatchesABruteForceLineIntegral) {
+    // Centre rays only (no antialiasing): alpha = 1 - exp(-g vol int r ds) with r the truncated
+    // Gaussian, integrated here by brute force with 200000 midpoint steps.
+    const SplatScene scene = buildSplatScene(oneVoxel(), flat(0.8));
+    SplatSettings s;
+    s.density = 2.0;
+    const ImagePlane plane = makeImagePlane({20, 10, 4.0, 30.0}, {0.2, -0.1, 0.1}, 1.0, 24, 24);
+    GroundTruthOptions o;
+    o.antialiasNodes = 1;
+    o.tolerance = 1e-9;
+    const Image gt = renderGroundTruth(scene, plane, s, o);
+    const glm::dmat3 objectFromView = glm::transpose(plane.viewFromObject);
+    const glm::dvec3 eye = objectFromView * -plane.translation;
+    const double sigma = s.kernelScale, g = extinctionOf(scene, s, scene.classes[0]);
+    double worst = 0.0;
+    for (int y = 4; y < 20; y += 3)
+        for (int x = 4; x < 20; x += 3) {
+            const glm::dvec3 dir = objectFromView * glm::normalize(glm::dvec3(
+                                                        (glm::dvec2(x + 0.5, y + 0.5) - plane.centrePx) / plane.fPx, 1.0));
+            double depth = 0.0;
+            const double s0 = glm::length(eye) - 4.0, s1 = glm::length(eye) + 4.0, h = (s1 - s0) / 200000;
+            for (int i = 0; i < 200000; ++i) {
+                const glm::dvec3 p = eye + (s0 + (i + 0.5) * h) * dir;
+                const double q = glm::dot(p, p) / (sigma * sigma);
+                if (q <= 9.0) depth += std::exp(-0.5 * q) / std::pow(2 * std::numbers::pi * sigma * sigma, 1.5) * h;
+            }
+            const double expected = -std::expm1(-g * depth);
+            worst = std::max(worst, std::abs(double(gt.pixel(x, y)[3]) - expected));
+        }
+    EXPECT_LT(worst, 2e-6);   // float image (6e-8) + brute force at the cutoff jump (h x 1.1 % of peak)
+}
+
+TEST(GroundTruth, ConvergesWhenTheToleranceTightens) {
+    const SplatScene scene = buildSplatScene(makeSphereShells(10, 4.0, 1.5), ramp());
+    const ImagePlane plane = makeImagePlane({40, 25, 2.5, 30.0}, scene.centre, scene.radius, 24, 24);
+    GroundTruthOptions loose, tight;
+    loose.antialiasNodes = tight.antialiasNodes = 2;
+    loose.tolerance = 1e-3;
+    tight.tolerance = 1e-6;
+    GroundTruthStats stats;
+    const Image a = renderGroundTruth(scene, plane, SplatSettings{}, loose);
+    const Image b = renderGroundTruth(scene, plane, SplatSettings{}, tight, {}, &stats);
+    EXPECT_EQ(stats.unconvergedRays, 0u);
+    // Each ray stops when halving its step changes it by <= tolerance; the rest of the series is
+    // geometric with ratio <= 1/2 (second-order coupling error), so it moves at most ~2x tolerance.
+    EXPECT_LT(compareImages(a, b).maxAbs, 2e-3);
+    EXPECT_GT(imageStats(b).meanAlpha, 0.05);
+}
+
+TEST(GroundTruth, CpuSplattingIsCloseOnASmallScene) {
+    // 16^3 Marschner-Lobb at 64x64, magnified (sigma ~2.6 px): measured PSNR against the reference
+    // EWA 46.7 dB, reconstruction 47.5, adaptive 46.7 (all patches EWA or reconstruction here),
+    // low-pass 27.5 (1-px footprints leave the magnified volume blocky). Bounds 3-4 dB below.
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(16), ramp());
+    const ImagePlane plane = makeImagePlane({30, 20, 2.5, 30.0}, scene.centre, scene.radius, 64, 64);
+    GroundTruthOptions o;
+    o.antialiasNodes = 2;
+    o.tolerance = 1e-4;
+    const Image gt = cachedGroundTruth(scene, plane, SplatSettings{}, o, testing_support::testOutputDir() / "gt_cache");
+    for (auto mode : {FilterMode::Ewa, FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Adaptive}) {
+        SplatSettings s;
+        s.filter = mode;
+        const ImageError e = compareImages(renderReference(scene, plane, s), gt);
+        std::printf("[ accuracy ] ML16 %s: PSNR %.2f dB, SSIM %.4f\n", filterModeName(mode), e.psnrDb, e.ssim);
+        EXPECT_GT(e.psnrDb, mode == FilterMode::LowPass ? 24.0 : 43.0) << filterModeName(mode);
+    }
+}
+
+TEST(GroundTruth, CacheKeyChangesWithTheViewAndCachedImagesAreReused) {
+    const SplatScene scene = buildSplatScene(makeSphereShells(6, 3.0, 1.5), ramp());
+    const ImagePlane a = makeImagePlane(Camera{}, scene.centre, scene.radius, 8, 8);
+    Camera moved;
+    moved.azimuthDeg += 1.0;
+    const ImagePlane b = makeImagePlane(moved, scene.centre, scene.radius, 8, 8);
+    const GroundTruthOptions o{.antialiasNodes = 1};
+    EXPECT_NE(groundTruthKey(scene, a, SplatSettings{}, o), groundTruthKey(scene, b, SplatSettings{}, o));
+    SplatSettings denser;
+    denser.density = 2.0;
+    EXPECT_NE(groundTruthKey(scene, a, SplatSettings{}, o), groundTruthKey(scene, a, denser, o));
+    const auto dir = testing_support::testOutputDir() / "gt_cache_reuse";
+    std::filesystem::remove_all(dir);
+    GroundTruthStats first, second;
+    const Image x = cachedGroundTruth(scene, a, SplatSettings{}, o, dir, {}, &first);
+    const Image y = cachedGroundTruth(scene, a, SplatSettings{}, o, dir, {}, &second);
+    EXPECT_FALSE(first.fromCache);
+    EXPECT_TRUE(second.fromCache);
+    EXPECT_EQ(x.rgba, y.rgba);
+}
