@@ -6,11 +6,13 @@
 
 #include "renderer/errors.h"
 #include "renderer/gl_context.h"
+#include "renderer/gradients.h"
 #include "renderer/image.h"
 #include "renderer/splat_renderer.h"
 #include "renderer/splat_scene.h"
 #include "renderer/transfer_function.h"
 #include "renderer/volume_io.h"
+#include "renderer/window.h"
 #include "ui/dock_layout.h"
 #include "ui/editor_state.h"
 #include "ui/panels.h"
@@ -22,10 +24,12 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -61,6 +65,39 @@ struct ImGuiSession {
 struct Document {
     std::optional<renderer::Volume> volume;
     renderer::SplatScene scene;
+    renderer::TransferFunction tf;          // what the scene was classified with
+    renderer::Histogram histogram;          // of the whole volume, for the Window section
+    renderer::ValueRange percentile;        // p1..p99
+    std::optional<renderer::GradientField> gradients;   // once computed (for shading, a later issue)
+};
+
+// Gradients computed on a worker thread after a volume loads; the UI thread polls `done` each frame
+// and shows the progress modal meanwhile. Destroying the job cancels and joins it, so it must go
+// before the volume it reads.
+struct GradientJob {
+    std::thread thread;
+    std::atomic<double> fraction{0.0};
+    std::atomic<bool> cancel{false}, done{false};
+    std::optional<renderer::GradientField> result;   // empty when cancelled; written before `done`
+    std::string error;                               // an exception from the worker, if any
+
+    explicit GradientJob(const renderer::Volume& volume) {
+        thread = std::thread([this, &volume] {
+            try {
+                result = renderer::computeGradients(volume, [this](double f) {
+                    fraction = f;
+                    return !cancel.load();
+                });
+            } catch (const std::exception& e) {
+                error = e.what();
+            }
+            done = true;
+        });
+    }
+    ~GradientJob() {
+        cancel = true;
+        if (thread.joinable()) thread.join();
+    }
 };
 
 // Dark theme: ImGui's dark colours with square docked windows and a little more air in the widgets.
@@ -187,16 +224,22 @@ int runEditor(const EditorOptions& options) {
         state.camera = options.camera;
         state.camera.up = renderer::axisFromName(options.upAxis);
         if (options.volumePath.empty()) return;
-        const renderer::TransferFunction tf = renderer::transferFunctionFromSpec(options.tfSpec);
-        state.presetName = tf.name.empty() ? options.tfSpec : tf.name;
+        doc.tf = renderer::transferFunctionFromSpec(options.tfSpec);
+        state.presetName = doc.tf.name.empty() ? options.tfSpec : doc.tf.name;
         renderer::Volume volume = renderer::loadVolume(options.volumePath);
-        doc.scene = renderer::buildSplatScene(volume, tf);
+        doc.histogram = renderer::computeHistogram(volume, 128);
+        doc.percentile = renderer::percentileWindow(volume, 1.0, 99.0);
+        doc.scene = renderer::buildSplatScene(volume, doc.tf, renderer::windowFor(volume, state.window));
         doc.volume = std::move(volume);
         splats = std::make_unique<renderer::SplatRenderer>();
         splats->setScene(doc.scene);
     });
     if (exitCode != 0) return exitCode;
     if (!splats) doc.volume.reset();
+    // Gradients on a worker thread; a scripted run waits for them so its frames are deterministic.
+    std::unique_ptr<GradientJob> gradientJob;
+    if (doc.volume) gradientJob = std::make_unique<GradientJob>(*doc.volume);
+    if (scripted && gradientJob) gradientJob->thread.join();
 
     // 5. Frame loop. Edits made in frame N are rendered at the top of frame N+1, at the viewport size
     //    frame N measured; the first frame only measures.
@@ -205,11 +248,18 @@ int runEditor(const EditorOptions& options) {
     ui::ViewportResult viewport;
     unsigned texture = 0; // the renderer's display texture; 0 until something was rendered
     int renderWidth = 0, renderHeight = 0;
-    bool tfPending = false, renderPending = true;
+    bool tfPending = false, renderPending = true, windowChanged = false;
     std::vector<float> frameMs; // recent whole-frame times for the stats plot, oldest first
     auto lastFrame = std::chrono::steady_clock::now();
     const std::vector<ui::DockPanel> panels = {
-        {"Settings", "left", [&] { settingsChanges = ui::drawSettingsPanel(state); }},
+        {"Settings", "left",
+         [&] {
+             settingsChanges = ui::drawSettingsPanel(state);
+             windowChanged = ui::drawWindowSection(state, {.volume = doc.volume ? &*doc.volume : nullptr,
+                                                           .histogram = &doc.histogram,
+                                                           .percentile = doc.percentile,
+                                                           .window = doc.scene.window});
+         }},
         {"Viewport", "viewport", [&] { viewport = ui::drawViewportPanel(state, texture); }},
         {"Stats", "bottom",
          [&] {
@@ -233,9 +283,27 @@ int runEditor(const EditorOptions& options) {
         if (splats && tfPending) {
             tfPending = false;
             guarded([&] {
-                renderer::setTransferFunction(doc.scene, renderer::builtinPreset(state.presetName));
+                doc.tf = renderer::builtinPreset(state.presetName);
+                renderer::setTransferFunction(doc.scene, doc.tf);
                 splats->setScene(doc.scene);
             });
+        }
+        if (splats && windowChanged) {
+            // A new window re-classifies every voxel; the scene keeps the old one if this throws.
+            windowChanged = false;
+            renderPending = true;
+            guarded([&] {
+                const renderer::ValueRange window = renderer::windowFor(*doc.volume, state.window);
+                renderer::SplatScene scene = renderer::buildSplatScene(*doc.volume, doc.tf, window);
+                splats->setScene(scene);
+                doc.scene = std::move(scene);
+            });
+        }
+        if (gradientJob && gradientJob->done) {
+            if (gradientJob->thread.joinable()) gradientJob->thread.join();
+            doc.gradients = std::move(gradientJob->result);
+            if (!gradientJob->error.empty()) state.errorMessage = "gradients: " + gradientJob->error;
+            gradientJob.reset();
         }
         if (splats && renderPending && renderWidth > 0) {
             renderPending = false;
@@ -256,6 +324,11 @@ int runEditor(const EditorOptions& options) {
         viewport.cameraChanged = false;
         ui::drawDockSpace(layout, panels);
         ui::drawErrorModal(state);
+        if (ui::drawProgressModal("Computing gradients",
+                                  "Gradients of " + (doc.volume ? doc.volume->name : std::string()) +
+                                      " (central differences, all cores)",
+                                  gradientJob ? gradientJob->fraction.load() : 1.0, gradientJob != nullptr))
+            gradientJob->cancel = true;
         ImGui::Render();
         tfPending |= settingsChanges.tfChanged;
         renderPending |= settingsChanges.any() || viewport.cameraChanged;

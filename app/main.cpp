@@ -5,11 +5,13 @@
 #include "renderer/camera.h"
 #include "renderer/errors.h"
 #include "renderer/gl_context.h"
+#include "renderer/gradients.h"
 #include "renderer/ground_truth.h"
 #include "renderer/metrics.h"
 #include "renderer/reference_renderer.h"
 #include "renderer/splat_renderer.h"
 #include "renderer/volume_io.h"
+#include "renderer/window.h"
 
 #include <CLI/CLI.hpp>
 
@@ -101,14 +103,41 @@ void addRawFlags(CLI::App* cmd, RawFlags& raw) {
     cmd->add_option("--raw-endian", raw.endian, "Byte order of a raw file: little or big");
 }
 
-int runInfo(const std::string& path, const RawFlags& raw) {
+// "data", "p1-99" or "LO,HI" in data units.
+WindowSettings parseWindow(const std::string& text) {
+    WindowSettings w;
+    if (text == "data") return w;
+    if (text == "p1-99") return {.mode = WindowMode::Percentile, .custom = {}};
+    const auto parts = splitOn(text, ',');
+    if (parts.size() != 2)
+        throw CLI::ValidationError("--window", "'" + text + "': expected data, p1-99 or LO,HI in data units");
+    w.mode = WindowMode::Custom;
+    w.custom = {float(parseNumber(parts[0], "--window", "low value")),
+                float(parseNumber(parts[1], "--window", "high value"))};
+    if (!(w.custom.lo < w.custom.hi))
+        throw CLI::ValidationError("--window", "'" + text + "': LO must be below HI");
+    return w;
+}
+
+bool printProgress(double fraction);
+double msSince(std::chrono::steady_clock::time_point t0);
+
+int runInfo(const std::string& path, const RawFlags& raw, bool gradients) {
     const Volume v = loadVolume(path, rawOptions(raw));
     std::printf("%s\n", path.c_str());
     std::printf("  dims     %d x %d x %d (%zu voxels)\n", v.dims.x, v.dims.y, v.dims.z, v.voxelCount());
     std::printf("  type     %s\n", voxelTypeName(v.type));
     std::printf("  spacing  %g x %g x %g\n", v.spacing.x, v.spacing.y, v.spacing.z);
     std::printf("  origin   %g, %g, %g\n", v.origin.x, v.origin.y, v.origin.z);
+    if (v.directions != glm::dmat3(1.0)) {
+        const glm::dmat3& d = v.directions;
+        std::printf("  axes     x (%g, %g, %g)  y (%g, %g, %g)  z (%g, %g, %g)  (from the file; rendered "
+                    "axis-aligned)\n",
+                    d[0].x, d[0].y, d[0].z, d[1].x, d[1].y, d[1].z, d[2].x, d[2].y, d[2].z);
+    }
     std::printf("  range    %g .. %g\n", v.range.lo, v.range.hi);
+    const ValueRange p = percentileWindow(v, 1.0, 99.0);
+    std::printf("  p1..p99  %g .. %g\n", p.lo, p.hi);
     // Histogram summary: 16 bins, each with its share of voxels and a bar.
     const Histogram h = computeHistogram(v, 16);
     std::printf("  histogram (16 bins)\n");
@@ -119,6 +148,17 @@ int runInfo(const std::string& path, const RawFlags& raw) {
         std::printf("  %10.4g .. %-10.4g %6.2f%% %s\n", h.range.lo + width * double(i),
                     h.range.lo + width * double(i + 1), 100.0 * share, std::string(size_t(bar), '#').c_str());
     }
+    if (gradients) {
+        // Central differences in object units: data units per unit of spacing (per mm for CT).
+        std::fprintf(stderr, "gradients\n");
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto field = computeGradients(v, printProgress);
+        const double ms = msSince(t0);
+        const GradientStats g = gradientMagnitudeStats(*field);
+        std::printf("  gradient magnitude  min %g  mean %g  p99 %g  max %g (data units per object unit; "
+                    "%.0f ms)\n",
+                    g.min, g.mean, g.p99, g.max, ms);
+    }
     return 0;
 }
 
@@ -126,13 +166,14 @@ int runInfo(const std::string& path, const RawFlags& raw) {
 struct SceneArgs {
     std::string volume, out, size = "512x512", camera = "30,20,2.5,30", tf = "ct-skin-bone";
     std::string compositing = "splat-every-sample", filter = "ewa", up = "z";
+    std::string window = "data";
     double kernelScale = SplatSettings{}.kernelScale, density = 1.0;
     bool orthographic = false;
     RawFlags raw;
 };
 
 void addSceneOptions(CLI::App* cmd, SceneArgs& a) {
-    cmd->add_option("volume", a.volume, "Volume file (.nrrd, .nhdr, .raw, .raw.gz)")->required();
+    cmd->add_option("volume", a.volume, std::string("Volume: ") + supportedVolumeTypes())->required();
     cmd->add_option("--out,-o", a.out, "Output image; .png for people, .exr for float data")->required();
     cmd->add_option("--size", a.size, "Image size WxH")->capture_default_str();
     cmd->add_option("--camera", a.camera, "azimuth,elevation,distance,fov (deg, bounding radii, deg)")
@@ -140,6 +181,9 @@ void addSceneOptions(CLI::App* cmd, SceneArgs& a) {
     cmd->add_option("--up", a.up, "Object axis shown upwards: x, y, z, -x, -y, -z (headsq: -z)")->capture_default_str();
     cmd->add_flag("--ortho", a.orthographic, "Parallel projection (framed like the perspective view)");
     cmd->add_option("--tf", a.tf, "Transfer function: a preset name or a JSON file")->capture_default_str();
+    cmd->add_option("--window", a.window,
+                    "Values mapped onto the TF: data (min..max), p1-99, or LO,HI in data units")
+        ->capture_default_str();
     cmd->add_option("--kernel-scale", a.kernelScale, "Reconstruction sigma in voxel spacings")->capture_default_str();
     cmd->add_option("--density", a.density, "Extinction per voxel length at TF opacity 1")->capture_default_str();
     addRawFlags(cmd, a.raw);
@@ -165,7 +209,8 @@ Scene buildScene(const SceneArgs& a) {
     s.settings.kernelScale = a.kernelScale;
     s.settings.density = a.density;
     const TransferFunction tf = transferFunctionFromSpec(a.tf);
-    s.scene = buildSplatScene(loadVolume(a.volume, rawOptions(a.raw)), tf);
+    const Volume volume = loadVolume(a.volume, rawOptions(a.raw));
+    s.scene = buildSplatScene(volume, tf, windowFor(volume, parseWindow(a.window)));
     s.plane = makeImagePlane(camera, s.scene.centre, s.scene.radius, size.x, size.y);
     return s;
 }
@@ -296,8 +341,11 @@ int main(int argc, char** argv) {
 
     std::string infoPath;
     RawFlags infoRaw;
+    bool infoGradients = false;
     auto* info = app.add_subcommand("info", "Print dims, type, spacing, range and a histogram of a volume");
     info->add_option("volume", infoPath, "Volume file")->required();
+    info->add_flag("--gradients", infoGradients,
+                   "Also compute the gradients (progress bar on stderr) and print their stats");
     addRawFlags(info, infoRaw);
 
     EditorOptions e;
@@ -318,7 +366,7 @@ int main(int argc, char** argv) {
         if (*render) return runRender(r, frames, cpu);
         if (*reference) return runReference(ref, gt, cacheDir, noCache);
         if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);
-        if (*info) return runInfo(infoPath, infoRaw);
+        if (*info) return runInfo(infoPath, infoRaw, infoGradients);
         // The bundled headsq stores its slices from the crown down, so it is shown with -z up.
         e.upAxis = editorVolume.empty() ? "-z" : "z";
         if (editorVolume.empty()) e.camera = parseCamera("60,15,2.5,30");   // a three-quarter view of the face

@@ -36,7 +36,8 @@ bool forSlices(int depth, double from, double to, const ProgressCallback& progre
     for (int z0 = 0; z0 < depth; z0 += batch) {
         const int z1 = std::min(depth, z0 + batch);
         tbb::parallel_for(tbb::blocked_range<int>(z0, z1), [&](const tbb::blocked_range<int>& r) {
-            for (int z = r.begin(); z != r.end(); ++z) body(z);
+            for (int z = r.begin(); z != r.end(); ++z)
+                body(z);
         });
         if (progress && !progress(from + (to - from) * double(z1) / double(depth))) return false;
     }
@@ -73,7 +74,8 @@ std::optional<GradientField> computeGradients(const Volume& volume, const Progre
                 for (int x = 0; x < d.x; ++x) {
                     const glm::dvec3 g = gradientAt(volume, x, y, z);
                     const size_t i = volume.index(x, y, z) * 3;
-                    for (int c = 0; c < 3; ++c) field.xyz[i + size_t(c)] = int16_t(std::lround(g[c] * k));
+                    for (int c = 0; c < 3; ++c)
+                        field.xyz[i + size_t(c)] = int16_t(std::lround(g[c] * k));
                 }
         }))
         return std::nullopt;

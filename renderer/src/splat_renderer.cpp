@@ -11,8 +11,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 namespace renderer {
 
@@ -26,9 +28,9 @@ layout(binding = 0) uniform usampler3D classes;      // per-voxel LUT class (R16
 uniform uint uCount;          // splats in the list
 uniform bool uDescending;     // walk the list from its end (back to front)
 uniform ivec3 uDims;
-uniform vec3 uOrigin, uSpacing;
+uniform vec3 uSpacing;        // object position of voxel ijk is origin + spacing * ijk
 uniform mat3 uViewFromObject; // W
-uniform vec3 uTranslation;    // d
+uniform vec3 uTranslation;    // W origin + d: camera position of voxel (0,0,0)
 uniform float uFPx;
 uniform vec2 uCentrePx, uViewport;
 uniform float uNear;
@@ -65,7 +67,7 @@ int classifyPatch(ivec3 ijk) {
         ivec3 c = ijk;
         c[a] = (corner & 1) != 0 ? a1 : a0;
         c[b] = (corner & 2) != 0 ? b1 : b0;
-        int m = classifyDepth((uViewFromObject * (uOrigin + uSpacing * vec3(c)) + uTranslation).z);
+        int m = classifyDepth((uViewFromObject * (uSpacing * vec3(c)) + uTranslation).z);
         if (corner == 0) mode = m;
         else if (m != mode) return 2;
     }
@@ -83,7 +85,7 @@ void main() {
     uint cls = texelFetch(classes, ijk, 0).r;
     vec4 tf = lut[cls];
 
-    vec3 u = uViewFromObject * (uOrigin + uSpacing * vec3(ijk)) + uTranslation;
+    vec3 u = uViewFromObject * (uSpacing * vec3(ijk)) + uTranslation;
     if (!(u.z > uNear)) return;
     float l = length(u);
     float iz = 1.0 / u.z;
@@ -169,6 +171,58 @@ void main() {
 
 constexpr int kTimerRing = 4;
 
+constexpr uint64_t kMiB = uint64_t(1) << 20;
+
+// Free GPU memory as the driver reports it (GL_NVX_gpu_memory_info, GL_ATI_meminfo); std::nullopt
+// when neither extension is there (Mesa llvmpipe, Intel): only GL_OUT_OF_MEMORY can tell then.
+std::optional<uint64_t> freeGpuMemoryBytes() {
+    GLint kib[4] = {0, 0, 0, 0};
+    if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
+        glGetIntegerv(GL_GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX, kib);
+        return uint64_t(kib[0]) * 1024;
+    }
+    if (epoxy_has_gl_extension("GL_ATI_meminfo")) {
+        glGetIntegerv(GL_TEXTURE_FREE_MEMORY_ATI, kib);   // [0]: total free in the pool, KiB
+        return uint64_t(kib[0]) * 1024;
+    }
+    return std::nullopt;
+}
+
+std::string memoryMessage(const std::string& name, uint64_t needed, std::optional<uint64_t> freeBytes,
+                          const std::string& detail) {
+    const std::string freeText =
+        freeBytes ? std::to_string(*freeBytes / kMiB) + " MiB free" : "free memory unknown";
+    return (name.empty() ? std::string("volume") : name) + ": needs " +
+           std::to_string((needed + kMiB - 1) / kMiB) + " MiB of GPU memory, " + freeText + detail;
+}
+
+// Right after a GPU allocation: GL_OUT_OF_MEMORY (from glGetError or KHR_debug) becomes a RenderError
+// saying how much the scene needs; other GL errors stay GlErrors.
+void checkAllocation(const char* what, const std::string& name, uint64_t needed,
+                     std::optional<uint64_t> freeBytes) {
+    std::vector<std::string> errors = takeGlErrors();
+    bool outOfMemory = false;
+    for (GLenum e = glGetError(); e != GL_NO_ERROR; e = glGetError()) {
+        outOfMemory |= e == GL_OUT_OF_MEMORY;
+        errors.push_back("glGetError " + std::to_string(e));
+    }
+    for (const std::string& e : errors) {
+        std::string lowered = e;
+        std::transform(lowered.begin(), lowered.end(), lowered.begin(),
+                       [](unsigned char c) { return char(std::tolower(c)); });
+        outOfMemory |= lowered.find("out of memory") != std::string::npos ||
+                       lowered.find("out_of_memory") != std::string::npos;
+    }
+    if (outOfMemory)
+        throw RenderError(
+            memoryMessage(name, needed, freeBytes, std::string(" (GL_OUT_OF_MEMORY allocating the ") + what + ")"));
+    if (!errors.empty()) {
+        std::string all;
+        for (const auto& e : errors) all += (all.empty() ? "" : "; ") + e;
+        throw GlError(std::string("SplatRenderer::setScene ") + what, all);
+    }
+}
+
 } // namespace
 
 struct SplatRenderer::Gl {
@@ -190,6 +244,7 @@ struct SplatRenderer::Gl {
     glm::ivec3 dims{0};
     glm::dvec3 origin{0.0}, spacing{1.0};
     uint64_t sceneBytes = 0;
+    uint64_t memoryLimit = 0;   // setMemoryLimit(); 0: none beyond what the driver reports
 
     ~Gl() {
         glDeleteProgram(splatProgram);
@@ -255,6 +310,16 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
     if (d.x > maxSize || d.y > maxSize || d.z > maxSize)
         throw RenderError("volume dims exceed GL_MAX_3D_TEXTURE_SIZE " + std::to_string(maxSize));
+    // GPU memory: the classes (2 bytes a voxel), the LUT and three visible lists, against what the
+    // driver reports free (plus what the current scene holds, which is replaced) and the optional limit.
+    uint64_t needed = scene.classes.size() * sizeof(uint16_t) + scene.lut.size() * sizeof(glm::vec4);
+    for (const auto& list : scene.visible) needed += std::max<size_t>(list.size(), 1) * sizeof(uint32_t);
+    std::optional<uint64_t> freeBytes = freeGpuMemoryBytes();
+    if (freeBytes) *freeBytes += g.sceneBytes;
+    if (g.memoryLimit) freeBytes = std::min(freeBytes.value_or(g.memoryLimit), g.memoryLimit);
+    if (freeBytes && needed > *freeBytes) throw RenderError(memoryMessage(scene.name, needed, freeBytes, ""));
+    checkGlErrors("SplatRenderer::setScene (before uploading)");
+
     m_stats.uploadBytes = 0;
     if (g.dims != d || !g.classTexture) {
         glDeleteTextures(1, &g.classTexture);
@@ -262,6 +327,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         glTextureStorage3D(g.classTexture, 1, GL_R16UI, d.x, d.y, d.z);
         glTextureParameteri(g.classTexture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(g.classTexture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        checkAllocation("class texture", scene.name, needed, freeBytes);
     }
     glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
     glTextureSubImage3D(g.classTexture, 0, 0, 0, 0, d.x, d.y, d.z, GL_RED_INTEGER, GL_UNSIGNED_SHORT,
@@ -271,6 +337,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     glDeleteBuffers(1, &g.lutBuffer);
     glCreateBuffers(1, &g.lutBuffer);
     glNamedBufferStorage(g.lutBuffer, GLsizeiptr(scene.lut.size() * sizeof(glm::vec4)), scene.lut.data(), 0);
+    checkAllocation("LUT buffer", scene.name, needed, freeBytes);
     m_stats.uploadBytes += scene.lut.size() * sizeof(glm::vec4);
 
     g.sceneBytes = scene.classes.size() * sizeof(uint16_t) + scene.lut.size() * sizeof(glm::vec4);
@@ -282,6 +349,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         const uint32_t dummy = 0;
         const size_t bytes = std::max<size_t>(list.size(), 1) * sizeof(uint32_t);
         glNamedBufferStorage(g.visibleBuffers[axis], GLsizeiptr(bytes), list.empty() ? &dummy : list.data(), 0);
+        checkAllocation("visible list", scene.name, needed, freeBytes);
         g.visibleCounts[axis] = uint32_t(list.size());
         m_stats.uploadBytes += bytes;
         g.sceneBytes += bytes;
@@ -335,11 +403,13 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glUniform1ui(glGetUniformLocation(p, "uCount"), count);
     glUniform1i(glGetUniformLocation(p, "uDescending"), trav.descending);
     glUniform3i(glGetUniformLocation(p, "uDims"), g.dims.x, g.dims.y, g.dims.z);
-    glUniform3f(glGetUniformLocation(p, "uOrigin"), float(g.origin.x), float(g.origin.y), float(g.origin.z));
+    // Positions relative to the volume's origin, folded into the translation in double: a volume far
+    // from the world origin (1e6 units) keeps its sub-voxel precision in float.
+    const glm::dvec3 translation = plane.viewFromObject * g.origin + plane.translation;
     glUniform3f(glGetUniformLocation(p, "uSpacing"), float(g.spacing.x), float(g.spacing.y), float(g.spacing.z));
     glUniformMatrix3fv(glGetUniformLocation(p, "uViewFromObject"), 1, GL_FALSE, glm::value_ptr(w));
-    glUniform3f(glGetUniformLocation(p, "uTranslation"), float(plane.translation.x), float(plane.translation.y),
-                float(plane.translation.z));
+    glUniform3f(glGetUniformLocation(p, "uTranslation"), float(translation.x), float(translation.y),
+                float(translation.z));
     glUniform1f(glGetUniformLocation(p, "uFPx"), float(plane.fPx));
     glUniform2f(glGetUniformLocation(p, "uCentrePx"), float(plane.centrePx.x), float(plane.centrePx.y));
     glUniform2f(glGetUniformLocation(p, "uViewport"), float(plane.width), float(plane.height));
@@ -434,5 +504,7 @@ unsigned SplatRenderer::displayTexture(const float background[3]) {
 }
 
 uint64_t SplatRenderer::sceneBytes() const { return m_gl->sceneBytes; }
+
+void SplatRenderer::setMemoryLimit(uint64_t bytes) { m_gl->memoryLimit = bytes; }
 
 } // namespace renderer

@@ -20,6 +20,7 @@ SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, Val
     if (volume.voxelCount() > size_t(UINT32_MAX))
         throw RenderError("volume '" + volume.name + "' has more than 2^32 voxels");
     SplatScene s;
+    s.name = volume.name;
     s.dims = volume.dims;
     s.spacing = volume.spacing;
     s.origin = volume.origin;

@@ -21,7 +21,7 @@
 namespace renderer::io {
 
 namespace {
-constexpr size_t kChunkBytes = size_t(1) << 16;   // read/inflate granularity; a multiple of every voxel size
+constexpr size_t kChunkBytes = size_t(1) << 16; // read/inflate granularity; a multiple of every voxel size
 // Deflate cannot expand more than 1032:1 (a 258-byte match per 2 bits); a stream that would have to
 // is lying about its size, and is rejected before the voxels are allocated.
 constexpr uintmax_t kMaxDeflateRatio = 1032;
@@ -29,14 +29,17 @@ constexpr uintmax_t kMaxDeflateRatio = 1032;
 
 std::string lower(std::string_view s) {
     std::string out(s);
-    for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
+    for (char& c : out)
+        c = char(std::tolower(static_cast<unsigned char>(c)));
     return out;
 }
 
 std::string_view trim(std::string_view s) {
     const auto isSpace = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
-    while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
-    while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
+    while (!s.empty() && isSpace(s.front()))
+        s.remove_prefix(1);
+    while (!s.empty() && isSpace(s.back()))
+        s.remove_suffix(1);
     return s;
 }
 
@@ -44,9 +47,11 @@ std::vector<std::string_view> splitWords(std::string_view s) {
     std::vector<std::string_view> words;
     size_t i = 0;
     while (i < s.size()) {
-        while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+        while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i])))
+            ++i;
         const size_t start = i;
-        while (i < s.size() && !std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+        while (i < s.size() && !std::isspace(static_cast<unsigned char>(s[i])))
+            ++i;
         if (i > start) words.push_back(s.substr(start, i - start));
     }
     return words;
@@ -54,7 +59,8 @@ std::vector<std::string_view> splitWords(std::string_view s) {
 
 std::string excerpt(std::string_view s) {
     std::string out = "'";
-    for (char c : s.substr(0, 60)) out += std::isprint(static_cast<unsigned char>(c)) ? c : '?';
+    for (char c : s.substr(0, 60))
+        out += std::isprint(static_cast<unsigned char>(c)) ? c : '?';
     return out + (s.size() > 60 ? "...'" : "'");
 }
 
@@ -85,7 +91,8 @@ std::string layoutText(glm::ivec3 dims, VoxelType type) {
            voxelTypeName(type);
 }
 
-glm::ivec3 checkedDims(const fs::path& path, const std::string& field, long long x, long long y, long long z) {
+glm::ivec3 checkedDims(const fs::path& path, const std::string& field, long long x, long long y,
+                       long long z) {
     const long long sizes[3] = {x, y, z};
     for (long long s : sizes)
         if (s <= 0) fail(path, field, "size " + std::to_string(s) + " must be a positive integer");
@@ -112,7 +119,8 @@ std::string volumeName(const fs::path& path) {
     std::string name = path.filename().string();
     for (std::string_view ext : {".gz", ".bz2"})
         if (name.size() > ext.size() && lower(name).ends_with(ext)) name.resize(name.size() - ext.size());
-    for (std::string_view ext : {".raw", ".nrrd", ".nhdr", ".mhd", ".mha", ".nii", ".slc", ".dat", ".tiff", ".tif"})
+    for (std::string_view ext :
+         {".raw", ".nrrd", ".nhdr", ".mhd", ".mha", ".nii", ".slc", ".dat", ".tiff", ".tif"})
         if (name.size() > ext.size() && lower(name).ends_with(ext)) {
             name.resize(name.size() - ext.size());
             break;
@@ -149,9 +157,12 @@ bool bzip2Available() {
 
 const char* compressionName(Compression c) {
     switch (c) {
-    case Compression::None: return "raw";
-    case Compression::Zlib: return "gzip/zlib";
-    case Compression::Bzip2: return "bzip2";
+    case Compression::None:
+        return "raw";
+    case Compression::Zlib:
+        return "gzip/zlib";
+    case Compression::Bzip2:
+        return "bzip2";
     }
     return "unknown";
 }
@@ -174,7 +185,8 @@ ByteReader::ByteReader(std::istream& in, Compression compression, fs::path repor
 #ifdef SPLATLAB_HAVE_BZIP2
         if (BZ2_bzDecompressInit(&m_state->bz, 0, 0) != BZ_OK) fail(m_report, "data", "cannot start bzip2");
 #else
-        fail(m_report, "encoding", "bzip2 data, but this build has no libbz2 (apt install libbz2-dev, rebuild)");
+        fail(m_report, "encoding",
+             "bzip2 data, but this build has no libbz2 (apt install libbz2-dev, rebuild)");
 #endif
     }
 }
@@ -199,12 +211,12 @@ size_t ByteReader::read(unsigned char* dst, size_t n) {
             availIn = unsigned(m_in.gcount());
             return s.buffer.data();
         };
-        const size_t want = std::min(n - got, kChunkBytes);   // avail_out is a 32-bit unsigned
+        const size_t want = std::min(n - got, kChunkBytes); // avail_out is a 32-bit unsigned
         if (m_compression == Compression::Zlib) {
             z_stream& zs = s.zs;
             if (zs.avail_in == 0) {
                 zs.next_in = refill(zs.avail_in);
-                if (zs.avail_in == 0) break;   // the file ended inside the stream: truncated
+                if (zs.avail_in == 0) break; // the file ended inside the stream: truncated
             }
             zs.next_out = dst + got;
             zs.avail_out = uInt(want);
@@ -240,7 +252,8 @@ size_t ByteReader::read(unsigned char* dst, size_t n) {
                     const unsigned avail = bz.avail_in;
                     BZ2_bzDecompressEnd(&bz);
                     bz = bz_stream{};
-                    if (BZ2_bzDecompressInit(&bz, 0, 0) != BZ_OK) fail(m_report, "data", "cannot restart bzip2");
+                    if (BZ2_bzDecompressInit(&bz, 0, 0) != BZ_OK)
+                        fail(m_report, "data", "cannot restart bzip2");
                     bz.next_in = next;
                     bz.avail_in = avail;
                 }
@@ -258,8 +271,12 @@ void decodeVoxels(const unsigned char* bytes, size_t count, VoxelType type, Endi
     for (size_t i = 0; i < count; ++i) {
         const unsigned char* b = bytes + i * voxelTypeBytes(type);
         switch (type) {
-        case VoxelType::U8: out[i] = float(b[0]); break;
-        case VoxelType::U16: out[i] = float(uint16_t(little ? b[0] | b[1] << 8 : b[1] | b[0] << 8)); break;
+        case VoxelType::U8:
+            out[i] = float(b[0]);
+            break;
+        case VoxelType::U16:
+            out[i] = float(uint16_t(little ? b[0] | b[1] << 8 : b[1] | b[0] << 8));
+            break;
         case VoxelType::I16:
             out[i] = float(int16_t(uint16_t(little ? b[0] | b[1] << 8 : b[1] | b[0] << 8)));
             break;
@@ -273,8 +290,9 @@ void decodeVoxels(const unsigned char* bytes, size_t count, VoxelType type, Endi
     }
 }
 
-std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm::ivec3 dims, VoxelType type) {
-    const size_t count = size_t(dims.x) * size_t(dims.y) * size_t(dims.z);   // checkedDims() bounded it
+std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm::ivec3 dims,
+                              VoxelType type) {
+    const size_t count = size_t(dims.x) * size_t(dims.y) * size_t(dims.z); // checkedDims() bounded it
     const size_t needed = count * voxelTypeBytes(type);
     const bool compressed = src.compression != Compression::None;
     const std::string where = src.file == report ? "file" : "data file '" + src.file.string() + "'";
@@ -287,8 +305,9 @@ std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm
     std::ifstream in = openFile(src.file, report, src.file == report ? "" : "data file");
     const uintmax_t size = fileSize(src.file, report, "data");
     if (src.offset < 0 || uintmax_t(src.offset) > size)
-        fail(report, "data", where + " has " + std::to_string(size) + " bytes, the data should start at byte " +
-                                 std::to_string(src.offset));
+        fail(report, "data",
+             where + " has " + std::to_string(size) + " bytes, the data should start at byte " +
+                 std::to_string(src.offset));
     in.seekg(src.offset);
     for (size_t line = 0; line < src.lineSkip; ++line) {
         in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
@@ -311,14 +330,14 @@ std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm
                  where + " has " + std::to_string(available) + " bytes" + after + ", expected " + expected +
                      "; " + std::to_string(available - src.byteSkip - needed) + " trailing bytes");
         in.seekg(std::streamoff(src.byteSkip), std::ios::cur);
-    } else if (src.compression == Compression::Zlib && available * kMaxDeflateRatio + 64 < src.byteSkip + needed) {
+    } else if (src.compression == Compression::Zlib &&
+               available * kMaxDeflateRatio + 64 < src.byteSkip + needed) {
         fail(report, "data",
              "a " + std::to_string(available) + "-byte gzip/zlib stream cannot hold " + expected +
                  " (deflate expands at most 1032:1)");
     }
 
     // 3. Stream the data in chunks: drop the byte skip, then decode each chunk straight into floats.
-    //    bzip2 output grows as it arrives, so a tiny stream claiming gigabytes fails before allocating.
     ByteReader reader(in, src.compression, report);
     std::vector<unsigned char> chunk(kChunkBytes);
     const auto shortRead = [&](size_t got) {
@@ -326,15 +345,18 @@ std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm
              (compressed ? streamName : where) + " ended after " + std::to_string(got) + " of " +
                  std::to_string(src.byteSkip + needed) + " bytes");
     };
-    for (size_t skipped = 0; compressed && skipped < src.byteSkip;) {   // raw data was skipped by seeking
+    for (size_t skipped = 0; compressed && skipped < src.byteSkip;) { // raw data was skipped by seeking
         const size_t want = std::min(kChunkBytes, src.byteSkip - skipped);
         const size_t got = reader.read(chunk.data(), want);
         skipped += got;
         if (got < want) shortRead(skipped);
     }
+    // Compressed data: reserve for up to 64:1 (CT and MRI compress far less), grow beyond that as the
+    // bytes arrive, so a small stream that lies about its size never costs gigabytes.
     std::vector<float> values;
-    if (src.compression == Compression::Bzip2)
-        values.reserve(std::min(count, kChunkBytes));
+    if (compressed)
+        values.reserve(
+            size_t(std::min<uintmax_t>(count, available * 64 / voxelTypeBytes(type) + kChunkBytes)));
     else
         values.resize(count);
     const size_t voxelBytes = voxelTypeBytes(type);
@@ -355,8 +377,9 @@ std::string readSmallFile(const fs::path& path, size_t maxBytes) {
     std::ifstream in = openFile(path, path, "");
     const uintmax_t size = fileSize(path, path, "");
     if (size > maxBytes)
-        fail(path, "", "file has " + std::to_string(size) + " bytes, more than the " + std::to_string(maxBytes) +
-                           " this format can hold");
+        fail(path, "",
+             "file has " + std::to_string(size) + " bytes, more than the " + std::to_string(maxBytes) +
+                 " this format can hold");
     std::string bytes(size_t(size), '\0');
     in.read(bytes.data(), std::streamsize(size));
     if (size_t(in.gcount()) != bytes.size()) fail(path, "", "read ended early");

@@ -6,6 +6,7 @@
 #include "renderer/volume_io.h"
 
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -46,15 +47,15 @@ uintmax_t fileSize(const fs::path& file, const fs::path& report, const std::stri
 
 enum class Compression {
     None,
-    Zlib,    // gzip or zlib wrapper, told apart by zlib from the stream's first bytes
-    Bzip2,   // only when built with libbz2 (bzip2Available())
+    Zlib,  // gzip or zlib wrapper, told apart by zlib from the stream's first bytes
+    Bzip2, // only when built with libbz2 (bzip2Available())
 };
 bool bzip2Available();
-const char* compressionName(Compression c);   // "raw", "gzip/zlib", "bzip2"
+const char* compressionName(Compression c); // "raw", "gzip/zlib", "bzip2"
 
 // Sequential bytes of a stored stream from the current position of `in`, decompressed on the fly.
 class ByteReader {
-public:
+  public:
     ByteReader(std::istream& in, Compression compression, fs::path report);
     ~ByteReader();
     ByteReader(const ByteReader&) = delete;
@@ -62,7 +63,7 @@ public:
     // Fills dst with n bytes; fewer only when the file (or the compressed stream) ended first.
     size_t read(unsigned char* dst, size_t n);
 
-private:
+  private:
     struct State;
     std::istream& m_in;
     Compression m_compression;
@@ -74,12 +75,12 @@ void decodeVoxels(const unsigned char* bytes, size_t count, VoxelType type, Endi
 
 // Where the voxel bytes are and how they are stored.
 struct DataSource {
-    fs::path file;               // the file holding the bytes (the header itself when attached)
-    std::streamoff offset = 0;   // where the stored (possibly compressed) data starts in `file`
-    size_t lineSkip = 0;         // text lines to skip from `offset` before the data (NRRD "line skip")
-    size_t byteSkip = 0;         // bytes to drop before the voxels, counted after decompression
+    fs::path file;             // the file holding the bytes (the header itself when attached)
+    std::streamoff offset = 0; // where the stored (possibly compressed) data starts in `file`
+    size_t lineSkip = 0;       // text lines to skip from `offset` before the data (NRRD "line skip")
+    size_t byteSkip = 0;       // bytes to drop before the voxels, counted after decompression
     Compression compression = Compression::None;
-    bool exact = false;   // trailing bytes are an error (raw files) instead of being ignored (NRRD)
+    bool exact = false; // trailing bytes are an error (raw files) instead of being ignored (NRRD)
     Endian endian = Endian::Little;
 };
 

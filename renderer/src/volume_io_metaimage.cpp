@@ -18,14 +18,14 @@ constexpr size_t kMaxLineBytes = size_t(1) << 16;
 constexpr int kMaxHeaderLines = 4096;
 
 struct MetaField {
-    std::string key;   // as spelled in the file
+    std::string key; // as spelled in the file
     std::string value;
     int line = 0;
 };
 
 struct MetaHeader {
-    std::map<std::string, MetaField> fields;   // keyed by lower-case name
-    std::streamoff dataOffset = 0;             // just after the ElementDataFile line
+    std::map<std::string, MetaField> fields; // keyed by lower-case name
+    std::streamoff dataOffset = 0;           // just after the ElementDataFile line
 
     const MetaField* find(const std::string& key) const {
         const auto it = fields.find(key);
@@ -50,7 +50,8 @@ MetaHeader readMetaHeader(const fs::path& path) {
         if (c == std::char_traits<char>::eof() && line.empty())
             fail(path, "ElementDataFile", "missing: the header ended without it (it must be the last field)");
         if (lineNo > kMaxHeaderLines)
-            fail(path, "", "more than " + std::to_string(kMaxHeaderLines) + " header lines without ElementDataFile");
+            fail(path, "",
+                 "more than " + std::to_string(kMaxHeaderLines) + " header lines without ElementDataFile");
         const std::string_view text = trim(line);
         if (text.empty()) continue;
         const size_t eq = text.find('=');
@@ -58,15 +59,17 @@ MetaHeader readMetaHeader(const fs::path& path) {
             fail(path, "",
                  "line " + std::to_string(lineNo) + " is not 'Key = Value': " + excerpt(text) +
                      (lineNo == 1 ? " (not a MetaImage file?)" : ""));
-        MetaField field{std::string(trim(text.substr(0, eq))), std::string(trim(text.substr(eq + 1))), lineNo};
+        MetaField field{std::string(trim(text.substr(0, eq))), std::string(trim(text.substr(eq + 1))),
+                        lineNo};
         const std::string key = lower(field.key);
         const auto [it, inserted] = header.fields.emplace(key, field);
         if (!inserted)
             fail(path, field.key,
-                 "appears twice (lines " + std::to_string(it->second.line) + " and " + std::to_string(lineNo) + ")");
+                 "appears twice (lines " + std::to_string(it->second.line) + " and " +
+                     std::to_string(lineNo) + ")");
         if (key == "elementdatafile") {
             header.dataOffset = in.tellg();
-            if (header.dataOffset < 0) header.dataOffset = fileSize(path, path, "");   // ended at EOF
+            if (header.dataOffset < 0) header.dataOffset = fileSize(path, path, ""); // ended at EOF
             return header;
         }
     }
@@ -125,7 +128,7 @@ Volume loadMetaImage(const std::filesystem::path& path) {
     volume.name = volumeName(path);
     volume.dims = checkedDims(path, dimSize.key, sizes[0], sizes[1], sizes[2]);
     const MetaField* spacing = header.find("elementspacing");
-    if (!spacing) spacing = header.find("elementsize");   // older writers give only the voxel size
+    if (!spacing) spacing = header.find("elementsize"); // older writers give only the voxel size
     if (spacing) {
         const auto s = numbers(path, *spacing, 3);
         volume.spacing = checkedSpacing(path, spacing->key, {s[0], s[1], s[2]});
@@ -142,7 +145,8 @@ Volume loadMetaImage(const std::filesystem::path& path) {
             // Written axis by axis: the first three numbers are the x axis' direction (as ITK reads them).
             const auto m = numbers(path, *matrix, 9);
             glm::dmat3 d;
-            for (int axis = 0; axis < 3; ++axis) d[axis] = {m[size_t(3 * axis)], m[size_t(3 * axis + 1)], m[size_t(3 * axis + 2)]};
+            for (int axis = 0; axis < 3; ++axis)
+                d[axis] = {m[size_t(3 * axis)], m[size_t(3 * axis + 1)], m[size_t(3 * axis + 2)]};
             if (!(std::abs(glm::determinant(d)) > 1e-6))
                 fail(path, matrix->key, excerpt(matrix->value) + " is singular, expected a rotation matrix");
             volume.directions = d;
@@ -159,21 +163,25 @@ Volume loadMetaImage(const std::filesystem::path& path) {
     const auto type = kTypes.find(elementType.value);
     if (type == kTypes.end())
         fail(path, elementType.key,
-             excerpt(elementType.value) + " is not supported (supported: MET_UCHAR, MET_USHORT, MET_SHORT, MET_FLOAT)");
+             excerpt(elementType.value) +
+                 " is not supported (supported: MET_UCHAR, MET_USHORT, MET_SHORT, MET_FLOAT)");
     volume.type = type->second;
-    if (const MetaField* channels = header.find("elementnumberofchannels"); channels && parseInt(channels->value) != 1)
+    if (const MetaField* channels = header.find("elementnumberofchannels");
+        channels && parseInt(channels->value) != 1)
         fail(path, channels->key, excerpt(channels->value) + ", expected 1 (scalar volumes only)");
     if (const MetaField* binary = header.find("binarydata"); binary && !boolean(path, *binary))
         fail(path, binary->key, "ASCII voxel data is not supported, expected True");
 
     DataSource src;
     for (const char* key : {"binarydatabyteordermsb", "elementbyteordermsb"})
-        if (const MetaField* msb = header.find(key)) src.endian = boolean(path, *msb) ? Endian::Big : Endian::Little;
+        if (const MetaField* msb = header.find(key))
+            src.endian = boolean(path, *msb) ? Endian::Big : Endian::Little;
     const MetaField* compressed = header.find("compresseddata");
     if (compressed && boolean(path, *compressed)) src.compression = Compression::Zlib;
     if (const MetaField* size = header.find("compresseddatasize")) {
         const auto bytes = parseInt(size->value);
-        if (!bytes || *bytes < 0) fail(path, size->key, excerpt(size->value) + " is not a non-negative integer");
+        if (!bytes || *bytes < 0)
+            fail(path, size->key, excerpt(size->value) + " is not a non-negative integer");
     }
 
     // 4. Where the voxels are: after the header (LOCAL) or in the named file, after HeaderSize bytes.
@@ -184,7 +192,8 @@ Volume loadMetaImage(const std::filesystem::path& path) {
         src.offset = header.dataOffset;
     } else {
         if (dataFile.value.starts_with("LIST") || dataFile.value.find('%') != std::string::npos)
-            fail(path, dataFile.key, excerpt(dataFile.value) + ": file lists are not supported; join the slices into one file");
+            fail(path, dataFile.key,
+                 excerpt(dataFile.value) + ": file lists are not supported; join the slices into one file");
         const fs::path file(dataFile.value);
         src.file = file.is_absolute() ? file : path.parent_path() / file;
     }
@@ -198,9 +207,10 @@ Volume loadMetaImage(const std::filesystem::path& path) {
             const uintmax_t needed = uintmax_t(volume.voxelCount()) * voxelTypeBytes(volume.type);
             const uintmax_t start = uintmax_t(src.offset);
             if (size < start + needed)
-                fail(path, "data", "data file '" + src.file.string() + "' has " + std::to_string(size) +
-                                       " bytes, expected at least " + std::to_string(needed) + " (" +
-                                       layoutText(volume.dims, volume.type) + ")");
+                fail(path, "data",
+                     "data file '" + src.file.string() + "' has " + std::to_string(size) +
+                         " bytes, expected at least " + std::to_string(needed) + " (" +
+                         layoutText(volume.dims, volume.type) + ")");
             src.offset = std::streamoff(size - needed);
         } else if (!skip || *skip < 0) {
             fail(path, headerSize->key, excerpt(headerSize->value) + " is not a byte count (or -1)");

@@ -24,7 +24,8 @@ struct NiftiHeader {
 
     uint32_t u32(size_t at) const {
         uint32_t v = 0;
-        for (int i = 0; i < 4; ++i) v |= uint32_t(bytes[at + size_t(i)]) << (big ? 8 * (3 - i) : 8 * i);
+        for (int i = 0; i < 4; ++i)
+            v |= uint32_t(bytes[at + size_t(i)]) << (big ? 8 * (3 - i) : 8 * i);
         return v;
     }
     int16_t i16(size_t at) const {
@@ -40,12 +41,12 @@ struct NiftiType {
     std::optional<VoxelType> type;
 };
 const NiftiType kNiftiTypes[] = {
-    {2, "uint8", VoxelType::U8},          {4, "int16", VoxelType::I16},     {16, "float32", VoxelType::F32},
-    {512, "uint16", VoxelType::U16},      {1, "binary", std::nullopt},      {8, "int32", std::nullopt},
-    {32, "complex64", std::nullopt},      {64, "float64", std::nullopt},    {128, "rgb24", std::nullopt},
-    {256, "int8", std::nullopt},          {768, "uint32", std::nullopt},    {1024, "int64", std::nullopt},
-    {1280, "uint64", std::nullopt},       {1536, "float128", std::nullopt}, {1792, "complex128", std::nullopt},
-    {2048, "complex256", std::nullopt},   {2304, "rgba32", std::nullopt},
+    {2, "uint8", VoxelType::U8},        {4, "int16", VoxelType::I16},     {16, "float32", VoxelType::F32},
+    {512, "uint16", VoxelType::U16},    {1, "binary", std::nullopt},      {8, "int32", std::nullopt},
+    {32, "complex64", std::nullopt},    {64, "float64", std::nullopt},    {128, "rgb24", std::nullopt},
+    {256, "int8", std::nullopt},        {768, "uint32", std::nullopt},    {1024, "int64", std::nullopt},
+    {1280, "uint64", std::nullopt},     {1536, "float128", std::nullopt}, {1792, "complex128", std::nullopt},
+    {2048, "complex256", std::nullopt}, {2304, "rgba32", std::nullopt},
 };
 
 } // namespace
@@ -57,7 +58,8 @@ Volume loadNifti(const std::filesystem::path& path) {
     in.read(reinterpret_cast<char*>(magic), 2);
     in.clear();
     in.seekg(0);
-    const bool gzip = lower(path.filename().string()).ends_with(".gz") || (magic[0] == 0x1f && magic[1] == 0x8b);
+    const bool gzip =
+        lower(path.filename().string()).ends_with(".gz") || (magic[0] == 0x1f && magic[1] == 0x8b);
     NiftiHeader h{};
     {
         ByteReader reader(in, gzip ? Compression::Zlib : Compression::None, path);
@@ -91,7 +93,8 @@ Volume loadNifti(const std::filesystem::path& path) {
     if (rank < 3 || rank > 7)
         fail(path, "dim[0]", std::to_string(rank) + ", expected 3 (a 3D volume; 4..7 with size 1 beyond z)");
     long long dim[8];
-    for (int i = 0; i < 8; ++i) dim[i] = h.i16(size_t(40 + 2 * i));
+    for (int i = 0; i < 8; ++i)
+        dim[i] = h.i16(size_t(40 + 2 * i));
     for (int i = 4; i <= rank; ++i)
         if (dim[i] != 1)
             fail(path, "dim[" + std::to_string(i) + "]",
@@ -106,14 +109,15 @@ Volume loadNifti(const std::filesystem::path& path) {
                                  [&](const NiftiType& n) { return n.code == datatype; });
     if (t == std::end(kNiftiTypes) || !t->type)
         fail(path, "datatype",
-             std::to_string(datatype) + (t != std::end(kNiftiTypes) ? std::string(" (") + t->name + ")" : "") +
+             std::to_string(datatype) +
+                 (t != std::end(kNiftiTypes) ? std::string(" (") + t->name + ")" : "") +
                  " is not supported (supported: 2 uint8, 4 int16, 512 uint16, 16 float32)");
     volume.type = *t->type;
     const int16_t bitpix = h.i16(72);
     if (size_t(bitpix) != voxelTypeBytes(volume.type) * 8)
         fail(path, "bitpix",
-             std::to_string(bitpix) + ", expected " + std::to_string(voxelTypeBytes(volume.type) * 8) + " for " +
-                 t->name);
+             std::to_string(bitpix) + ", expected " + std::to_string(voxelTypeBytes(volume.type) * 8) +
+                 " for " + t->name);
 
     // 5. Spacing, data offset and scaling.
     volume.spacing = checkedSpacing(path, "pixdim", {h.f32(80), h.f32(84), h.f32(88)});
@@ -122,7 +126,8 @@ Volume loadNifti(const std::filesystem::path& path) {
         voxOffset > 1e9)
         fail(path, "vox_offset", number(voxOffset) + ", expected a whole number of bytes >= 348");
     const double slope = h.f32(112), inter = h.f32(116);
-    if (!std::isfinite(slope)) fail(path, "scl_slope", number(slope) + ", expected a finite number (0: none)");
+    if (!std::isfinite(slope))
+        fail(path, "scl_slope", number(slope) + ", expected a finite number (0: none)");
     if (slope != 0 && !std::isfinite(inter))
         fail(path, "scl_inter", number(inter) + ", expected a finite number");
 
@@ -131,14 +136,16 @@ Volume loadNifti(const std::filesystem::path& path) {
     if (sformCode > 0) {
         glm::dmat3 m;
         for (int row = 0; row < 3; ++row) {
-            for (int col = 0; col < 3; ++col) m[col][row] = h.f32(size_t(280 + 16 * row + 4 * col));
+            for (int col = 0; col < 3; ++col)
+                m[col][row] = h.f32(size_t(280 + 16 * row + 4 * col));
             volume.origin[row] = h.f32(size_t(280 + 16 * row + 12));
         }
         for (int col = 0; col < 3; ++col) {
             const double length = glm::length(m[col]);
             if (!(length > 0) || !std::isfinite(length))
-                fail(path, "srow_x/y/z", "column " + std::to_string(col) + " has length " + number(length) +
-                                             ", expected a non-degenerate affine");
+                fail(path, "srow_x/y/z",
+                     "column " + std::to_string(col) + " has length " + number(length) +
+                         ", expected a non-degenerate affine");
             volume.directions[col] = m[col] / length;
         }
         if (!std::isfinite(volume.origin.x + volume.origin.y + volume.origin.z))
@@ -149,22 +156,25 @@ Volume loadNifti(const std::filesystem::path& path) {
         if (!std::isfinite(b + c + d) || !std::isfinite(offset.x + offset.y + offset.z))
             fail(path, "quatern_b/c/d", "not finite");
         const double a = std::sqrt(std::max(0.0, 1.0 - (b * b + c * c + d * d)));
-        const double qfac = h.f32(76) < 0 ? -1.0 : 1.0;   // pixdim[0]
+        const double qfac = h.f32(76) < 0 ? -1.0 : 1.0; // pixdim[0]
         // Rotation from the unit quaternion (a, b, c, d), rows as in nifti1.h; z flipped by qfac.
-        const glm::dmat3 r(glm::dvec3(a * a + b * b - c * c - d * d, 2 * (b * c + a * d), 2 * (b * d - a * c)),
-                           glm::dvec3(2 * (b * c - a * d), a * a + c * c - b * b - d * d, 2 * (c * d + a * b)),
-                           glm::dvec3(qfac * 2 * (b * d + a * c), qfac * 2 * (c * d - a * b),
-                                      qfac * (a * a + d * d - c * c - b * b)));
+        const glm::dmat3 r(
+            glm::dvec3(a * a + b * b - c * c - d * d, 2 * (b * c + a * d), 2 * (b * d - a * c)),
+            glm::dvec3(2 * (b * c - a * d), a * a + c * c - b * b - d * d, 2 * (c * d + a * b)),
+            glm::dvec3(qfac * 2 * (b * d + a * c), qfac * 2 * (c * d - a * b),
+                       qfac * (a * a + d * d - c * c - b * b)));
         volume.directions = r;
         volume.origin = offset;
     }
 
     // 7. Voxels after vox_offset (decompressed bytes for .nii.gz), then the data units.
-    DataSource src{.file = path, .byteSkip = size_t(voxOffset), .endian = h.big ? Endian::Big : Endian::Little};
+    DataSource src{
+        .file = path, .byteSkip = size_t(voxOffset), .endian = h.big ? Endian::Big : Endian::Little};
     if (gzip) src.compression = Compression::Zlib;
     volume.values = readVoxels(path, src, volume.dims, volume.type);
     if (slope != 0 && !(slope == 1 && inter == 0))
-        for (float& v : volume.values) v = float(double(v) * slope + inter);
+        for (float& v : volume.values)
+            v = float(double(v) * slope + inter);
     updateRange(volume);
     return volume;
 }

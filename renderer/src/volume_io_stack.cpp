@@ -36,13 +36,19 @@ bool isSliceFile(const fs::path& p) {
 bool naturalLess(const std::string& a, const std::string& b) {
     size_t i = 0, j = 0;
     while (i < a.size() && j < b.size()) {
-        if (std::isdigit(static_cast<unsigned char>(a[i])) && std::isdigit(static_cast<unsigned char>(b[j]))) {
+        if (std::isdigit(static_cast<unsigned char>(a[i])) &&
+            std::isdigit(static_cast<unsigned char>(b[j]))) {
             size_t ie = i, je = j;
-            while (ie < a.size() && std::isdigit(static_cast<unsigned char>(a[ie]))) ++ie;
-            while (je < b.size() && std::isdigit(static_cast<unsigned char>(b[je]))) ++je;
-            std::string_view na = std::string_view(a).substr(i, ie - i), nb = std::string_view(b).substr(j, je - j);
-            while (na.size() > 1 && na[0] == '0') na.remove_prefix(1);
-            while (nb.size() > 1 && nb[0] == '0') nb.remove_prefix(1);
+            while (ie < a.size() && std::isdigit(static_cast<unsigned char>(a[ie])))
+                ++ie;
+            while (je < b.size() && std::isdigit(static_cast<unsigned char>(b[je])))
+                ++je;
+            std::string_view na = std::string_view(a).substr(i, ie - i),
+                             nb = std::string_view(b).substr(j, je - j);
+            while (na.size() > 1 && na[0] == '0')
+                na.remove_prefix(1);
+            while (nb.size() > 1 && nb[0] == '0')
+                nb.remove_prefix(1);
             if (na.size() != nb.size()) return na.size() < nb.size();
             if (na != nb) return na < nb;
             i = ie, j = je;
@@ -60,7 +66,8 @@ std::vector<fs::path> patternFiles(const fs::path& pattern) {
     const std::string name = pattern.filename().string();
     const size_t percent = name.find('%');
     size_t spec = percent + 1;
-    while (spec < name.size() && std::isdigit(static_cast<unsigned char>(name[spec]))) ++spec;
+    while (spec < name.size() && std::isdigit(static_cast<unsigned char>(name[spec])))
+        ++spec;
     if (spec >= name.size() || name[spec] != 'd' || name.find('%', spec) != std::string::npos)
         fail(pattern, "", "slice pattern must hold one %d (e.g. slice_%03d.png)");
     const std::string prefix = name.substr(0, percent), suffix = name.substr(spec + 1);
@@ -70,7 +77,8 @@ std::vector<fs::path> patternFiles(const fs::path& pattern) {
     std::vector<std::pair<long long, fs::path>> found;
     for (const auto& entry : fs::directory_iterator(dir, ec)) {
         const std::string file = entry.path().filename().string();
-        if (file.size() <= prefix.size() + suffix.size() || !file.starts_with(prefix) || !file.ends_with(suffix))
+        if (file.size() <= prefix.size() + suffix.size() || !file.starts_with(prefix) ||
+            !file.ends_with(suffix))
             continue;
         const std::string_view digits =
             std::string_view(file).substr(prefix.size(), file.size() - prefix.size() - suffix.size());
@@ -101,28 +109,33 @@ struct StackBuilder {
     void add(OIIO::ImageInput& in, const std::string& where) {
         const OIIO::ImageSpec& spec = in.spec();
         if (spec.nchannels != 1)
-            fail(report, "channels", where + " has " + std::to_string(spec.nchannels) +
-                                         " channels, expected 1 (greyscale slices)");
+            fail(report, "channels",
+                 where + " has " + std::to_string(spec.nchannels) +
+                     " channels, expected 1 (greyscale slices)");
         if (spec.depth != 1)
-            fail(report, "depth", where + " is a " + std::to_string(spec.depth) + "-deep volume image, expected 2D slices");
+            fail(report, "depth",
+                 where + " is a " + std::to_string(spec.depth) + "-deep volume image, expected 2D slices");
         const auto type = voxelTypeOf(spec.format);
         if (!type)
-            fail(report, "pixel type", where + " is " + spec.format.c_str() + ", expected uint8, uint16, int16 or float");
+            fail(report, "pixel type",
+                 where + " is " + spec.format.c_str() + ", expected uint8, uint16, int16 or float");
         if (!started) {
             volume.name = volumeName(report);
             volume.type = *type;
             volume.dims = checkedDims(report, "width/height", spec.width, spec.height, 1);
             started = true;
         } else if (spec.width != volume.dims.x || spec.height != volume.dims.y || *type != volume.type) {
-            fail(report, "slice size", where + " is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                                           " " + voxelTypeName(*type) + ", expected " + std::to_string(volume.dims.x) +
-                                           "x" + std::to_string(volume.dims.y) + " " + voxelTypeName(volume.type) +
-                                           " like the first slice");
+            fail(report, "slice size",
+                 where + " is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " " +
+                     voxelTypeName(*type) + ", expected " + std::to_string(volume.dims.x) + "x" +
+                     std::to_string(volume.dims.y) + " " + voxelTypeName(volume.type) +
+                     " like the first slice");
         }
         if (slices.size() >= size_t(kMaxSlices) ||
             (slices.size() + 1) * size_t(volume.dims.x) * size_t(volume.dims.y) > kMaxVoxels)
-            fail(report, "slices", "more than " + std::to_string(kMaxVoxels) + " voxels or " +
-                                       std::to_string(kMaxSlices) + " slices");
+            fail(report, "slices",
+                 "more than " + std::to_string(kMaxVoxels) + " voxels or " + std::to_string(kMaxSlices) +
+                     " slices");
         // Read in the stored type (OIIO would normalise integers to 0..1 if asked for float), then
         // convert: the values stay in the data's own units.
         const size_t count = size_t(volume.dims.x) * size_t(volume.dims.y);
@@ -131,20 +144,23 @@ struct StackBuilder {
             fail(report, "pixels", where + ": " + in.geterror());
         std::vector<float>& pixels = slices.emplace_back(count);
         decodeVoxels(stored.data(), count, volume.type,
-                     std::endian::native == std::endian::little ? Endian::Little : Endian::Big, pixels.data());
+                     std::endian::native == std::endian::little ? Endian::Little : Endian::Big,
+                     pixels.data());
     }
 
     Volume finish() {
         volume.dims.z = int(slices.size());
         volume.values.reserve(volume.voxelCount());
-        for (const auto& s : slices) volume.values.insert(volume.values.end(), s.begin(), s.end());
+        for (const auto& s : slices)
+            volume.values.insert(volume.values.end(), s.begin(), s.end());
         updateRange(volume);
         return std::move(volume);
     }
 };
 
-std::unique_ptr<OIIO::ImageInput> openImage(const fs::path& report, const fs::path& file, const std::string& where) {
-    openFile(file, report, "slice").close();   // regular file, readable: the same checks as every format
+std::unique_ptr<OIIO::ImageInput> openImage(const fs::path& report, const fs::path& file,
+                                            const std::string& where) {
+    openFile(file, report, "slice").close(); // regular file, readable: the same checks as every format
     auto in = OIIO::ImageInput::open(file.string());
     if (!in) {
         std::string why = OIIO::geterror();
@@ -185,7 +201,8 @@ Volume loadImageStack(const std::filesystem::path& pathOrPattern) {
         });
     }
     if (files.size() > size_t(kMaxSlices))
-        fail(pathOrPattern, "slices", std::to_string(files.size()) + " files, more than " + std::to_string(kMaxSlices));
+        fail(pathOrPattern, "slices",
+             std::to_string(files.size()) + " files, more than " + std::to_string(kMaxSlices));
     for (const fs::path& file : files) {
         const std::string where = "slice '" + file.filename().string() + "'";
         auto in = openImage(pathOrPattern, file, where);

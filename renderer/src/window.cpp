@@ -11,9 +11,12 @@ namespace renderer {
 
 const char* windowModeName(WindowMode mode) {
     switch (mode) {
-    case WindowMode::DataRange: return "data range";
-    case WindowMode::Percentile: return "percentile 1-99";
-    case WindowMode::Custom: return "custom";
+    case WindowMode::DataRange:
+        return "data range";
+    case WindowMode::Percentile:
+        return "percentile 1-99";
+    case WindowMode::Custom:
+        return "custom";
     }
     return "unknown";
 }
@@ -39,8 +42,10 @@ ValueRange percentileWindow(const Volume& volume, double loPercent, double hiPer
 
 ValueRange windowFor(const Volume& volume, const WindowSettings& settings) {
     switch (settings.mode) {
-    case WindowMode::DataRange: return volume.range;
-    case WindowMode::Percentile: return percentileWindow(volume, 1.0, 99.0);
+    case WindowMode::DataRange:
+        return volume.range;
+    case WindowMode::Percentile:
+        return percentileWindow(volume, 1.0, 99.0);
     case WindowMode::Custom:
         if (!(std::isfinite(settings.custom.lo) && std::isfinite(settings.custom.hi) &&
               settings.custom.lo < settings.custom.hi))

@@ -17,12 +17,14 @@ namespace fuzz {
 // /dev/shm when there is one (no disk writes per input), else the system temp folder; one per process.
 inline const std::filesystem::path& scratchDir() {
     static const std::filesystem::path dir = [] {
-        std::filesystem::path base = std::filesystem::exists("/dev/shm") ? std::filesystem::path("/dev/shm")
-                                                                         : std::filesystem::temp_directory_path();
+        std::filesystem::path base = std::filesystem::exists("/dev/shm")
+                                         ? std::filesystem::path("/dev/shm")
+                                         : std::filesystem::temp_directory_path();
         std::filesystem::path d = base / ("splatlab_fuzz_" + std::to_string(getpid()));
         std::filesystem::create_directories(d);
         std::ofstream data(d / "data.raw", std::ios::binary);
-        for (int i = 0; i < 4096; ++i) data.put(char(i * 7 % 251));
+        for (int i = 0; i < 4096; ++i)
+            data.put(char(i * 7 % 251));
         return d;
     }();
     return dir;
@@ -37,8 +39,7 @@ inline std::filesystem::path writeInput(const std::string& name, const uint8_t* 
 }
 
 // Loads and checks the invariants every successful load must hold.
-template <class Load>
-void loadAndCheck(Load&& load) {
+template <class Load> void loadAndCheck(Load&& load) {
     try {
         const renderer::Volume v = load();
         if (v.values.size() != v.voxelCount() || v.dims.x < 1 || v.dims.y < 1 || v.dims.z < 1) std::abort();

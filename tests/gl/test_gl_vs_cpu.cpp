@@ -14,6 +14,7 @@
 #include "test_paths.h"
 
 #include "renderer/errors.h"
+#include "renderer/hard_cases.h"
 #include "renderer/procedural.h"
 #include "renderer/reference_renderer.h"
 #include "renderer/splat_renderer.h"
@@ -148,5 +149,19 @@ TEST_F(GlTest, SheetCompositingSaysItIsCpuOnly) {
         ADD_FAILURE() << "sheet compositing rendered on GL";
     } catch (const RenderError& e) {
         EXPECT_NE(std::string(e.what()).find("CPU oracle only"), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(GlTest, HardCasesStayFiniteAndMatchCpu) {
+    // The CPU suite checks each hard case against the ground truth; here GL must agree with the CPU
+    // on them too, float precision included (volume 1e6 units away, fov 1 and 170 degrees).
+    for (const HardCase& hc : hardCases(1)) {
+        for (auto mode : {FilterMode::Ewa, FilterMode::Adaptive}) {
+            SplatSettings s = hc.settings;
+            s.filter = mode;
+            const Case c = renderBoth(hc.volume, hc.tf, hc.camera, s, hc.width, hc.height);
+            EXPECT_TRUE(imageStats(c.gl).finite) << hc.name;
+            EXPECT_IMAGES_CLOSE(c.gl, c.cpu, kGlVsCpu, "hard_" + hc.name + "_" + filterModeName(mode));
+        }
     }
 }

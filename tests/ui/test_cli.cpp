@@ -86,3 +86,24 @@ TEST(Cli, MistakesGetOneClearLineAndAFailingExit) {
         EXPECT_THAT(r.output, HasSubstr(expect)) << args;
     }
 }
+
+TEST(Cli, InfoReportsOrientationPercentilesAndGradientsWithAProgressBar) {
+    const CliRun r = splatlab("info \"" + headsq() + "\" --gradients");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_THAT(r.output, HasSubstr("p1..p99"));
+    EXPECT_THAT(r.output, HasSubstr("100.0%"));   // the progress bar reached its end
+    EXPECT_THAT(r.output, HasSubstr("gradient magnitude  min 0"));
+}
+
+TEST(Cli, RenderTakesAWindowInDataUnits) {
+    const auto out = testing_support::testOutputDir() / "cli_window.png";
+    for (const char* window : {"p1-99", "500,3000"}) {
+        const CliRun r = splatlab("render \"" + headsq() + "\" --out \"" + out.string() +
+                                  "\" --size 32x32 --frames 1 --window " + window);
+        EXPECT_EQ(r.status, 0) << window << ": " << r.output;
+    }
+    const CliRun bad =
+        splatlab("render \"" + headsq() + "\" --out \"" + out.string() + "\" --window 3000,500");
+    EXPECT_NE(bad.status, 0);
+    EXPECT_THAT(bad.output, HasSubstr("LO must be below HI"));
+}

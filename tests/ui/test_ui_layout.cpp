@@ -360,3 +360,67 @@ TEST_F(ImGuiNull, DockSpaceDrawsFrontTabsAndDraggingTheColumnSplitterMovesIt) {
     body();
     EXPECT_EQ(ui::computeDockRects(layout, window).node[size_t(layout.find("left"))].w, leftBefore + 60.0f);
 }
+
+// == Window section and the progress modal
+
+TEST_F(ImGuiNull, WindowSectionPercentileRadioSelectsThePercentileWindow) {
+    renderer::Volume volume;
+    volume.dims = {4, 1, 1};
+    volume.values = {-1000, 0, 40, 3000};
+    renderer::updateRange(volume);
+    const renderer::Histogram histogram = renderer::computeHistogram(volume, 8);
+    ui::EditorState state;
+    bool changed = false;
+    ImGuiID dataId = 0, percentileId = 0;
+    auto body = [&] {
+        dataId = ImGui::GetID("data range");
+        percentileId = ImGui::GetID("percentile 1-99");
+        changed |= ui::drawWindowSection(state, {.volume = &volume, .histogram = &histogram,
+                                                 .percentile = {-1000, 3000}, .window = volume.range});
+    };
+    frame(body);
+    EXPECT_FALSE(changed);
+    const float y = findItem(dataId, 20.0f, 0.0f, 700.0f, body);
+    ASSERT_GE(y, 0.0f) << "the data range radio was never hovered";
+    float x = -1.0f;   // the percentile radio sits to its right on the same line
+    for (float tx = 20.0f; tx < 400.0f && x < 0; tx += 4.0f) {
+        mouse(tx, y, false);
+        frame(body);
+        if (ImGui::GetCurrentContext()->HoveredId == percentileId) x = tx;
+    }
+    ASSERT_GE(x, 0.0f) << "the percentile radio was never hovered";
+    mouse(x, y, true);
+    frame(body);
+    mouse(x, y, false);
+    frame(body);
+    EXPECT_TRUE(changed);
+    EXPECT_EQ(state.window.mode, renderer::WindowMode::Percentile);
+}
+
+TEST_F(ImGuiNull, ProgressModalCancelButtonReportsOnceAndTheModalClosesWhenWorkEnds) {
+    bool cancelled = false, running = true;
+    auto body = [&] { cancelled |= ui::drawProgressModal("Working", "gradients", 0.4, running); };
+    frame(body);
+    frame(body);   // a modal appears on the frame after it is opened
+    const ImGuiWindow* modal = ImGui::FindWindowByName("Working");
+    ASSERT_NE(modal, nullptr);
+    ASSERT_TRUE(modal->Active);
+    const ImGuiID cancelId = ImHashStr("Cancel", 0, modal->ID);
+    const float x = modal->Pos.x + 20.0f;
+    const float y = findItem(cancelId, x, modal->Pos.y, modal->Pos.y + modal->Size.y, body);
+    ASSERT_GE(y, 0.0f) << "the Cancel button was never hovered";
+    EXPECT_FALSE(cancelled);
+    mouse(x, y, true);
+    frame(body);
+    mouse(x, y, false);
+    frame(body);
+    EXPECT_TRUE(cancelled);
+    running = false;
+    frame(body);
+    bool open = true;
+    frame([&] {
+        body();
+        open = ImGui::IsPopupOpen("Working");
+    });
+    EXPECT_FALSE(open);
+}

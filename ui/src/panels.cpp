@@ -250,4 +250,99 @@ void drawErrorModal(EditorState& state) {
     ImGui::EndPopup();
 }
 
+bool drawWindowSection(EditorState& state, const WindowView& view) {
+    sectionTitle("Window");
+    if (!view.volume || !view.histogram || view.histogram->counts.empty()) {
+        ImGui::TextDisabled("no volume loaded");
+        return false;
+    }
+    const renderer::ValueRange range = view.volume->range;
+    renderer::WindowSettings& w = state.window;
+    const renderer::WindowSettings before = w;
+
+    // 1. Mode: data range, percentile 1-99, custom lo..hi in data units.
+    using renderer::WindowMode;
+    for (auto mode : {WindowMode::DataRange, WindowMode::Percentile, WindowMode::Custom}) {
+        if (ImGui::RadioButton(renderer::windowModeName(mode), w.mode == mode) && w.mode != mode) {
+            if (mode == renderer::WindowMode::Custom) w.custom = view.window;   // start from what is shown
+            w.mode = mode;
+        }
+        if (mode != renderer::WindowMode::Custom) ImGui::SameLine();
+    }
+    hint("Which data values map onto the transfer function's 0..1\n"
+         "percentile 1-99: outliers (metal, air) do not squash the tissue range");
+    if (w.mode == renderer::WindowMode::Custom) {
+        const float speed = std::max((range.hi - range.lo) / 500.0f, 1e-6f);
+        float lo = w.custom.lo, hi = w.custom.hi;
+        if (ImGui::DragFloatRange2("Low / high", &lo, &hi, speed, range.lo, range.hi, "%.4g", "%.4g",
+                                   ImGuiSliderFlags_AlwaysClamp) &&
+            lo < hi)
+            w.custom = {lo, hi};
+        hint("In the data's own units (e.g. Hounsfield units for CT); drag or Ctrl+click to type");
+    }
+    ImGui::TextDisabled("window %.4g .. %.4g   data %.4g .. %.4g   p1..p99 %.4g .. %.4g",
+                        double(view.window.lo), double(view.window.hi), double(range.lo), double(range.hi),
+                        double(view.percentile.lo), double(view.percentile.hi));
+
+    // 2. Histogram: one bar per bin (log or linear counts), the window shaded, hover for the values.
+    ImGui::Checkbox("Log scale", &state.histogramLog);
+    const renderer::Histogram& h = *view.histogram;
+    const ImVec2 size(std::max(ImGui::GetContentRegionAvail().x, 32.0f), ImGui::GetFontSize() * 6.0f);
+    ImGui::InvisibleButton("##histogram", size);
+    const ImVec2 p0 = ImGui::GetItemRectMin(), p1 = ImGui::GetItemRectMax();
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    draw->AddRectFilled(p0, p1, ImGui::GetColorU32(ImGuiCol_FrameBg));
+    const auto height = [&](uint64_t count) {
+        return state.histogramLog ? std::log1p(double(count)) : double(count);
+    };
+    double peak = 0;
+    for (uint64_t c : h.counts) peak = std::max(peak, height(c));
+    const size_t bins = h.counts.size();
+    const float binW = (p1.x - p0.x) / float(bins);
+    for (size_t i = 0; i < bins; ++i) {
+        if (h.counts[i] == 0 || peak <= 0) continue;
+        const float top = p1.y - float(height(h.counts[i]) / peak) * (p1.y - p0.y);
+        draw->AddRectFilled(ImVec2(p0.x + binW * float(i), top), ImVec2(p0.x + binW * float(i + 1), p1.y),
+                            ImGui::GetColorU32(ImGuiCol_PlotHistogram));
+    }
+    const double span = double(h.range.hi) - double(h.range.lo);
+    const auto xOf = [&](float value) {
+        const double t = span > 0 ? (double(value) - h.range.lo) / span : 0.0;
+        return p0.x + float(std::clamp(t, 0.0, 1.0)) * (p1.x - p0.x);
+    };
+    const float wx0 = xOf(view.window.lo), wx1 = xOf(view.window.hi);
+    const ImU32 shade = IM_COL32(0, 0, 0, 110), marker = IM_COL32(255, 200, 80, 255);
+    draw->AddRectFilled(p0, ImVec2(wx0, p1.y), shade);
+    draw->AddRectFilled(ImVec2(wx1, p0.y), p1, shade);
+    draw->AddLine(ImVec2(wx0, p0.y), ImVec2(wx0, p1.y), marker, 1.5f);
+    draw->AddLine(ImVec2(wx1, p0.y), ImVec2(wx1, p1.y), marker, 1.5f);
+    if (ImGui::IsItemHovered()) {
+        const float mx = ImGui::GetIO().MousePos.x;
+        const size_t bin = size_t(std::clamp(int((mx - p0.x) / binW), 0, int(bins) - 1));
+        const double value = h.range.lo + span * double(mx - p0.x) / double(p1.x - p0.x);
+        const double width = span / double(bins);
+        ImGui::SetTooltip("value %.5g (data units)\nbin %.5g .. %.5g: %llu voxels", value,
+                          h.range.lo + width * double(bin), h.range.lo + width * double(bin + 1),
+                          static_cast<unsigned long long>(h.counts[bin]));
+    }
+    return w.mode != before.mode ||
+           (w.mode == renderer::WindowMode::Custom &&
+            (w.custom.lo != before.custom.lo || w.custom.hi != before.custom.hi));
+}
+
+bool drawProgressModal(const char* title, const std::string& text, double fraction, bool running) {
+    if (running && !ImGui::IsPopupOpen(title)) ImGui::OpenPopup(title);
+    if (!ImGui::BeginPopupModal(title, nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return false;
+    bool cancel = false;
+    if (!running) {
+        ImGui::CloseCurrentPopup();
+    } else {
+        ImGui::TextUnformatted(text.c_str());
+        ImGui::ProgressBar(float(std::clamp(fraction, 0.0, 1.0)), ImVec2(ImGui::GetFontSize() * 20.0f, 0.0f));
+        cancel = ImGui::Button("Cancel", ImVec2(ImGui::GetFontSize() * 6.0f, 0.0f));
+    }
+    ImGui::EndPopup();
+    return cancel;
+}
+
 } // namespace ui

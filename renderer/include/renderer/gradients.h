@@ -17,8 +17,8 @@ using ProgressCallback = std::function<bool(double fraction)>;
 // of 12; the error is below scale / 65534 per component (about 1e-5 of the largest component).
 struct GradientField {
     glm::ivec3 dims{0};
-    double scale = 0.0;            // largest |component| in the volume, data units per object unit
-    std::vector<int16_t> xyz;      // 3 per voxel, x fastest like Volume::values
+    double scale = 0.0;       // largest |component| in the volume, data units per object unit
+    std::vector<int16_t> xyz; // 3 per voxel, x fastest like Volume::values
 
     glm::dvec3 at(size_t voxel) const {
         const double k = scale / 32767.0;
@@ -34,7 +34,7 @@ struct GradientField {
 std::optional<GradientField> computeGradients(const Volume& volume, const ProgressCallback& progress = {});
 
 struct GradientStats {
-    double min = 0, mean = 0, p99 = 0, max = 0;   // of the magnitudes, data units per object unit
+    double min = 0, mean = 0, p99 = 0, max = 0; // of the magnitudes, data units per object unit
 };
 GradientStats gradientMagnitudeStats(const GradientField& field);
 

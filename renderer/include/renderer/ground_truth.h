@@ -8,6 +8,7 @@
 // and colour couple inside a step: a step's emission is taken with the step's mean colour. The step
 // is halved until the ray's RGBA changes by less than `tolerance` between two step sizes.
 #pragma once
+#include "renderer/gradients.h"
 #include "renderer/image.h"
 #include "renderer/splat_scene.h"
 #include "renderer/splat_settings.h"
@@ -33,9 +34,9 @@ struct GroundTruthStats {
     bool fromCache = false;
 };
 
-// progress(fraction) is called from worker threads (serialised); returning false cancels, and the
-// call then throws RenderError("cancelled").
-using Progress = std::function<bool(double)>;
+// The progress callback of gradients.h; here it is called from worker threads (serialised) as rows
+// finish, and returning false cancels: the call then throws RenderError("ground truth: cancelled").
+using Progress = ProgressCallback;
 
 Image renderGroundTruth(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                         const GroundTruthOptions& options = {}, const Progress& progress = {},

@@ -26,6 +26,9 @@ public:
     SplatRenderer& operator=(const SplatRenderer&) = delete;
 
     // Uploads classes, LUT and visible lists. Call again after setTransferFunction(scene, ...).
+    // Throws RenderError("<volume>: needs N MiB of GPU memory, M MiB free") when the scene does not fit:
+    // checked up front where the driver reports free memory (GL_NVX_gpu_memory_info, GL_ATI_meminfo) or
+    // a limit is set, and after every allocation through GL_OUT_OF_MEMORY.
     void setScene(const SplatScene& scene);
     // Renders into the internal RGBA32F target (resized to plane.width x plane.height).
     void render(const ImagePlane& plane, const SplatSettings& settings);
@@ -39,6 +42,9 @@ public:
     const FrameStats& stats() const { return m_stats; }
     // Bytes of GPU memory the scene holds (textures and buffers), for the bytes-per-voxel budget.
     uint64_t sceneBytes() const;
+    // Caps the GPU memory setScene() may use, in bytes (0: no cap beyond what the driver reports). Keeps
+    // room for other applications, and lets tests take the out-of-memory path without exhausting a GPU.
+    void setMemoryLimit(uint64_t bytes);
 
 private:
     struct Gl;

@@ -8,11 +8,13 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace renderer {
 
 struct SplatScene {
+    std::string name;                    // the volume's name, for messages
     glm::ivec3 dims{0};
     glm::dvec3 spacing{1.0};
     glm::dvec3 origin{0.0};

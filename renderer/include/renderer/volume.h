@@ -3,6 +3,7 @@
 #pragma once
 #include "renderer/glm_config.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -45,8 +46,11 @@ struct Volume {
     float at(int x, int y, int z) const { return values[index(x, y, z)]; }
     glm::dvec3 positionOf(int x, int y, int z) const { return origin + spacing * glm::dvec3(x, y, z); }
     glm::dvec3 centre() const { return origin + 0.5 * spacing * glm::dvec3(dims - 1); }
-    // Radius of the sphere around centre() that holds every voxel centre.
-    double boundingRadius() const { return 0.5 * glm::length(spacing * glm::dvec3(dims - 1)); }
+    // Radius of the sphere around centre() that holds every voxel centre; at least half a voxel's
+    // diagonal, so a one-voxel volume still has a size to frame.
+    double boundingRadius() const {
+        return 0.5 * std::max(glm::length(spacing * glm::dvec3(dims - 1)), glm::length(spacing));
+    }
 };
 
 // Recomputes volume.range from the finite values (NaN and Inf are skipped).

@@ -7,15 +7,15 @@
 namespace renderer {
 
 enum class WindowMode {
-    DataRange,     // the volume's min..max
-    Percentile,    // the 1st..99th percentile of the finite values: outliers do not squash the rest
-    Custom,        // lo..hi given in data units
+    DataRange,  // the volume's min..max
+    Percentile, // the 1st..99th percentile of the finite values: outliers do not squash the rest
+    Custom,     // lo..hi given in data units
 };
-const char* windowModeName(WindowMode mode);   // "data range", "percentile 1-99", "custom"
+const char* windowModeName(WindowMode mode); // "data range", "percentile 1-99", "custom"
 
 struct WindowSettings {
     WindowMode mode = WindowMode::DataRange;
-    ValueRange custom;   // used in Custom mode; data units, lo < hi
+    ValueRange custom; // used in Custom mode; data units, lo < hi
 };
 
 // The values at the `loPercent` and `hiPercent` percentiles (0..100) of the finite voxels, by rank

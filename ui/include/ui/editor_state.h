@@ -3,6 +3,7 @@
 #pragma once
 #include "renderer/camera.h"
 #include "renderer/splat_settings.h"
+#include "renderer/window.h"
 
 #include <array>
 #include <string>
@@ -15,6 +16,8 @@ struct EditorState {
     std::string presetName = "ct-skin-bone"; // built-in TF preset, or the file name of a TF loaded from disk
     std::array<float, 3> background{0.055f, 0.060f, 0.075f}; // linear RGB behind the volume
     std::string errorMessage; // shown in a modal until dismissed; empty when none
+    renderer::WindowSettings window; // which data values map onto the TF (custom: data units)
+    bool histogramLog = true;        // the Window section's histogram: log-scale counts
 };
 
 } // namespace ui

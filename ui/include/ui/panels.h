@@ -23,6 +23,25 @@ struct SettingsChanges {
 // TF preset, kernel scale, cutoff, density, filter mode, compositing, field of view, up axis, camera reset.
 SettingsChanges drawSettingsPanel(EditorState& state);
 
+// == Window and histogram
+
+struct WindowView {
+    const renderer::Volume* volume = nullptr;       // null: the section says there is no volume
+    const renderer::Histogram* histogram = nullptr; // of the whole volume over its range
+    renderer::ValueRange percentile;                // p1..p99, computed once per volume by the app
+    renderer::ValueRange window;                    // the window the scene uses now
+};
+
+// Window mode (data range, percentile 1-99, custom lo..hi in data units) and the volume's histogram
+// (log-scale toggle) with the window marked; the value range and count under the mouse are shown in
+// the data's own units. Returns whether state.window changed (the app then re-classifies the scene).
+bool drawWindowSection(EditorState& state, const WindowView& view);
+
+// A modal with a progress bar and a Cancel button, for work running on another thread. Call it every
+// frame (it never blocks): while `running` it is shown with `fraction` (0..1); the first frame after,
+// it closes. Returns true on the frame Cancel is pressed.
+bool drawProgressModal(const char* title, const std::string& text, double fraction, bool running);
+
 // == Viewport
 
 // Mouse motion over the viewport during one frame, in display pixels (x right, y down).

@@ -1,0 +1,34 @@
+// GPU memory: a scene that does not fit must give a RenderError saying how much it needs and how much
+// is free, never a driver crash. The limit stands in for a full GPU (llvmpipe reports no free memory).
+#include "gl_fixture.h"
+#include "renderer/errors.h"
+#include "renderer/procedural.h"
+#include "renderer/splat_renderer.h"
+#include "renderer/transfer_function.h"
+
+#include <gtest/gtest.h>
+
+using namespace renderer;
+
+class GpuMemory : public GlTest {};
+
+TEST_F(GpuMemory, SceneOverTheLimitIsRefusedWithSizesAndTheRendererStaysUsable) {
+    // 128 x 128 x 64 voxels: 2 MiB of classes alone, over a 1 MiB limit.
+    const SplatScene scene = buildSplatScene(makeCheckerboard({128, 128, 64}, 8), builtinPreset("grey-ramp"));
+    SplatRenderer gl;
+    gl.setMemoryLimit(uint64_t(1) << 20);
+    try {
+        gl.setScene(scene);
+        FAIL() << "expected RenderError";
+    } catch (const RenderError& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("checkerboard: needs "), std::string::npos) << msg;
+        EXPECT_NE(msg.find(" MiB of GPU memory, 1 MiB free"), std::string::npos) << msg;
+    }
+    // Nothing was allocated or left half-done: lifting the limit, the same renderer takes the scene.
+    gl.setMemoryLimit(0);
+    gl.setScene(scene);
+    EXPECT_GT(gl.sceneBytes(), uint64_t(2) << 20);
+    gl.setMemoryLimit(gl.sceneBytes()); // exactly what it holds: replacing it fits
+    gl.setScene(scene);
+}
