@@ -326,7 +326,7 @@ int main(int argc, char** argv) {
     addSceneOptions(reference, ref);
     reference->add_option("--tolerance", gt.tolerance, "Per-ray convergence: max RGBA change when the step halves")
         ->capture_default_str();
-    reference->add_option("--aa", gt.antialiasNodes, "Gauss-Hermite rays per pixel axis for V_h (1..5)")
+    reference->add_option("--supersample", gt.supersample, "Rays per pixel axis for the 1-px low-pass (1..8)")
         ->capture_default_str();
     reference->add_option("--cache", cacheDir, "Cache folder (default: ~/.cache/splatlab/reference)");
     reference->add_flag("--no-cache", noCache, "Always compute, never read or write the cache");

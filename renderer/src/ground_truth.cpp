@@ -154,92 +154,109 @@ private:
     glm::ivec3 m_reach{3};
 };
 
-// Gauss-Hermite nodes and weights for the weight exp(-x^2), n = 1..5.
-void gaussHermite(int n, std::vector<double>& x, std::vector<double>& w) {
-    switch (n) {
-    case 1: x = {0.0}; w = {1.7724538509055159}; break;
-    case 2: x = {-0.7071067811865476, 0.7071067811865476}; w = {0.8862269254527580, 0.8862269254527580}; break;
-    case 3: x = {-1.2247448713915890, 0.0, 1.2247448713915890};
-            w = {0.2954089751509193, 1.1816359006036772, 0.2954089751509193}; break;
-    case 4: x = {-1.6506801238857846, -0.5246476232752903, 0.5246476232752903, 1.6506801238857846};
-            w = {0.0813128354472452, 0.8049140900055128, 0.8049140900055128, 0.0813128354472452}; break;
-    case 5: x = {-2.0201828704560856, -0.9585724646138185, 0.0, 0.9585724646138185, 2.0201828704560856};
-            w = {0.0199532420590459, 0.3936193231522412, 0.9453087204829419, 0.3936193231522412,
-                 0.0199532420590459}; break;
-    default: throw RenderError("ground truth: antialiasNodes must be 1..5, got " + std::to_string(n));
-    }
-}
-
 } // namespace
 
 Image renderGroundTruth(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                         const GroundTruthOptions& options, const Progress& progress, GroundTruthStats* stats) {
     const auto t0 = std::chrono::steady_clock::now();
     if (!(options.tolerance > 0.0)) throw RenderError("ground truth: tolerance must be > 0");
-    std::vector<double> nodes, weights;
-    gaussHermite(options.antialiasNodes, nodes, weights);
-    // V_h = I: offsets sqrt(2) x, weights w / sqrt(pi) per axis.
-    for (double& v : nodes) v *= std::numbers::sqrt2;
-    for (double& v : weights) v /= std::sqrt(std::numbers::pi);
-    if (options.antialiasNodes == 1) weights = {1.0};
+    if (options.supersample < 0 || options.supersample > 8)
+        throw RenderError("ground truth: supersample must be 0..8, got " + std::to_string(options.supersample));
+    const bool filtered = options.supersample > 0;
+
+    // 1. Unfiltered rays on a grid of `ss` samples per pixel, with a margin for the filter's reach.
+    //    Sample i sits at pixel coordinate (i + 0.5) / ss - margin / ss.
+    const int ss = std::max(options.supersample, 1);
+    constexpr double kReachPx = 4.0;   // the 1-px Gaussian's weight beyond 4 sigma is below 3.4e-4
+    const int margin = filtered ? int(std::ceil(kReachPx * ss)) : 0;
+    const int gw = plane.width * ss + 2 * margin, gh = plane.height * ss + 2 * margin;
+    const auto samplePx = [&](int i) { return (i - margin + 0.5) / ss; };
 
     const Integrator integrator(scene, settings);
     const glm::dmat3 objectFromView = glm::transpose(plane.viewFromObject);
     const glm::dvec3 eye = objectFromView * -plane.translation;
-    const int w = plane.width, h = plane.height;
-    Image img(w, h);
+    std::vector<glm::dvec4> samples(size_t(gw) * size_t(gh));
     std::atomic<uint64_t> unconverged{0}, halvings{0};
     std::atomic<int> rowsDone{0};
     std::atomic<bool> cancelled{false};
     std::mutex progressMutex;
-
-    tbb::parallel_for(0, h, [&](int y) {
+    tbb::parallel_for(0, gh, [&](int j) {
         if (cancelled) return;
-        for (int x = 0; x < w; ++x) {
-            glm::dvec4 pixel(0.0);
-            for (size_t j = 0; j < nodes.size(); ++j)
-                for (size_t i = 0; i < nodes.size(); ++i) {
-                    const glm::dvec2 p(x + 0.5 + nodes[i], y + 0.5 + nodes[j]);
-                    const glm::dvec2 m = (p - plane.centrePx) / plane.fPx;
-                    Ray ray;
-                    if (plane.orthographic) {
-                        ray.origin = objectFromView * (glm::dvec3(m, 0.0) - plane.translation);
-                        ray.dir = objectFromView * glm::dvec3(0, 0, 1);
-                        ray.start = plane.nearDepth;
-                    } else {
-                        const glm::dvec3 dirCamera = glm::normalize(glm::dvec3(m, 1.0));
-                        ray.origin = eye;
-                        ray.dir = objectFromView * dirCamera;
-                        ray.start = plane.nearDepth / dirCamera.z;   // where u2 reaches the near plane
-                    }
-                    const auto kernels = integrator.gather(ray);
-                    double step = options.initialStepSigmas * integrator.smallestSigma();
-                    glm::dvec4 coarse = Integrator::march(kernels, ray.start, step);
-                    glm::dvec4 fine = coarse;
-                    int k = 0;
-                    for (; k < options.maxHalvings; ++k) {
-                        step *= 0.5;
-                        fine = Integrator::march(kernels, ray.start, step);
-                        const glm::dvec4 d = glm::abs(fine - coarse);
-                        if (std::max({d.x, d.y, d.z, d.w}) <= options.tolerance) break;
-                        coarse = fine;
-                    }
-                    if (k == options.maxHalvings) ++unconverged;
-                    halvings += uint64_t(k + 1);
-                    pixel += weights[i] * weights[j] * fine;
-                }
-            float* out = img.pixel(x, y);
-            for (int c = 0; c < 4; ++c) out[c] = float(pixel[c]);
+        for (int i = 0; i < gw; ++i) {
+            const glm::dvec2 m = (glm::dvec2(samplePx(i), samplePx(j)) - plane.centrePx) / plane.fPx;
+            Ray ray;
+            if (plane.orthographic) {
+                ray.origin = objectFromView * (glm::dvec3(m, 0.0) - plane.translation);
+                ray.dir = objectFromView * glm::dvec3(0, 0, 1);
+                ray.start = plane.nearDepth;
+            } else {
+                const glm::dvec3 dirCamera = glm::normalize(glm::dvec3(m, 1.0));
+                ray.origin = eye;
+                ray.dir = objectFromView * dirCamera;
+                ray.start = plane.nearDepth / dirCamera.z;   // where u2 reaches the near plane
+            }
+            const auto kernels = integrator.gather(ray);
+            double step = options.initialStepSigmas * integrator.smallestSigma();
+            glm::dvec4 coarse = Integrator::march(kernels, ray.start, step), fine = coarse;
+            int k = 0;
+            for (; k < options.maxHalvings; ++k) {
+                step *= 0.5;
+                fine = Integrator::march(kernels, ray.start, step);
+                const glm::dvec4 d = glm::abs(fine - coarse);
+                if (std::max({d.x, d.y, d.z, d.w}) <= options.tolerance) break;
+                coarse = fine;
+            }
+            if (k == options.maxHalvings) ++unconverged;
+            halvings += uint64_t(k + 1);
+            samples[size_t(j) * gw + i] = fine;
         }
         const int done = ++rowsDone;
         if (progress) {
             std::lock_guard lock(progressMutex);
-            if (!progress(double(done) / h)) cancelled = true;
+            if (!progress(0.98 * done / gh)) cancelled = true;
         }
     });
     if (cancelled) throw RenderError("ground truth: cancelled");
+
+    Image img(plane.width, plane.height);
+    if (!filtered) {
+        for (int y = 0; y < plane.height; ++y)
+            for (int x = 0; x < plane.width; ++x)
+                for (int c = 0; c < 4; ++c) img.pixel(x, y)[c] = float(samples[size_t(y) * gw + x][c]);
+    }
+    // 2. The V_h filter, separably: weights exp(-d^2/2) of each sample's distance d (pixels) from the
+    //    pixel centre, normalised over the samples within reach.
+    const auto weightsFor = [&](int pixel, int count) {
+        std::vector<std::pair<int, double>> w;
+        double sum = 0.0;
+        for (int i = 0; i < count; ++i) {
+            const double d = samplePx(i) - (pixel + 0.5);
+            if (std::abs(d) <= kReachPx) w.emplace_back(i, std::exp(-0.5 * d * d)), sum += w.back().second;
+        }
+        for (auto& [i, v] : w) v /= sum;
+        return w;
+    };
+    std::vector<glm::dvec4> rows(filtered ? size_t(plane.width) * gh : 0);
+    if (filtered) tbb::parallel_for(0, plane.width, [&](int x) {
+        const auto w = weightsFor(x, gw);
+        for (int j = 0; j < gh; ++j) {
+            glm::dvec4 acc(0.0);
+            for (auto [i, v] : w) acc += v * samples[size_t(j) * gw + i];
+            rows[size_t(j) * plane.width + x] = acc;
+        }
+    });
+    if (filtered) tbb::parallel_for(0, plane.height, [&](int y) {
+        const auto w = weightsFor(y, gh);
+        for (int x = 0; x < plane.width; ++x) {
+            glm::dvec4 acc(0.0);
+            for (auto [j, v] : w) acc += v * rows[size_t(j) * plane.width + x];
+            float* out = img.pixel(x, y);
+            for (int c = 0; c < 4; ++c) out[c] = float(acc[c]);
+        }
+    });
+    if (progress) progress(1.0);
     if (stats) {
-        stats->rays = uint64_t(w) * h * nodes.size() * nodes.size();
+        stats->rays = uint64_t(gw) * uint64_t(gh);
         stats->unconvergedRays = unconverged;
         stats->meanHalvings = double(halvings) / double(std::max<uint64_t>(stats->rays, 1));
         stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -263,7 +280,7 @@ struct Fnv1a {
 std::string groundTruthKey(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                            const GroundTruthOptions& options) {
     Fnv1a f;
-    f.value(uint32_t(1));   // integrator version: bump when its output changes
+    f.value(uint32_t(2));   // integrator version: bump when its output changes
     f.value(scene.dims);
     f.value(scene.spacing);
     f.value(scene.origin);
@@ -283,7 +300,7 @@ std::string groundTruthKey(const SplatScene& scene, const ImagePlane& plane, con
     f.value(options.tolerance);
     f.value(options.initialStepSigmas);
     f.value(options.maxHalvings);
-    f.value(options.antialiasNodes);
+    f.value(options.supersample);
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(f.h));
     return hex;

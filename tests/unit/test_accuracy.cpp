@@ -153,14 +153,14 @@ TEST(SheetBuffer, FrontToBackEqualsBackToFront) {
 // == Ground truth
 
 TEST(GroundTruth, OneKernelMatchesABruteForceLineIntegral) {
-    // Centre rays only (no antialiasing): alpha = 1 - exp(-g vol int r ds) with r the truncated
+    // Centre rays only (supersample 0, no low-pass): alpha = 1 - exp(-g vol int r ds) with r the truncated
     // Gaussian, integrated here by brute force with 200000 midpoint steps.
     const SplatScene scene = buildSplatScene(oneVoxel(), flat(0.8));
     SplatSettings s;
     s.density = 2.0;
     const ImagePlane plane = makeImagePlane({20, 10, 4.0, 30.0}, {0.2, -0.1, 0.1}, 1.0, 24, 24);
     GroundTruthOptions o;
-    o.antialiasNodes = 1;
+    o.supersample = 0;
     o.tolerance = 1e-9;
     const Image gt = renderGroundTruth(scene, plane, s, o);
     const glm::dmat3 objectFromView = glm::transpose(plane.viewFromObject);
@@ -188,7 +188,7 @@ TEST(GroundTruth, ConvergesWhenTheToleranceTightens) {
     const SplatScene scene = buildSplatScene(makeSphereShells(10, 4.0, 1.5), ramp());
     const ImagePlane plane = makeImagePlane({40, 25, 2.5, 30.0}, scene.centre, scene.radius, 24, 24);
     GroundTruthOptions loose, tight;
-    loose.antialiasNodes = tight.antialiasNodes = 2;
+    loose.supersample = tight.supersample = 2;
     loose.tolerance = 1e-3;
     tight.tolerance = 1e-6;
     GroundTruthStats stats;
@@ -208,7 +208,7 @@ TEST(GroundTruth, CpuSplattingIsCloseOnASmallScene) {
     const SplatScene scene = buildSplatScene(makeMarschnerLobb(16), ramp());
     const ImagePlane plane = makeImagePlane({30, 20, 2.5, 30.0}, scene.centre, scene.radius, 64, 64);
     GroundTruthOptions o;
-    o.antialiasNodes = 2;
+    o.supersample = 2;
     o.tolerance = 1e-4;
     const Image gt = cachedGroundTruth(scene, plane, SplatSettings{}, o, testing_support::testOutputDir() / "gt_cache");
     for (auto mode : {FilterMode::Ewa, FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Adaptive}) {
@@ -226,7 +226,7 @@ TEST(GroundTruth, CacheKeyChangesWithTheViewAndCachedImagesAreReused) {
     Camera moved;
     moved.azimuthDeg += 1.0;
     const ImagePlane b = makeImagePlane(moved, scene.centre, scene.radius, 8, 8);
-    const GroundTruthOptions o{.antialiasNodes = 1};
+    const GroundTruthOptions o{.supersample = 1};
     EXPECT_NE(groundTruthKey(scene, a, SplatSettings{}, o), groundTruthKey(scene, b, SplatSettings{}, o));
     SplatSettings denser;
     denser.density = 2.0;

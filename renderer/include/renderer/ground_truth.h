@@ -1,7 +1,8 @@
 // The reference image splatting approximates (EWA_NOTES "Ground truth"): the absorption-emission
 // integral I = int T(s) sum_k c_k g_k r_k(s) ds, dT = -T g(s) ds, along exact perspective (or parallel)
 // rays through the same truncated 3D kernels, with no affine approximation, slicing or no-overlap
-// assumption; then filtered with V_h by Gaussian-weighted rays around each pixel centre.
+// assumption; then filtered with V_h by Gaussian-weighted rays around each pixel centre: rays on a grid
+// of `supersample` x `supersample` per pixel, weighted by the 1-px Gaussian out to 4 px.
 //
 // Along a ray each kernel is a 1D Gaussian on an interval (its 3D cutoff ellipsoid), so the optical
 // depth and emission of a step have closed forms (erf). The only approximation is how transmittance
@@ -23,7 +24,10 @@ struct GroundTruthOptions {
     double tolerance = 1e-5;       // per ray: max |RGBA(h) - RGBA(h/2)| that counts as converged
     double initialStepSigmas = 1.0;   // first step, in the smallest kernel sigma
     int maxHalvings = 10;          // then the ray is counted as unconverged and keeps its finest value
-    int antialiasNodes = 4;        // Gauss-Hermite nodes per axis for V_h = I (1..5); 1 = centre ray only
+    int supersample = 3;           // rays per pixel along each axis for the V_h filter (1..8); the
+                                   // filter's weights are exact, the grid decides how well sub-pixel
+                                   // detail is resolved (compare s with 2s to see). 0: no filter, one
+                                   // ray through each pixel centre (the bare integral, for tests)
 };
 
 struct GroundTruthStats {
