@@ -18,6 +18,10 @@ namespace {
 using namespace io;
 
 constexpr int kMaxSlices = 1 << 16;
+// The most pixel bytes a slice file may claim per byte of file: above deflate's 1032:1 and LZW's
+// ~1365:1 (table resets every 4094 codes). A 182-byte TIFF claiming 65535 x 65535 pixels would
+// otherwise allocate gigabytes before OpenImageIO finds the data missing (found by fuzz_stack).
+constexpr uintmax_t kMaxImageExpansion = 2048;
 
 std::optional<VoxelType> voxelTypeOf(const OIIO::TypeDesc& t) {
     if (t == OIIO::TypeDesc::UINT8) return VoxelType::U8;
@@ -105,6 +109,8 @@ struct StackBuilder {
     Volume volume;
     bool started = false;
     std::vector<std::vector<float>> slices;
+    uintmax_t fileBytes = 0;    // size of every slice file opened so far
+    uintmax_t claimedBytes = 0; // pixel bytes of every slice read so far
 
     void add(OIIO::ImageInput& in, const std::string& where) {
         const OIIO::ImageSpec& spec = in.spec();
@@ -136,9 +142,16 @@ struct StackBuilder {
             fail(report, "slices",
                  "more than " + std::to_string(kMaxVoxels) + " voxels or " + std::to_string(kMaxSlices) +
                      " slices");
+        const size_t count = size_t(volume.dims.x) * size_t(volume.dims.y);
+        claimedBytes += count * voxelTypeBytes(volume.type);
+        if (claimedBytes > fileBytes * kMaxImageExpansion + (uintmax_t(1) << 20))
+            fail(report, "width/height",
+                 where + " claims " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                     " pixels: " + std::to_string(claimedBytes) +
+                     " bytes of pixels so far cannot come from " + std::to_string(fileBytes) +
+                     " bytes of image files");
         // Read in the stored type (OIIO would normalise integers to 0..1 if asked for float), then
         // convert: the values stay in the data's own units.
-        const size_t count = size_t(volume.dims.x) * size_t(volume.dims.y);
         std::vector<unsigned char> stored(count * voxelTypeBytes(volume.type));
         if (!in.read_image(in.current_subimage(), 0, 0, 1, spec.format, stored.data()))
             fail(report, "pixels", where + ": " + in.geterror());
@@ -181,6 +194,7 @@ Volume loadImageStack(const std::filesystem::path& pathOrPattern) {
     // 1. One multi-page TIFF: each page (subimage) is a slice.
     if (name.find('%') == std::string::npos && !fs::is_directory(pathOrPattern, ec)) {
         auto in = openImage(pathOrPattern, pathOrPattern, "page 0");
+        stack.fileBytes = fileSize(pathOrPattern, pathOrPattern, "");
         for (int page = 0;; ++page) {
             if (page > 0 && !in->seek_subimage(page, 0)) break;
             stack.add(*in, "page " + std::to_string(page));
@@ -206,6 +220,7 @@ Volume loadImageStack(const std::filesystem::path& pathOrPattern) {
     for (const fs::path& file : files) {
         const std::string where = "slice '" + file.filename().string() + "'";
         auto in = openImage(pathOrPattern, file, where);
+        stack.fileBytes += fileSize(file, pathOrPattern, "slice");
         stack.add(*in, where);
     }
     return stack.finish();
