@@ -36,6 +36,11 @@ glm::dmat3 rayJacobianPx(glm::dvec3 u, double fPx) {
                                      u.x / l, u.y / l, u.z / l));
 }
 
+glm::dmat3 kernelVarianceCamera(glm::dvec3 sigma, const glm::dmat3& w) {
+    const glm::dvec3 v = sigma * sigma;
+    return w * glm::dmat3(glm::dvec3(v.x, 0, 0), glm::dvec3(0, v.y, 0), glm::dvec3(0, 0, v.z)) * glm::transpose(w);
+}
+
 double rayJacobianDet(glm::dvec3 u, double fPx) { return fPx * fPx * glm::length(u) / (u.z * u.z * u.z); }
 
 Footprint projectKernel(glm::dvec3 u, const glm::dmat3& varianceCamera, double fPx, FilterMode mode,

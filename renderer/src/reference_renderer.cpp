@@ -20,12 +20,6 @@ double extinctionOf(const SplatScene& scene, const SplatSettings& settings, uint
     return double(scene.lut[cls].a) * settings.density / meanSpacing;
 }
 
-static glm::dmat3 objectVariance(const SplatScene& scene, const SplatSettings& settings) {
-    const glm::dvec3 sigma = settings.kernelScale * scene.spacing;
-    return glm::dmat3(glm::dvec3(sigma.x * sigma.x, 0, 0), glm::dvec3(0, sigma.y * sigma.y, 0),
-                      glm::dvec3(0, 0, sigma.z * sigma.z));
-}
-
 SplatGeometry splatGeometry(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                             uint32_t voxel, double extinction, FilterMode mode, SplatCounters* counters) {
     SplatGeometry g;
@@ -35,8 +29,7 @@ SplatGeometry splatGeometry(const SplatScene& scene, const ImagePlane& plane, co
         if (counters) ++counters->culledNear;
         return g;
     }
-    const glm::dmat3 w = plane.viewFromObject;
-    const glm::dmat3 varCamera = w * objectVariance(scene, settings) * glm::transpose(w);
+    const glm::dmat3 varCamera = kernelVarianceCamera(settings.kernelScale * scene.spacing, plane.viewFromObject);
     const Footprint f = projectKernel(u, varCamera, plane.fPx, mode, glm::dmat2(1.0), plane.orthographic);
     const double det = glm::determinant(f.variancePx);
     if (!(det > 1e-12)) {

@@ -392,10 +392,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
 
     const GLuint p = g.splatProgram;
     glUseProgram(p);
-    const glm::dvec3 sigma = settings.kernelScale * g.spacing;
-    const glm::dmat3 varObject(glm::dvec3(sigma.x * sigma.x, 0, 0), glm::dvec3(0, sigma.y * sigma.y, 0),
-                               glm::dvec3(0, 0, sigma.z * sigma.z));
-    const glm::mat3 varCamera(plane.viewFromObject * varObject * glm::transpose(plane.viewFromObject));
+    const glm::mat3 varCamera(kernelVarianceCamera(settings.kernelScale * g.spacing, plane.viewFromObject));
     const glm::mat3 w(plane.viewFromObject);
     const double meanSpacing = (g.spacing.x + g.spacing.y + g.spacing.z) / 3.0;
     const double diagonal = std::hypot(double(plane.width), double(plane.height));

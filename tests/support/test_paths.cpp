@@ -1,6 +1,7 @@
 #include "test_paths.h"
 
 #include <cstdlib>
+#include <fstream>
 
 namespace testing_support {
 
@@ -21,6 +22,18 @@ std::filesystem::path testOutputDir() {
     auto p = envPath("SPLATLAB_TEST_OUT", SPLATLAB_DEFAULT_TEST_OUT);
     std::filesystem::create_directories(p);
     return p;
+}
+
+std::filesystem::path testOutputDir(const std::string& sub) {
+    auto p = testOutputDir() / sub;
+    std::filesystem::create_directories(p);
+    return p;
+}
+
+bool writeFile(const std::filesystem::path& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    return out.good();
 }
 
 } // namespace testing_support

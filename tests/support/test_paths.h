@@ -3,12 +3,16 @@
 #pragma once
 #include <filesystem>
 #include <optional>
+#include <string>
 
 namespace testing_support {
 
 std::filesystem::path assetDir();                       // SPLATLAB_ASSET_DIR
 std::optional<std::filesystem::path> sharedDataDir();   // SPLATLAB_DATA_DIR if it exists
 std::filesystem::path testOutputDir();                  // SPLATLAB_TEST_OUT (created)
+std::filesystem::path testOutputDir(const std::string& sub);   // a created subfolder of it
+// Writes bytes to a file (binary, truncating); returns false when the write failed.
+bool writeFile(const std::filesystem::path& path, const std::string& bytes);
 
 } // namespace testing_support
 

@@ -23,16 +23,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path outDir() {
-    const fs::path dir = testing_support::testOutputDir() / "volume_io";
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path outDir() { return testing_support::testOutputDir("volume_io"); }
 
 void writeFile(const fs::path& path, const std::string& bytes) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    ASSERT_TRUE(out.good()) << "cannot write " << path;
+    ASSERT_TRUE(testing_support::writeFile(path, bytes)) << "cannot write " << path;
 }
 
 std::string readFile(const fs::path& path) {

@@ -19,6 +19,9 @@ glm::dmat3 rayJacobianPx(glm::dvec3 u, double fPx);
 // det J = fPx^2 |u| / u2^3, the voxel's projected area factor.
 double rayJacobianDet(glm::dvec3 u, double fPx);
 
+// Camera-space variance W diag(sigma^2) W^T of an axis-aligned kernel with per-axis sigma (object units).
+glm::dmat3 kernelVarianceCamera(glm::dvec3 sigma, const glm::dmat3& viewFromObject);
+
 struct Footprint {
     glm::dvec2 offsetPx{0.0};      // projected centre relative to the principal point
     glm::dmat2 variancePx{1.0};    // the filter's 2x2 variance (V_hat, V_h or V_hat + V_h)
