@@ -1,0 +1,150 @@
+// Packed gradients, headlight Phong and surface-splat variances (see shading.h). The GLSL at the end
+// mirrors shade(), surfaceVarianceCamera() and clampFootprintVariance() line for line, in float.
+#include "renderer/shading.h"
+
+#include "renderer/errors.h"
+#include "renderer/ewa.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace renderer {
+
+uint32_t packGradient(glm::dvec3 gradient, double maxMagnitude) {
+    const double len = glm::length(gradient);
+    if (!(len > 0.0) || !std::isfinite(len) || !(maxMagnitude > 0.0)) return 0u;
+    const glm::dvec3 n = gradient / len;
+    // |n_i| <= 1, so the rounded values already lie in [-127, 127] and [0, 255].
+    const auto snorm = [](double x) { return uint32_t(uint8_t(int8_t(std::lround(127.0 * x)))); };
+    const double r = std::min(len / maxMagnitude, 1.0);
+    const uint32_t w = uint32_t(std::lround(255.0 * std::sqrt(r)));
+    return snorm(n.x) | snorm(n.y) << 8 | snorm(n.z) << 16 | w << 24;
+}
+
+PackedGradients packGradients(const GradientField& field) {
+    PackedGradients p;
+    const size_t count = field.xyz.size() / 3;
+    for (size_t i = 0; i < count; ++i)
+        p.maxMagnitude = std::max(p.maxMagnitude, field.magnitude(i));
+    p.texels.resize(count);
+    for (size_t i = 0; i < count; ++i)
+        p.texels[i] = packGradient(field.at(i), p.maxMagnitude);
+    return p;
+}
+
+DecodedGradient decodeGradient(uint32_t texel) {
+    // The float32 the texture unit returns (GL 4.5 eq. 2.2 for snorm, 2.1 for unorm), then widened:
+    // float division is correctly rounded, as is a conforming fixed-point -> float conversion.
+    const auto snorm = [&](int shift) {
+        return double(std::max(float(int8_t(texel >> shift)) / 127.0f, -1.0f));
+    };
+    const float a = float(texel >> 24) / 255.0f;
+    DecodedGradient d;
+    d.normal = {snorm(0), snorm(8), snorm(16)};
+    d.magnitude = double(a * a); // GLSL's a * a, also rounded to float
+    return d;
+}
+
+glm::dvec3 shade(glm::dvec3 colour, glm::dvec3 gradientCamera, glm::dvec3 toEyeCamera,
+                 const ShadingParams& params) {
+    // 1. Trust in the normal: 0 without a gradient, 1 from flatGradient up; linear, so continuous.
+    const double r = glm::length(gradientCamera);
+    const double w = r > 0.0 ? std::min(r / params.flatGradient, 1.0) : 0.0;
+    const glm::dvec3 n = r > 0.0 ? gradientCamera / r : glm::dvec3(0.0);
+    // 2. Headlight: L = V, so |N.L| = |N.V| and R.V = 2 (N.V)^2 - 1 (R = 2 (N.L) N - L).
+    const double e = glm::length(toEyeCamera);
+    const glm::dvec3 v = e > 0.0 ? toEyeCamera / e : glm::dvec3(0.0);
+    const double c = std::abs(glm::dot(n, v));
+    const double rv = std::max(2.0 * c * c - 1.0, 0.0);
+    const glm::dvec3 phong = colour * (params.ambient + params.diffuse * c) +
+                             glm::dvec3(params.specular * std::pow(rv, params.shininess));
+    // 3. Fade to the unshaded colour where the normal is not to be trusted.
+    return colour + w * (phong - colour);
+}
+
+glm::dmat3 surfaceVarianceCamera(glm::dvec3 sigma, const glm::dmat3& viewFromObject, glm::dvec3 normalObject,
+                                 double flatten) {
+    if (!(flatten >= 1.0))
+        throw RenderError("surface splat flatten factor " + std::to_string(flatten) +
+                          ": expected >= 1 (1: volume kernel, inf: disc)");
+    const double len = glm::length(normalObject);
+    const glm::dvec3 n = len > 0.0 && !std::isinf(len) ? normalObject / len : glm::dvec3(0.0);
+    // S scales by 1/flatten along n and keeps the tangent plane; S = I exactly for flatten 1 or n = 0.
+    const glm::dmat3 s = glm::dmat3(1.0) - (1.0 - 1.0 / flatten) * glm::outerProduct(n, n);
+    // W S diag(sigma^2) S^T W^T: the flattened kernel is the volume kernel seen through the map W S.
+    return kernelVarianceCamera(sigma, viewFromObject * s);
+}
+
+glm::dmat2 clampFootprintVariance(const glm::dmat2& v, double minVariancePx2) {
+    // Eigenvalues m -+ d of the symmetrised matrix.
+    const double a = v[0][0], c = v[1][1], b = 0.5 * (v[0][1] + v[1][0]);
+    const double m = 0.5 * (a + c), h = 0.5 * (a - c);
+    const double d = std::sqrt(h * h + b * b);
+    const double lo = m - d, hi = m + d;
+    if (lo >= minVariancePx2) return v;
+    if (hi <= minVariancePx2) return glm::dmat2(minVariancePx2);
+    // (hi I - s) / (hi - lo) projects onto lo's eigenvector, so this moves lo to the floor alone.
+    const double t = (minVariancePx2 - lo) / (hi - lo);
+    const glm::dmat2 s(a, b, b, c);
+    return s + t * (hi * glm::dmat2(1.0) - s);
+}
+
+const char* shadingGlsl() {
+    return R"(// Shading and surface splats (renderer/shading.h): line for line with shading.cpp, in float.
+const float kMinFootprintVariancePx2 = 0.3;
+
+struct ShadingParams {
+    float ambient;
+    float diffuse;
+    float specular;
+    float shininess;
+    float flatGradient;
+};
+
+// |g| / maxMagnitude from the packed w byte as an RGBA8 (unorm) fetch returns it.
+float gradientMagnitude(float unormW) { return unormW * unormW; }
+
+// (normal, |g| / maxMagnitude) of a packed texel read as a uint: what RGBA8_SNORM / RGBA8 fetches give.
+vec4 unpackGradient(uint texel) {
+    return vec4(unpackSnorm4x8(texel).xyz, gradientMagnitude(unpackUnorm4x8(texel).w));
+}
+
+vec3 shade(vec3 colour, vec3 gradientCamera, vec3 toEyeCamera, ShadingParams params) {
+    float r = length(gradientCamera);
+    float w = r > 0.0 ? min(r / params.flatGradient, 1.0) : 0.0;
+    vec3 n = r > 0.0 ? gradientCamera / r : vec3(0.0);
+    float e = length(toEyeCamera);
+    vec3 v = e > 0.0 ? toEyeCamera / e : vec3(0.0);
+    float c = abs(dot(n, v));
+    float rv = max(2.0 * c * c - 1.0, 0.0);
+    vec3 phong = colour * (params.ambient + params.diffuse * c) +
+                 vec3(params.specular * pow(rv, params.shininess));
+    return colour + w * (phong - colour);
+}
+
+// flatten >= 1, validated by the caller (the C++ throws).
+mat3 surfaceVarianceCamera(vec3 sigma, mat3 viewFromObject, vec3 normalObject, float flatten) {
+    float len = length(normalObject);
+    vec3 n = len > 0.0 && !isinf(len) ? normalObject / len : vec3(0.0);
+    mat3 s = mat3(1.0) - (1.0 - 1.0 / flatten) * outerProduct(n, n);
+    mat3 t = viewFromObject * s;
+    vec3 v = sigma * sigma;
+    return t * mat3(v.x, 0.0, 0.0, 0.0, v.y, 0.0, 0.0, 0.0, v.z) * transpose(t);
+}
+
+mat2 clampFootprintVariance(mat2 v, float minVariancePx2) {
+    float a = v[0][0], c = v[1][1], b = 0.5 * (v[0][1] + v[1][0]);
+    float m = 0.5 * (a + c), h = 0.5 * (a - c);
+    float d = sqrt(h * h + b * b);
+    float lo = m - d, hi = m + d;
+    if (lo >= minVariancePx2) return v;
+    if (hi <= minVariancePx2) return mat2(minVariancePx2);
+    float t = (minVariancePx2 - lo) / (hi - lo);
+    mat2 s = mat2(a, b, b, c);
+    return s + t * (hi * mat2(1.0) - s);
+}
+)";
+}
+
+} // namespace renderer
