@@ -285,7 +285,7 @@ int runEditor(const EditorOptions& options) {
             guarded([&] {
                 doc.tf = renderer::builtinPreset(state.presetName);
                 renderer::setTransferFunction(doc.scene, doc.tf);
-                splats->setScene(doc.scene);
+                splats->setLut(doc.scene.lut);   // the lists stay; only the LUT travels
             });
         }
         if (splats && windowChanged) {

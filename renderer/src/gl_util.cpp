@@ -3,6 +3,8 @@
 
 #include "renderer/errors.h"
 
+#include <initializer_list>
+#include <string>
 #include <vector>
 
 namespace renderer::gl {
@@ -24,22 +26,11 @@ static GLuint compile(GLenum type, const char* source, const std::string& label)
     return shader;
 }
 
-GLuint buildProgram(const char* name, const char* vertexSource, const char* fragmentSource) {
-    const std::string base(name);
-    GLuint vs = compile(GL_VERTEX_SHADER, vertexSource, base + ".vert");
-    GLuint fs = 0;
-    try {
-        fs = compile(GL_FRAGMENT_SHADER, fragmentSource, base + ".frag");
-    } catch (...) {
-        glDeleteShader(vs);
-        throw;
-    }
+static GLuint link(const std::string& base, std::initializer_list<GLuint> shaders) {
     GLuint program = glCreateProgram();
-    glAttachShader(program, vs);
-    glAttachShader(program, fs);
+    for (GLuint s : shaders) glAttachShader(program, s);
     glLinkProgram(program);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
+    for (GLuint s : shaders) glDeleteShader(s);
     GLint ok = 0;
     glGetProgramiv(program, GL_LINK_STATUS, &ok);
     if (!ok) {
@@ -51,6 +42,24 @@ GLuint buildProgram(const char* name, const char* vertexSource, const char* frag
         throw GlError(base + " link", log.data());
     }
     return program;
+}
+
+GLuint buildProgram(const char* name, const char* vertexSource, const char* fragmentSource) {
+    const std::string base(name);
+    GLuint vs = compile(GL_VERTEX_SHADER, vertexSource, base + ".vert");
+    GLuint fs = 0;
+    try {
+        fs = compile(GL_FRAGMENT_SHADER, fragmentSource, base + ".frag");
+    } catch (...) {
+        glDeleteShader(vs);
+        throw;
+    }
+    return link(base, {vs, fs});
+}
+
+GLuint buildComputeProgram(const char* name, const char* source) {
+    const std::string base(name);
+    return link(base, {compile(GL_COMPUTE_SHADER, source, base + ".comp")});
 }
 
 } // namespace renderer::gl

@@ -63,11 +63,12 @@ namespace {
 struct Splat {
     SplatGeometry geometry;
     glm::dvec3 colour;
-    int slice = 0;   // coordinate along the traversal axis
+    int mode = 0;     // resolved filter, for the heatmap
 };
 
 void addCounters(SplatCounters& a, const SplatCounters& b) {
     a.drawn += b.drawn;
+    a.culledTransparent += b.culledTransparent;
     a.culledNear += b.culledNear;
     a.culledOffscreen += b.culledOffscreen;
     a.culledHuge += b.culledHuge;
@@ -81,28 +82,67 @@ inline void over(double* dst, const double* c, double a) {
     dst[3] = a + (1.0 - a) * dst[3];
 }
 
+// Premultiplied RGBA of a sheet pixel holding (sum c tau, sum tau): alpha 1 - exp(-sum tau), colour
+// the tau-weighted mean.
+inline void sheetColour(const double* q, double* c, double& a) {
+    a = -std::expm1(-q[3]);
+    for (int k = 0; k < 3; ++k) c[k] = q[k] / q[3] * a;
+}
+
 } // namespace
 
-Image renderReference(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
-                      SplatCounters* counters) {
+std::vector<uint8_t> patchModes(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings) {
     const Traversal trav = chooseTraversal(plane);
-    const auto& list = scene.visible[trav.axis];
-    const size_t n = list.size();
+    const glm::ivec3 d = scene.dims;
+    const int a = (trav.axis + 1) % 3, b = (trav.axis + 2) % 3;
+    const int p = std::max(settings.patchSize, 1);
+    const int na = (d[a] + p - 1) / p, nb = (d[b] + p - 1) / p;
+    const AdaptiveThresholds t = adaptiveThresholds(scene.spacing, plane, settings);
+    std::vector<uint8_t> modes(size_t(d[trav.axis]) * nb * na);
+    tbb::parallel_for(0, d[trav.axis], [&](int slice) {
+        for (int pb = 0; pb < nb; ++pb)
+            for (int pa = 0; pa < na; ++pa) {
+                glm::uvec3 v;
+                v[trav.axis] = uint32_t(slice);
+                v[a] = uint32_t(pa * p);
+                v[b] = uint32_t(pb * p);
+                const uint32_t voxel = (v.z * uint32_t(d.y) + v.y) * uint32_t(d.x) + v.x;
+                modes[(size_t(slice) * nb + pb) * na + pa] =
+                    uint8_t(resolveFilter(scene, plane, settings, t, trav.axis, voxel));
+            }
+    });
+    return modes;
+}
 
-    // 1. Geometry of every splat, in draw order (back to front; sheet front-to-back walks it reversed).
+Image renderReference(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                      SplatCounters* counters, Image* heatmap) {
+    const Compositing mode = settings.compositing;
+    const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
+    const bool frontToBack = mode == Compositing::SheetFrontToBack;
+    const Traversal trav = chooseTraversal(plane);
+    std::vector<uint32_t> sliceStarts;
+    const std::vector<uint32_t> order = drawOrder(scene, trav, frontToBack, settings.drawAllBuckets, &sliceStarts);
+    const size_t n = order.size();
+
+    // 1. Geometry of every splat, in draw order.
     const AdaptiveThresholds thresholds = adaptiveThresholds(scene.spacing, plane, settings);
     std::vector<Splat> splats(n);
     tbb::combinable<SplatCounters> perThread;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
         auto& c = perThread.local();
         for (size_t k = r.begin(); k != r.end(); ++k) {
-            const uint32_t voxel = list[trav.descending ? n - 1 - k : k];
+            const uint32_t voxel = order[k];
             const uint16_t cls = scene.classes[voxel];
-            const FilterMode mode = resolveFilter(scene, plane, settings, thresholds, trav.axis, voxel);
+            if (!(scene.lut[cls].a > 0.0f)) {
+                splats[k].geometry.culled = true;
+                ++c.culledTransparent;
+                continue;
+            }
+            const FilterMode m = resolveFilter(scene, plane, settings, thresholds, trav.axis, voxel);
             splats[k].geometry =
-                splatGeometry(scene, plane, settings, voxel, extinctionOf(scene, settings, cls), mode, &c);
+                splatGeometry(scene, plane, settings, voxel, extinctionOf(scene, settings, cls), m, &c);
             splats[k].colour = glm::dvec3(scene.lut[cls]);
-            splats[k].slice = glm::ivec3(glm::round((scene.positionOf(voxel) - scene.origin) / scene.spacing))[trav.axis];
+            splats[k].mode = int(m);
         }
     });
     SplatCounters total;
@@ -111,45 +151,49 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
     if (counters) *counters = total;
 
     // 2. Composite bands of rows; each band walks all splats in order and touches only its rows.
+    //    Two layers per pixel: the image and the heatmap (the same compositing of one-hot mode colours).
     const int w = plane.width, h = plane.height;
-    std::vector<double> acc(size_t(w) * h * 4, 0.0);
+    const int layers = heatmap ? 2 : 1;
+    std::vector<double> acc(size_t(layers) * w * h * 4, 0.0);
+    const size_t layerSize = size_t(w) * h * 4;
     const double cut2 = settings.cutoffSigmas * settings.cutoffSigmas;
-    const Compositing mode = settings.compositing;
-    const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
-    const bool frontToBack = mode == Compositing::SheetFrontToBack;
     constexpr int kBand = 8;
     tbb::parallel_for(0, (h + kBand - 1) / kBand, [&](int band) {
         const int y0 = band * kBand, y1 = std::min(h, y0 + kBand);
-        // Sheet buffer of this band: per pixel (sum c tau, sum tau) of the current slice.
-        std::vector<double> sheet(sheets ? size_t(y1 - y0) * w * 4 : 0, 0.0);
-        std::vector<double> transmittance(frontToBack ? size_t(y1 - y0) * w : 0, 1.0);
+        const size_t bandSize = size_t(y1 - y0) * w * 4;
+        // Sheet buffer of this band, per layer: (sum c tau, sum tau) of the current slice.
+        std::vector<double> sheet(sheets ? layers * bandSize : 0, 0.0);
+        std::vector<char> opaque(frontToBack ? size_t(y1 - y0) * w : 0, 0);   // early termination
         auto flushSheet = [&] {
             for (int y = y0; y < y1; ++y)
                 for (int x = 0; x < w; ++x) {
-                    double* q = &sheet[(size_t(y - y0) * w + x) * 4];
+                    const size_t local = size_t(y - y0) * w + x;
+                    double* q = &sheet[local * 4];
                     if (q[3] > 0.0) {
-                        const double a = -std::expm1(-q[3]);
-                        const double c[3] = {q[0] / q[3] * a, q[1] / q[3] * a, q[2] / q[3] * a};
-                        double* p = &acc[(size_t(y) * w + x) * 4];
-                        if (frontToBack) {
-                            double& t = transmittance[size_t(y - y0) * w + x];
-                            for (int k = 0; k < 3; ++k) p[k] += t * c[k];
-                            p[3] += t * a;
-                            t *= 1.0 - a;
-                        } else {
-                            over(p, c, a);
+                        for (int l = 0; l < layers; ++l) {
+                            double c[3], a;
+                            sheetColour(q + l * bandSize, c, a);
+                            double* p = &acc[l * layerSize + (size_t(y) * w + x) * 4];
+                            if (frontToBack) {   // "under": what is in front is already in p
+                                for (int k = 0; k < 3; ++k) p[k] += (1.0 - p[3]) * c[k];
+                                p[3] += (1.0 - p[3]) * a;
+                            } else {
+                                over(p, c, a);
+                            }
                         }
+                        if (frontToBack && acc[(size_t(y) * w + x) * 4 + 3] >= settings.opaqueAlpha)
+                            opaque[local] = 1;
                     }
-                    q[0] = q[1] = q[2] = q[3] = 0.0;
+                    for (int l = 0; l < layers; ++l) std::fill_n(q + l * bandSize, 4, 0.0);
                 }
         };
-        int currentSlice = INT32_MIN;
+        size_t slice = 0;
         for (size_t k = 0; k < n; ++k) {
-            const Splat& s = splats[frontToBack ? n - 1 - k : k];
-            if (sheets && s.slice != currentSlice) {
-                if (currentSlice != INT32_MIN) flushSheet();
-                currentSlice = s.slice;
+            if (sheets && k == sliceStarts[slice + 1]) {
+                flushSheet();
+                while (k == sliceStarts[slice + 1]) ++slice;
             }
+            const Splat& s = splats[k];
             const SplatGeometry& g = s.geometry;
             if (g.culled) continue;
             // Pixels whose centres (i + 0.5) fall inside the bounding box of the cutoff ellipse.
@@ -158,30 +202,46 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
             if (ya > yb) continue;
             const int xa = std::max(0, int(std::ceil(g.centrePx.x - g.halfExtentPx.x - 0.5)));
             const int xb = std::min(w - 1, int(std::floor(g.centrePx.x + g.halfExtentPx.x - 0.5)));
+            const double heat[3] = {s.mode == 0 ? 1.0 : 0.0, s.mode == 1 ? 1.0 : 0.0, s.mode == 2 ? 1.0 : 0.0};
             for (int y = ya; y <= yb; ++y)
                 for (int x = xa; x <= xb; ++x) {
                     const glm::dvec2 d = glm::dvec2(x + 0.5, y + 0.5) - g.centrePx;
                     const double e = glm::dot(d, g.conic * d);
                     if (e > cut2) continue;
+                    if (frontToBack && opaque[size_t(y - y0) * w + x]) continue;
                     const double tau = g.amplitude * std::exp(-0.5 * e);
-                    double* p = sheets ? &sheet[(size_t(y - y0) * w + x) * 4] : &acc[(size_t(y) * w + x) * 4];
-                    if (sheets || mode == Compositing::XRay) {
-                        for (int c = 0; c < 3; ++c) p[c] += s.colour[c] * tau;
-                        p[3] += tau;
-                    } else {
-                        const double a = -std::expm1(-tau);
-                        const double c[3] = {s.colour[0] * a, s.colour[1] * a, s.colour[2] * a};
-                        over(p, c, a);   // back to front, premultiplied
+                    for (int l = 0; l < layers; ++l) {
+                        const double* colour = l == 0 ? &s.colour[0] : heat;
+                        double* p = sheets ? &sheet[l * bandSize + (size_t(y - y0) * w + x) * 4]
+                                           : &acc[l * layerSize + (size_t(y) * w + x) * 4];
+                        if (sheets || mode == Compositing::XRay) {
+                            for (int c = 0; c < 3; ++c) p[c] += colour[c] * tau;
+                            p[3] += tau;
+                        } else {
+                            const double a = -std::expm1(-tau);
+                            const double c[3] = {colour[0] * a, colour[1] * a, colour[2] * a};
+                            over(p, c, a);   // back to front, premultiplied
+                        }
                     }
                 }
         }
-        if (sheets && currentSlice != INT32_MIN) flushSheet();
+        if (sheets) flushSheet();
     });
 
-    Image img(w, h);
+    // X-ray shows 1 - exp(-sum); its heatmap splits that alpha by each mode's share of the sum.
     const bool xray = mode == Compositing::XRay;
-    for (size_t i = 0; i < acc.size(); ++i)
-        img.rgba[i] = float(xray ? -std::expm1(-acc[i]) : acc[i]);   // X-ray shows 1 - exp(-sum)
+    Image img(w, h);
+    for (size_t i = 0; i < layerSize; ++i) img.rgba[i] = float(xray ? -std::expm1(-acc[i]) : acc[i]);
+    if (heatmap) {
+        *heatmap = Image(w, h);
+        for (size_t px = 0; px < size_t(w) * h; ++px) {
+            const double* q = &acc[layerSize + px * 4];
+            const double a = xray ? -std::expm1(-q[3]) : q[3];
+            const double scale = xray ? (q[3] > 0.0 ? a / q[3] : 0.0) : 1.0;
+            for (int k = 0; k < 3; ++k) heatmap->rgba[px * 4 + k] = float(q[k] * scale);
+            heatmap->rgba[px * 4 + 3] = float(a);
+        }
+    }
     return img;
 }
 

@@ -14,40 +14,27 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
+#include <limits>
 #include <optional>
 
 namespace renderer {
 
 namespace {
 
-const char* kSplatVert = R"(#version 450 core
-layout(std430, binding = 0) readonly buffer VisibleList { uint visible[]; };
-layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
-layout(binding = 0) uniform usampler3D classes;      // per-voxel LUT class (R16UI)
-
-uniform uint uCount;          // splats in the list
-uniform bool uDescending;     // walk the list from its end (back to front)
+// Uniforms and the adaptive classifier, shared by the splat vertex stage and the patch-mode pass.
+const char* kSplatCommon = R"(
 uniform ivec3 uDims;
 uniform vec3 uSpacing;        // object position of voxel ijk is origin + spacing * ijk
 uniform mat3 uViewFromObject; // W
 uniform vec3 uTranslation;    // W origin + d: camera position of voxel (0,0,0)
 uniform float uFPx;
-uniform vec2 uCentrePx, uViewport;
 uniform float uNear;
-uniform mat3 uVarCamera;      // W V'' W^T, shared by every voxel of a rectilinear grid
 uniform int uFilter;          // 0 reconstruction, 1 low-pass, 2 EWA, 3 adaptive (classifier.h)
 uniform bool uOrtho;          // constant affine projection diag(f, f, 1)
-uniform int uAxis;            // traversal axis: patches lie in its slices
+uniform int uAxis;            // traversal axis: slices and patches lie across it
 uniform int uPatchSize;
 uniform float uReconAbovePx, uLowPassBelowPx, uSigmaMin, uSigmaMax;
-uniform float uCutoff;        // in sigmas
-uniform float uExtinctionScale;   // density / mean spacing * voxel volume
-uniform float uMaxHalfExtent;     // huge-footprint guard, pixels
-
-flat out vec2 vCentre;
-flat out vec3 vConic;         // (a, b, c): e = a dx^2 + 2 b dx dy + c dy^2
-flat out float vAmplitude;
-flat out vec3 vColour;
 
 int classifyDepth(float u2) {
     if (!uOrtho && !(u2 > uNear)) return 0;
@@ -74,19 +61,56 @@ int classifyPatch(ivec3 ijk) {
     return mode;
 }
 
+int resolveFilter(ivec3 ijk) { return uFilter == 3 ? classifyPatch(ijk) : uFilter; }
+)";
+
+const char* kSplatVertMain = R"(
+layout(location = 0) in uvec4 aRun;  // per draw (baseInstance): slice, tile base, bucket | dense << 16, count
+layout(std430, binding = 0) readonly buffer Entries { uint entries[]; };   // 16-bit offsets, two a word
+layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
+layout(std430, binding = 2) buffer Counters { uint counters[]; };
+layout(binding = 0) uniform usampler3D classes;      // per-voxel LUT class (R16UI)
+
+uniform int uVertsPerSplat;   // 1: point sprite, 6: two triangles
+uniform bool uCount;          // count per splat into Counters (slots: see SplatRenderer::render)
+uniform vec2 uCentrePx, uViewport;
+uniform float uGuardPx;       // the viewport reaches this far past the image (points clip by centre)
+uniform mat3 uVarCamera;      // W V'' W^T, shared by every voxel of a rectilinear grid
+uniform float uCutoff;        // in sigmas
+uniform float uExtinctionScale;   // density / mean spacing * voxel volume
+uniform float uMaxHalfExtent;     // huge-footprint guard, pixels
+
+flat out vec2 vCentre;
+flat out vec3 vConic;         // (a, b, c): e = a dx^2 + 2 b dx dy + c dy^2
+flat out float vAmplitude;
+flat out vec3 vColour;
+flat out vec3 vHeat;          // one-hot filter mode
+
+void count(int slot) {
+    if (uCount && gl_VertexID % uVertsPerSplat == 0) atomicAdd(counters[slot], 1u);
+}
+
 const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
 
 void main() {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);   // culled unless a footprint is emitted below
-    uint k = uint(gl_VertexID) / 6u;
-    uint voxel = visible[uDescending ? uCount - 1u - k : k];
-    ivec3 ijk = ivec3(int(voxel % uint(uDims.x)), int((voxel / uint(uDims.x)) % uint(uDims.y)),
-                      int(voxel / uint(uDims.x * uDims.y)));
+    gl_PointSize = 1.0;
+    uint k = uint(gl_VertexID) / uint(uVertsPerSplat);
+    bool dense = (aRun.z >> 16) != 0u;
+    uint pos = aRun.y + (dense ? k : (entries[k >> 1] >> ((k & 1u) * 16u)) & 0xffffu);
+    int a1 = (uAxis + 1) % 3, a2 = (uAxis + 2) % 3;
+    ivec3 ijk;
+    ijk[uAxis] = int(aRun.x);
+    ijk[a1] = int(pos % uint(uDims[a1]));
+    ijk[a2] = int(pos / uint(uDims[a1]));
     uint cls = texelFetch(classes, ijk, 0).r;
+    if (dense && (cls >> 6) != (aRun.z & 0xffffu)) return;   // another bucket's voxel
+    count(0);
     vec4 tf = lut[cls];
+    if (!(tf.a > 0.0)) { count(1); return; }
 
     vec3 u = uViewFromObject * (uSpacing * vec3(ijk)) + uTranslation;
-    if (!(u.z > uNear)) return;
+    if (!(u.z > uNear)) { count(2); return; }
     float l = length(u);
     float iz = 1.0 / u.z;
     // Pixel-unit Jacobian (001 eq. 25), written row by row, transposed into GLSL's column order;
@@ -97,21 +121,30 @@ void main() {
                                      u.x / l, u.y / l, u.z / l));
     mat3 V = J * uVarCamera * transpose(J);
     mat2 vHat = mat2(V[0][0], V[0][1], V[1][0], V[1][1]);
-    int mode = uFilter == 3 ? classifyPatch(ijk) : uFilter;
+    int mode = resolveFilter(ijk);
     mat2 M = mode == 0 ? vHat : (mode == 1 ? mat2(1.0) : vHat + mat2(1.0));
     float det = M[0][0] * M[1][1] - M[0][1] * M[1][0];
-    if (!(det > 1e-12)) return;
+    if (!(det > 1e-12)) { count(3); return; }
     vec2 halfExtent = uCutoff * sqrt(vec2(M[0][0], M[1][1]));
-    if (max(halfExtent.x, halfExtent.y) > uMaxHalfExtent) return;
+    if (max(halfExtent.x, halfExtent.y) > uMaxHalfExtent) { count(4); return; }
+    vec2 centre = uCentrePx + uFPx * (uOrtho ? u.xy : u.xy * iz);
+    if (centre.x + halfExtent.x < 0.0 || centre.x - halfExtent.x > uViewport.x ||
+        centre.y + halfExtent.y < 0.0 || centre.y - halfExtent.y > uViewport.y) { count(5); return; }
+    count(6);
+    count(7 + mode);
 
     float detJ = uOrtho ? uFPx * uFPx : uFPx * uFPx * l * iz * iz * iz;
-    vCentre = uCentrePx + uFPx * (uOrtho ? u.xy : u.xy * iz);
+    vCentre = centre;
     vConic = vec3(M[1][1], -M[0][1], M[0][0]) / det;
     vAmplitude = tf.a * uExtinctionScale * detJ / (6.283185307 * sqrt(det));
     vColour = tf.rgb;
-    // One pixel of margin: the fragment test, not the quad, decides coverage.
-    vec2 p = vCentre + kCorners[gl_VertexID % 6] * (halfExtent + 1.0);
-    gl_Position = vec4(2.0 * p.x / uViewport.x - 1.0, 1.0 - 2.0 * p.y / uViewport.y, 0.0, 1.0);
+    vHeat = vec3(mode == 0 ? 1.0 : 0.0, mode == 1 ? 1.0 : 0.0, mode == 2 ? 1.0 : 0.0);
+    // One pixel of margin: the fragment test, not the primitive, decides coverage.
+    vec2 p = centre;
+    if (uVertsPerSplat == 1) gl_PointSize = 2.0 * (max(halfExtent.x, halfExtent.y) + 1.0);
+    else p += kCorners[gl_VertexID % 6] * (halfExtent + 1.0);
+    vec2 span = uViewport + 2.0 * uGuardPx;
+    gl_Position = vec4(2.0 * (p.x + uGuardPx) / span.x - 1.0, 1.0 - 2.0 * (p.y + uGuardPx) / span.y, 0.0, 1.0);
 }
 )";
 
@@ -120,23 +153,22 @@ flat in vec2 vCentre;
 flat in vec3 vConic;
 flat in float vAmplitude;
 flat in vec3 vColour;
+flat in vec3 vHeat;
 uniform vec2 uViewport;
 uniform float uCutoff;
-uniform bool uXray;
-out vec4 fragColour;
+uniform bool uAdditive;       // sheets and X-ray sum optical depth; splat-every-sample blends "over"
+layout(location = 0) out vec4 fragColour;
+layout(location = 1) out vec4 fragHeat;
 
 void main() {
     vec2 d = vec2(gl_FragCoord.x, uViewport.y - gl_FragCoord.y) - vCentre;   // y down, like the CPU
     float e = vConic.x * d.x * d.x + 2.0 * vConic.y * d.x * d.y + vConic.z * d.y * d.y;
     if (e > uCutoff * uCutoff) discard;
     float tau = vAmplitude * exp(-0.5 * e);
-    if (uXray) {
-        fragColour = vec4(vColour * tau, tau);
-    } else {
-        // 1 - exp(-tau) loses all digits in float for tiny tau; the series is exact to 1e-10 there.
-        float a = tau < 1e-3 ? tau * (1.0 - 0.5 * tau) : 1.0 - exp(-tau);
-        fragColour = vec4(vColour * a, a);
-    }
+    // 1 - exp(-tau) loses all digits in float for tiny tau; the series is exact to 1e-10 there.
+    float w = uAdditive ? tau : (tau < 1e-3 ? tau * (1.0 - 0.5 * tau) : 1.0 - exp(-tau));
+    fragColour = vec4(vColour * w, w);
+    fragHeat = vec4(vHeat * w, w);
 }
 )";
 
@@ -147,13 +179,48 @@ void main() {
 }
 )";
 
-// X-ray resolve: the accumulated sums become 1 - exp(-sum), like the CPU oracle.
-const char* kResolveFrag = R"(#version 450 core
-layout(binding = 0) uniform sampler2D accum;
-out vec4 fragColour;
+// Sheet compositing: reads the frame's image in place (one read and one write per pixel after a
+// texture barrier) and adds the slice's sheet in front of it or behind it. Front to back, pixels
+// whose alpha reached uOpaqueAlpha get depth 0, and later splat fragments fail the depth test there.
+const char* kCompositeFrag = R"(#version 450 core
+layout(binding = 0) uniform sampler2D sheet;
+layout(binding = 1) uniform sampler2D sheetHeat;
+layout(binding = 2) uniform sampler2D image;
+layout(binding = 3) uniform sampler2D heat;
+uniform bool uFrontToBack, uHeat;
+uniform float uOpaqueAlpha;
+layout(location = 0) out vec4 outColour;
+layout(location = 1) out vec4 outHeat;
+
+// (sum c tau, sum tau) -> premultiplied colour of alpha 1 - exp(-sum tau).
+vec4 sheetRgba(vec4 q) {
+    if (!(q.a > 0.0)) return vec4(0.0);
+    float a = q.a < 1e-3 ? q.a * (1.0 - 0.5 * q.a) : 1.0 - exp(-q.a);
+    return vec4(q.rgb / q.a * a, a);
+}
+vec4 combine(vec4 dst, vec4 src) { return uFrontToBack ? dst + (1.0 - dst.a) * src : src + (1.0 - src.a) * dst; }
+
 void main() {
-    vec4 s = texelFetch(accum, ivec2(gl_FragCoord.xy), 0);
-    fragColour = vec4(1.0) - exp(-s);
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    outColour = combine(texelFetch(image, p, 0), sheetRgba(texelFetch(sheet, p, 0)));
+    outHeat = uHeat ? combine(texelFetch(heat, p, 0), sheetRgba(texelFetch(sheetHeat, p, 0))) : vec4(0.0);
+    gl_FragDepth = (uFrontToBack && outColour.a >= uOpaqueAlpha) ? 0.0 : 1.0;
+}
+)";
+
+// X-ray resolve, in place: the accumulated sums become 1 - exp(-sum), like the CPU oracle; the
+// heatmap splits that alpha by each mode's share of the sum.
+const char* kResolveFrag = R"(#version 450 core
+layout(binding = 2) uniform sampler2D image;
+layout(binding = 3) uniform sampler2D heat;
+layout(location = 0) out vec4 outColour;
+layout(location = 1) out vec4 outHeat;
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    outColour = vec4(1.0) - exp(-texelFetch(image, p, 0));
+    vec4 h = texelFetch(heat, p, 0);
+    float a = 1.0 - exp(-h.a);
+    outHeat = vec4(h.a > 0.0 ? h.rgb * (a / h.a) : vec3(0.0), a);
 }
 )";
 
@@ -166,6 +233,48 @@ void main() {
     ivec2 size = textureSize(image, 0);
     vec4 c = texelFetch(image, ivec2(gl_FragCoord.x, size.y - 1 - int(gl_FragCoord.y)), 0);
     fragColour = vec4(c.rgb + (1.0 - c.a) * uBackground, 1.0);
+}
+)";
+
+// Bucket selection: one indirect draw per run, in slice order both ways; inactive buckets draw 0
+// vertices. Runs only change with the volume, so a TF edit re-runs this pass and uploads nothing.
+const char* kCommandsComp = R"(#version 450 core
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer Runs { uvec4 runs[]; };     // slice, tile, bucket|dense, count
+layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
+layout(std430, binding = 2) readonly buffer Places { uvec2 places[]; }; // first entry, descending slot
+layout(std430, binding = 3) writeonly buffer Ascending { uvec4 ascending[]; };
+layout(std430, binding = 4) writeonly buffer Descending { uvec4 descending[]; };
+uniform uint uRuns;
+uniform uint uVertsPerSplat;
+uniform bool uAllBuckets;
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= uRuns) return;
+    uvec4 run = runs[i];
+    uint bucket = run.z & 0xffffu;
+    bool selected = uAllBuckets;
+    for (uint c = bucket << 6; c < ((bucket + 1u) << 6) && !selected; ++c) selected = lut[c].a > 0.0;
+    bool dense = (run.z >> 16) != 0u;
+    // DrawArraysIndirectCommand: count, instanceCount, first, baseInstance (selects this run's aRun).
+    uvec4 command = uvec4(selected ? run.w * uVertsPerSplat : 0u, 1u, dense ? 0u : places[i].x * uVertsPerSplat, i);
+    ascending[i] = command;
+    descending[places[i].y] = command;
+}
+)";
+
+const char* kPatchCompMain = R"(
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) writeonly buffer Modes { uint modes[]; };
+uniform int uNa, uNb, uSlices;
+void main() {
+    int i = int(gl_GlobalInvocationID.x);
+    if (i >= uSlices * uNb * uNa) return;
+    ivec3 ijk;
+    ijk[uAxis] = i / (uNa * uNb);
+    ijk[(uAxis + 1) % 3] = (i % uNa) * uPatchSize;
+    ijk[(uAxis + 2) % 3] = (i / uNa) % uNb * uPatchSize;
+    modes[i] = uint(resolveFilter(ijk));
 }
 )";
 
@@ -223,23 +332,53 @@ void checkAllocation(const char* what, const std::string& name, uint64_t needed,
     }
 }
 
+// Counter slots of the vertex stage's count(): the SplatCounters fields in this order.
+enum CounterSlot { kVisible, kTransparent, kNear, kDegenerate, kHuge, kOffscreen, kDrawn, kMode0, kCounterSlots = kMode0 + 3 };
+
+// One traversal axis on the GPU: the 16-bit entries, the runs (the vertex stage's per-draw attribute),
+// where each run's entries start and its slot in descending order, and the two indirect command
+// arrays the command pass writes. The CPU keeps the run buckets and slice ranges to skip empty slices.
+struct AxisBuffers {
+    GLuint entries = 0, runs = 0, places = 0, ascending = 0, descending = 0;
+    uint32_t runCount = 0;
+    std::vector<uint32_t> sliceRuns;   // as AxisLists::sliceRuns
+    std::vector<uint16_t> buckets;     // per run
+    std::vector<uint32_t> voxels;      // per run: voxels of its bucket
+    std::vector<uint32_t> descendingSlot;
+
+    void release() {
+        const GLuint b[] = {entries, runs, places, ascending, descending};
+        glDeleteBuffers(5, b);
+        entries = runs = places = ascending = descending = 0;
+    }
+};
+
 } // namespace
 
 struct SplatRenderer::Gl {
-    GLuint splatProgram = 0, resolveProgram = 0, displayProgram = 0;
-    GLuint vao = 0;
+    GLuint splatProgram = 0, compositeProgram = 0, resolveProgram = 0, displayProgram = 0;
+    GLuint commandsProgram = 0, patchProgram = 0;
+    GLuint splatVao = 0, emptyVao = 0;
     GLuint classTexture = 0;
-    GLuint lutBuffer = 0;
-    std::array<GLuint, 3> visibleBuffers{};
-    std::array<uint32_t, 3> visibleCounts{};
-    GLuint resultTexture = 0, accumTexture = 0, displayTex = 0;
-    GLuint resultFbo = 0, accumFbo = 0, displayFbo = 0;
+    GLuint lutBuffer = 0, counterBuffer = 0, patchBuffer = 0;
+    size_t patchBufferBytes = 0;
+    std::array<AxisBuffers, 3> axes;
+    Lut lut;                             // CPU copy: which buckets are active, which slices are empty
+    // Command arrays are rewritten when the LUT, the primitive or drawAllBuckets changes.
+    uint64_t lutVersion = 1, commandsVersion = 0;
+    int commandsVerts = 0;
+    bool commandsAllBuckets = false;
+    // Targets: the frame's image and heatmap, the slice sheets, and a depth buffer both FBOs share
+    // (front-to-back early termination).
+    GLuint image = 0, heat = 0, sheet = 0, sheetHeat = 0, depth = 0, displayTex = 0;
+    GLuint frameFbo = 0, sheetFbo = 0, displayFbo = 0;
     int width = 0, height = 0;
     std::array<GLuint, kTimerRing> timers{};
     std::array<bool, kTimerRing> timerPending{};
     std::array<uint64_t, kTimerRing> timerFrame{};
     uint64_t frameCounter = 0, newestTimed = 0;
     int timerNext = 0;
+    GLint maxPointSize = 1;
     // Scene constants the vertex stage needs.
     glm::ivec3 dims{0};
     glm::dvec3 origin{0.0}, spacing{1.0};
@@ -247,57 +386,194 @@ struct SplatRenderer::Gl {
     uint64_t memoryLimit = 0;   // setMemoryLimit(); 0: none beyond what the driver reports
 
     ~Gl() {
-        glDeleteProgram(splatProgram);
-        glDeleteProgram(resolveProgram);
-        glDeleteProgram(displayProgram);
-        glDeleteVertexArrays(1, &vao);
+        for (GLuint p : {splatProgram, compositeProgram, resolveProgram, displayProgram, commandsProgram, patchProgram})
+            glDeleteProgram(p);
+        const GLuint vaos[] = {splatVao, emptyVao};
+        glDeleteVertexArrays(2, vaos);
         glDeleteTextures(1, &classTexture);
-        glDeleteBuffers(1, &lutBuffer);
-        glDeleteBuffers(3, visibleBuffers.data());
+        const GLuint buffers[] = {lutBuffer, counterBuffer, patchBuffer};
+        glDeleteBuffers(3, buffers);
+        for (auto& a : axes) a.release();
         releaseTargets();
         glDeleteQueries(kTimerRing, timers.data());
     }
 
     void releaseTargets() {
-        const GLuint textures[] = {resultTexture, accumTexture, displayTex};
-        const GLuint fbos[] = {resultFbo, accumFbo, displayFbo};
-        glDeleteTextures(3, textures);
+        const GLuint textures[] = {image, heat, sheet, sheetHeat, depth, displayTex};
+        const GLuint fbos[] = {frameFbo, sheetFbo, displayFbo};
+        glDeleteTextures(6, textures);
         glDeleteFramebuffers(3, fbos);
-        resultTexture = accumTexture = displayTex = resultFbo = accumFbo = displayFbo = 0;
+        image = heat = sheet = sheetHeat = depth = displayTex = frameFbo = sheetFbo = displayFbo = 0;
     }
 
-    static void makeTarget(GLenum format, int w, int h, GLuint& texture, GLuint& fbo) {
+    static GLuint makeTexture(GLenum format, int w, int h) {
+        GLuint texture = 0;
         glCreateTextures(GL_TEXTURE_2D, 1, &texture);
         glTextureStorage2D(texture, 1, format, w, h);
-        glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        return texture;
+    }
+
+    static GLuint makeFbo(std::initializer_list<GLuint> colours, GLuint depthTexture) {
+        GLuint fbo = 0;
         glCreateFramebuffers(1, &fbo);
-        glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, texture, 0);
+        GLenum attachment = GL_COLOR_ATTACHMENT0;
+        for (GLuint c : colours) glNamedFramebufferTexture(fbo, attachment++, c, 0);
+        if (depthTexture) glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, depthTexture, 0);
         if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-            throw GlError("render target", "framebuffer incomplete for a " + std::to_string(w) + "x" +
-                                               std::to_string(h) + " target");
+            throw GlError("render target", "framebuffer incomplete");
+        return fbo;
     }
 
     void ensureTargets(int w, int h) {
-        if (w == width && h == height && resultTexture) return;
+        if (w == width && h == height && image) return;
         releaseTargets();
-        makeTarget(GL_RGBA32F, w, h, resultTexture, resultFbo);
-        makeTarget(GL_RGBA32F, w, h, accumTexture, accumFbo);
-        makeTarget(GL_RGBA8, w, h, displayTex, displayFbo);
+        image = makeTexture(GL_RGBA32F, w, h);
+        heat = makeTexture(GL_RGBA32F, w, h);
+        sheet = makeTexture(GL_RGBA32F, w, h);
+        sheetHeat = makeTexture(GL_RGBA32F, w, h);
+        depth = makeTexture(GL_DEPTH_COMPONENT32F, w, h);
+        displayTex = makeTexture(GL_RGBA8, w, h);
+        glTextureParameteri(displayTex, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(displayTex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        frameFbo = makeFbo({image, heat}, depth);
+        sheetFbo = makeFbo({sheet, sheetHeat}, depth);
+        displayFbo = makeFbo({displayTex}, 0);
         width = w;
         height = h;
     }
+
+    // Uniforms of SPLAT_COMMON for this view.
+    void setCommonUniforms(GLuint p, const ImagePlane& plane, const SplatSettings& settings, int axis) const {
+        const glm::mat3 w(plane.viewFromObject);
+        // Positions relative to the volume's origin, folded into the translation in double: a volume
+        // far from the world origin (1e6 units) keeps its sub-voxel precision in float.
+        const glm::dvec3 translation = plane.viewFromObject * origin + plane.translation;
+        const AdaptiveThresholds t = adaptiveThresholds(spacing, plane, settings);
+        glUniform3i(glGetUniformLocation(p, "uDims"), dims.x, dims.y, dims.z);
+        glUniform3f(glGetUniformLocation(p, "uSpacing"), float(spacing.x), float(spacing.y), float(spacing.z));
+        glUniformMatrix3fv(glGetUniformLocation(p, "uViewFromObject"), 1, GL_FALSE, glm::value_ptr(w));
+        glUniform3f(glGetUniformLocation(p, "uTranslation"), float(translation.x), float(translation.y),
+                    float(translation.z));
+        glUniform1f(glGetUniformLocation(p, "uFPx"), float(plane.fPx));
+        glUniform1f(glGetUniformLocation(p, "uNear"), float(plane.nearDepth));
+        glUniform1i(glGetUniformLocation(p, "uFilter"), int(settings.filter));
+        glUniform1i(glGetUniformLocation(p, "uOrtho"), plane.orthographic);
+        glUniform1i(glGetUniformLocation(p, "uAxis"), axis);
+        glUniform1i(glGetUniformLocation(p, "uPatchSize"), std::max(settings.patchSize, 1));
+        glUniform1f(glGetUniformLocation(p, "uReconAbovePx"), float(t.reconstructionAbovePx));
+        glUniform1f(glGetUniformLocation(p, "uLowPassBelowPx"), float(t.lowPassBelowPx));
+        glUniform1f(glGetUniformLocation(p, "uSigmaMin"), float(t.sigmaMin));
+        glUniform1f(glGetUniformLocation(p, "uSigmaMax"), float(t.sigmaMax));
+    }
+
+    // Rewrites every axis's indirect commands for the current LUT (GPU only: nothing is uploaded).
+    void updateCommands(int vertsPerSplat, bool allBuckets) {
+        if (commandsVersion == lutVersion && commandsVerts == vertsPerSplat && commandsAllBuckets == allBuckets)
+            return;
+        glUseProgram(commandsProgram);
+        glUniform1ui(glGetUniformLocation(commandsProgram, "uVertsPerSplat"), GLuint(vertsPerSplat));
+        glUniform1i(glGetUniformLocation(commandsProgram, "uAllBuckets"), allBuckets);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, lutBuffer);
+        for (const AxisBuffers& a : axes) {
+            if (a.runCount == 0) continue;
+            glUniform1ui(glGetUniformLocation(commandsProgram, "uRuns"), a.runCount);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, a.runs);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, a.places);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, a.ascending);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, a.descending);
+            glDispatchCompute((a.runCount + 63) / 64, 1, 1);
+        }
+        glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
+        commandsVersion = lutVersion;
+        commandsVerts = vertsPerSplat;
+        commandsAllBuckets = allBuckets;
+    }
 };
+
+namespace {
+
+// An upper bound on any splat's cutoff half extent in this view, in pixels: ||J||^2 <= ||J||_F^2 =
+// (f/u2)^2 (2 + (u0^2 + u1^2) / u2^2) + 1, with u2 at least its smallest value over the volume's box
+// (u2 is linear) and u0^2 + u1^2 at most its largest (convex: a corner). Infinite when the box
+// reaches the near plane. Decides whether point sprites can hold every footprint.
+double maxHalfExtentBound(const glm::ivec3& dims, const glm::dvec3& origin, const glm::dvec3& spacing,
+                          const ImagePlane& plane, const SplatSettings& settings) {
+    double u2min = std::numeric_limits<double>::infinity(), lateral2 = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::dvec3 ijk((corner & 1) ? dims.x - 1 : 0, (corner & 2) ? dims.y - 1 : 0, (corner & 4) ? dims.z - 1 : 0);
+        const glm::dvec3 u = plane.toCamera(origin + spacing * ijk);
+        u2min = std::min(u2min, u.z);
+        lateral2 = std::max(lateral2, u.x * u.x + u.y * u.y);
+    }
+    double jacobian2 = 0.0;
+    if (plane.orthographic) {
+        jacobian2 = std::max(plane.fPx * plane.fPx, 1.0);
+    } else {
+        if (!(u2min > plane.nearDepth)) return std::numeric_limits<double>::infinity();
+        const double g = plane.fPx / u2min;
+        jacobian2 = g * g * (2.0 + lateral2 / (u2min * u2min)) + 1.0;
+    }
+    const double sigma = settings.kernelScale * std::max({spacing.x, spacing.y, spacing.z});
+    return settings.cutoffSigmas * std::sqrt(jacobian2 * sigma * sigma + 1.0);
+}
+
+// Pixel rectangle a slice's splats can touch: its four corner voxels projected, grown by the largest
+// footprint. The whole image when the slice reaches the near plane.
+struct Rect {
+    int x0, y0, x1, y1;
+};
+Rect sliceRect(const glm::ivec3& dims, const glm::dvec3& origin, const glm::dvec3& spacing, const ImagePlane& plane,
+               int axis, int slice, double margin) {
+    const Rect all{0, 0, plane.width, plane.height};
+    if (!std::isfinite(margin)) return all;
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int corner = 0; corner < 4; ++corner) {
+        glm::dvec3 ijk(0.0);
+        ijk[axis] = slice;
+        ijk[a] = (corner & 1) ? dims[a] - 1 : 0;
+        ijk[b] = (corner & 2) ? dims[b] - 1 : 0;
+        const glm::dvec3 u = plane.toCamera(origin + spacing * ijk);
+        if (!plane.orthographic && !(u.z > plane.nearDepth)) return all;
+        const glm::dvec2 p = plane.project(u);
+        x0 = std::min(x0, p.x), y0 = std::min(y0, p.y), x1 = std::max(x1, p.x), y1 = std::max(y1, p.y);
+    }
+    Rect r{int(std::floor(x0 - margin - 1)), int(std::floor(y0 - margin - 1)), int(std::ceil(x1 + margin + 1)),
+           int(std::ceil(y1 + margin + 1))};
+    r.x0 = std::clamp(r.x0, 0, plane.width), r.x1 = std::clamp(r.x1, 0, plane.width);
+    r.y0 = std::clamp(r.y0, 0, plane.height), r.y1 = std::clamp(r.y1, 0, plane.height);
+    return r;
+}
+
+} // namespace
 
 SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     if (epoxy_gl_version() < 45)
         throw GlError("SplatRenderer", "needs OpenGL 4.5 core, the current context has " + glVersionString());
     installGlDebugCallback();
-    m_gl->splatProgram = gl::buildProgram("splat", kSplatVert, kSplatFrag);
-    m_gl->resolveProgram = gl::buildProgram("xray_resolve", kFullscreenVert, kResolveFrag);
-    m_gl->displayProgram = gl::buildProgram("display", kFullscreenVert, kDisplayFrag);
-    glCreateVertexArrays(1, &m_gl->vao);
-    glCreateQueries(GL_TIME_ELAPSED, kTimerRing, m_gl->timers.data());
+    Gl& g = *m_gl;
+    const std::string header = "#version 450 core\n";
+    g.splatProgram = gl::buildProgram("splat", (header + kSplatCommon + kSplatVertMain).c_str(), kSplatFrag);
+    g.compositeProgram = gl::buildProgram("sheet_composite", kFullscreenVert, kCompositeFrag);
+    g.resolveProgram = gl::buildProgram("xray_resolve", kFullscreenVert, kResolveFrag);
+    g.displayProgram = gl::buildProgram("display", kFullscreenVert, kDisplayFrag);
+    g.commandsProgram = gl::buildComputeProgram("bucket_commands", kCommandsComp);
+    g.patchProgram = gl::buildComputeProgram("patch_modes", (header + kSplatCommon + kPatchCompMain).c_str());
+    glCreateVertexArrays(1, &g.splatVao);
+    glCreateVertexArrays(1, &g.emptyVao);
+    // Attribute 0: the run record, one per draw (divisor 1 reads element baseInstance).
+    glEnableVertexArrayAttrib(g.splatVao, 0);
+    glVertexArrayAttribIFormat(g.splatVao, 0, 4, GL_UNSIGNED_INT, 0);
+    glVertexArrayAttribBinding(g.splatVao, 0, 0);
+    glVertexArrayBindingDivisor(g.splatVao, 0, 1);
+    glCreateQueries(GL_TIME_ELAPSED, kTimerRing, g.timers.data());
+    glCreateBuffers(1, &g.counterBuffer);
+    glNamedBufferStorage(g.counterBuffer, kCounterSlots * sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    GLfloat pointRange[2] = {1, 1};
+    glGetFloatv(GL_ALIASED_POINT_SIZE_RANGE, pointRange);
+    g.maxPointSize = GLint(pointRange[1]);
     checkGlErrors("SplatRenderer setup");
 }
 
@@ -310,10 +586,13 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
     if (d.x > maxSize || d.y > maxSize || d.z > maxSize)
         throw RenderError("volume dims exceed GL_MAX_3D_TEXTURE_SIZE " + std::to_string(maxSize));
-    // GPU memory: the classes (2 bytes a voxel), the LUT and three visible lists, against what the
-    // driver reports free (plus what the current scene holds, which is replaced) and the optional limit.
+    // GPU memory: the classes (2 bytes a voxel), the LUT and per axis the entries (2 bytes each), the
+    // runs (16 + 8 bytes) and two command arrays (16 bytes a run each), against what the driver reports
+    // free (plus what the current scene holds, which is replaced) and the optional limit.
+    auto entryBytes = [](const AxisLists& l) { return std::max<size_t>((l.entries.size() + 1) / 2, 1) * 4; };
+    auto runBytes = [](const AxisLists& l) { return std::max<size_t>(l.runs.size(), 1) * (16 + 8 + 16 + 16); };
     uint64_t needed = scene.classes.size() * sizeof(uint16_t) + scene.lut.size() * sizeof(glm::vec4);
-    for (const auto& list : scene.visible) needed += std::max<size_t>(list.size(), 1) * sizeof(uint32_t);
+    for (const auto& l : scene.lists) needed += entryBytes(l) + runBytes(l);
     std::optional<uint64_t> freeBytes = freeGpuMemoryBytes();
     if (freeBytes) *freeBytes += g.sceneBytes;
     if (g.memoryLimit) freeBytes = std::min(freeBytes.value_or(g.memoryLimit), g.memoryLimit);
@@ -334,30 +613,73 @@ void SplatRenderer::setScene(const SplatScene& scene) {
                         scene.classes.data());
     m_stats.uploadBytes += scene.classes.size() * sizeof(uint16_t);
 
-    glDeleteBuffers(1, &g.lutBuffer);
-    glCreateBuffers(1, &g.lutBuffer);
-    glNamedBufferStorage(g.lutBuffer, GLsizeiptr(scene.lut.size() * sizeof(glm::vec4)), scene.lut.data(), 0);
-    checkAllocation("LUT buffer", scene.name, needed, freeBytes);
-    m_stats.uploadBytes += scene.lut.size() * sizeof(glm::vec4);
+    if (!g.lutBuffer) {
+        glCreateBuffers(1, &g.lutBuffer);
+        glNamedBufferStorage(g.lutBuffer, GLsizeiptr(kLutSize * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        checkAllocation("LUT buffer", scene.name, needed, freeBytes);
+    }
+    g.sceneBytes = scene.classes.size() * sizeof(uint16_t) + kLutSize * sizeof(glm::vec4);
 
-    g.sceneBytes = scene.classes.size() * sizeof(uint16_t) + scene.lut.size() * sizeof(glm::vec4);
-    for (int axis = 0; axis < 3; ++axis) {
-        const auto& list = scene.visible[axis];
-        glDeleteBuffers(1, &g.visibleBuffers[axis]);
-        glCreateBuffers(1, &g.visibleBuffers[axis]);
-        // A zero-sized buffer store is an error; keep one element so an empty scene stays valid.
-        const uint32_t dummy = 0;
-        const size_t bytes = std::max<size_t>(list.size(), 1) * sizeof(uint32_t);
-        glNamedBufferStorage(g.visibleBuffers[axis], GLsizeiptr(bytes), list.empty() ? &dummy : list.data(), 0);
-        checkAllocation("visible list", scene.name, needed, freeBytes);
-        g.visibleCounts[axis] = uint32_t(list.size());
-        m_stats.uploadBytes += bytes;
+    auto makeBuffer = [&](GLuint& buffer, size_t bytes, const void* data, const char* what) {
+        glCreateBuffers(1, &buffer);
+        glNamedBufferStorage(buffer, GLsizeiptr(bytes), data, 0);
+        checkAllocation(what, scene.name, needed, freeBytes);
+        if (data) m_stats.uploadBytes += bytes;
         g.sceneBytes += bytes;
+    };
+    for (int axis = 0; axis < 3; ++axis) {
+        const AxisLists& lists = scene.lists[size_t(axis)];
+        AxisBuffers& a = g.axes[size_t(axis)];
+        a.release();
+        std::vector<uint16_t> entries = lists.entries;
+        entries.resize(entryBytes(lists) / 2, 0);   // whole words; never empty (zero-sized stores are errors)
+        makeBuffer(a.entries, entries.size() * 2, entries.data(), "slice lists");
+
+        const size_t n = lists.runs.size();
+        std::vector<glm::uvec4> runs(std::max<size_t>(n, 1), glm::uvec4(0));
+        std::vector<glm::uvec2> places(std::max<size_t>(n, 1), glm::uvec2(0));
+        a.buckets.resize(n);
+        a.voxels.resize(n);
+        a.descendingSlot.resize(n);
+        a.sliceRuns = lists.sliceRuns;
+        // Descending order: slices from the top, each slice's runs in their own order.
+        const uint32_t slices = uint32_t(d[axis]);
+        uint32_t slot = 0;
+        for (uint32_t k = 0; k < slices; ++k) {
+            const uint32_t slice = slices - 1 - k;
+            for (uint32_t r = lists.sliceRuns[slice]; r < lists.sliceRuns[slice + 1]; ++r) a.descendingSlot[r] = slot++;
+        }
+        for (size_t r = 0; r < n; ++r) {
+            const SliceRun& run = lists.runs[r];
+            runs[r] = glm::uvec4(run.slice, run.tileBase, uint32_t(run.bucket) | (run.dense ? 1u << 16 : 0u), run.count);
+            places[r] = glm::uvec2(run.first, a.descendingSlot[r]);
+            a.buckets[r] = run.bucket;
+            a.voxels[r] = run.voxels;
+        }
+        makeBuffer(a.runs, runs.size() * sizeof(glm::uvec4), runs.data(), "slice runs");
+        makeBuffer(a.places, places.size() * sizeof(glm::uvec2), places.data(), "slice runs");
+        makeBuffer(a.ascending, runs.size() * 16, nullptr, "draw commands");
+        makeBuffer(a.descending, runs.size() * 16, nullptr, "draw commands");
+        a.runCount = uint32_t(n);
     }
     g.dims = d;
     g.origin = scene.origin;
     g.spacing = scene.spacing;
+    const uint64_t sceneUpload = m_stats.uploadBytes;
+    setLut(scene.lut);
+    m_stats.uploadBytes += sceneUpload;
     checkGlErrors("SplatRenderer::setScene");
+}
+
+void SplatRenderer::setLut(const Lut& lut) {
+    Gl& g = *m_gl;
+    if (lut.size() != size_t(kLutSize)) throw RenderError("LUT must have " + std::to_string(kLutSize) + " entries");
+    if (!g.lutBuffer) throw RenderError("SplatRenderer::setLut called before setScene");
+    glNamedBufferSubData(g.lutBuffer, 0, GLsizeiptr(lut.size() * sizeof(glm::vec4)), lut.data());
+    g.lut = lut;
+    ++g.lutVersion;
+    m_stats.uploadBytes = lut.size() * sizeof(glm::vec4);
+    checkGlErrors("SplatRenderer::setLut");
 }
 
 void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& settings) {
@@ -374,71 +696,158 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     const bool timed = !g.timerPending[slot];   // ring full of unfinished frames: skip, never stall
     if (timed) glBeginQuery(GL_TIME_ELAPSED, g.timers[slot]);
 
+    // Points cost one vertex and one primitive a splat instead of six and two; they need every
+    // footprint to fit the largest point size, and a guard band, since a point is clipped by its centre.
+    const double bound = maxHalfExtentBound(g.dims, g.origin, g.spacing, plane, settings);
+    const double pointFits = 0.5 * g.maxPointSize - 1.0;
+    bool points = settings.primitive == SplatSettings::Primitive::Points ||
+                  (settings.primitive == SplatSettings::Primitive::Auto && bound <= pointFits);
+    if (points && !(bound <= pointFits) && settings.primitive == SplatSettings::Primitive::Points)
+        throw RenderError("point sprites cannot hold this view's footprints (up to " + std::to_string(bound) +
+                          " px half extent, the driver's points reach " + std::to_string(pointFits) + ")");
+    const int verts = points ? 1 : 6;
+    const float guard = points ? float(std::ceil(0.5 * g.maxPointSize) + 1.0) : 0.0f;
+    g.updateCommands(verts, settings.drawAllBuckets);
+
     const Traversal trav = chooseTraversal(plane);
-    if (settings.compositing == Compositing::SheetBackToFront || settings.compositing == Compositing::SheetFrontToBack)
-        throw RenderError(std::string(compositingName(settings.compositing)) +
-                          " compositing runs on the CPU oracle only so far (use --cpu)");
-    const bool xray = settings.compositing == Compositing::XRay;
-    const GLuint target = xray ? g.accumFbo : g.resultFbo;
+    const Compositing mode = settings.compositing;
+    const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
+    const bool frontToBack = mode == Compositing::SheetFrontToBack;
+    const bool earlyTermination = frontToBack && settings.opaqueAlpha < 1.0;
+    const bool xray = mode == Compositing::XRay;
+    const AxisBuffers& axis = g.axes[size_t(trav.axis)];
+
     const float zero[4] = {0, 0, 0, 0};
-    glClearNamedFramebufferfv(target, GL_COLOR, 0, zero);
-    glBindFramebuffer(GL_FRAMEBUFFER, target);
-    glViewport(0, 0, plane.width, plane.height);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    if (xray) glBlendFunc(GL_ONE, GL_ONE);                 // order-free sums
-    else glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);     // premultiplied "over", back to front
+    const float one = 1.0f;
+    glDisable(GL_SCISSOR_TEST);
+    glClearNamedFramebufferfv(g.frameFbo, GL_COLOR, 0, zero);
+    glClearNamedFramebufferfv(g.frameFbo, GL_COLOR, 1, zero);
+    glClearNamedFramebufferfv(g.frameFbo, GL_DEPTH, 0, &one);
+    if (settings.counters) glClearNamedBufferData(g.counterBuffer, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    const GLenum bothTargets[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    const GLsizei targets = settings.heatmap ? 2 : 1;
+    glNamedFramebufferDrawBuffers(g.frameFbo, targets, bothTargets);
+    glNamedFramebufferDrawBuffers(g.sheetFbo, targets, bothTargets);
 
     const GLuint p = g.splatProgram;
     glUseProgram(p);
+    g.setCommonUniforms(p, plane, settings, trav.axis);
     const glm::mat3 varCamera(kernelVarianceCamera(settings.kernelScale * g.spacing, plane.viewFromObject));
-    const glm::mat3 w(plane.viewFromObject);
     const double meanSpacing = (g.spacing.x + g.spacing.y + g.spacing.z) / 3.0;
     const double diagonal = std::hypot(double(plane.width), double(plane.height));
-    const uint32_t count = g.visibleCounts[size_t(trav.axis)];
-    glUniform1ui(glGetUniformLocation(p, "uCount"), count);
-    glUniform1i(glGetUniformLocation(p, "uDescending"), trav.descending);
-    glUniform3i(glGetUniformLocation(p, "uDims"), g.dims.x, g.dims.y, g.dims.z);
-    // Positions relative to the volume's origin, folded into the translation in double: a volume far
-    // from the world origin (1e6 units) keeps its sub-voxel precision in float.
-    const glm::dvec3 translation = plane.viewFromObject * g.origin + plane.translation;
-    glUniform3f(glGetUniformLocation(p, "uSpacing"), float(g.spacing.x), float(g.spacing.y), float(g.spacing.z));
-    glUniformMatrix3fv(glGetUniformLocation(p, "uViewFromObject"), 1, GL_FALSE, glm::value_ptr(w));
-    glUniform3f(glGetUniformLocation(p, "uTranslation"), float(translation.x), float(translation.y),
-                float(translation.z));
-    glUniform1f(glGetUniformLocation(p, "uFPx"), float(plane.fPx));
+    glUniform1i(glGetUniformLocation(p, "uVertsPerSplat"), verts);
+    glUniform1i(glGetUniformLocation(p, "uCount"), settings.counters);
     glUniform2f(glGetUniformLocation(p, "uCentrePx"), float(plane.centrePx.x), float(plane.centrePx.y));
     glUniform2f(glGetUniformLocation(p, "uViewport"), float(plane.width), float(plane.height));
-    glUniform1f(glGetUniformLocation(p, "uNear"), float(plane.nearDepth));
+    glUniform1f(glGetUniformLocation(p, "uGuardPx"), guard);
     glUniformMatrix3fv(glGetUniformLocation(p, "uVarCamera"), 1, GL_FALSE, glm::value_ptr(varCamera));
-    glUniform1i(glGetUniformLocation(p, "uFilter"), int(settings.filter));
-    const AdaptiveThresholds thresholds = adaptiveThresholds(g.spacing, plane, settings);
-    glUniform1i(glGetUniformLocation(p, "uOrtho"), plane.orthographic);
-    glUniform1i(glGetUniformLocation(p, "uAxis"), trav.axis);
-    glUniform1i(glGetUniformLocation(p, "uPatchSize"), std::max(settings.patchSize, 1));
-    glUniform1f(glGetUniformLocation(p, "uReconAbovePx"), float(thresholds.reconstructionAbovePx));
-    glUniform1f(glGetUniformLocation(p, "uLowPassBelowPx"), float(thresholds.lowPassBelowPx));
-    glUniform1f(glGetUniformLocation(p, "uSigmaMin"), float(thresholds.sigmaMin));
-    glUniform1f(glGetUniformLocation(p, "uSigmaMax"), float(thresholds.sigmaMax));
     glUniform1f(glGetUniformLocation(p, "uCutoff"), float(settings.cutoffSigmas));
     glUniform1f(glGetUniformLocation(p, "uExtinctionScale"),
                 float(settings.density / meanSpacing * g.spacing.x * g.spacing.y * g.spacing.z));
     glUniform1f(glGetUniformLocation(p, "uMaxHalfExtent"), float(settings.maxFootprintFraction * diagonal));
-    glUniform1i(glGetUniformLocation(p, "uXray"), xray);
+    glUniform1i(glGetUniformLocation(p, "uAdditive"), sheets || xray);
     glBindTextureUnit(0, g.classTexture);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.visibleBuffers[size_t(trav.axis)]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, axis.entries);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.lutBuffer);
-    glBindVertexArray(g.vao);
-    if (count > 0) glDrawArrays(GL_TRIANGLES, 0, GLsizei(count) * 6);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.counterBuffer);
+    glBindVertexArray(g.splatVao);
+    glVertexArrayVertexBuffer(g.splatVao, 0, axis.runs, 0, sizeof(glm::uvec4));
+    // Slices walk back to front, except front-to-back sheets; both orders are a command array.
+    const bool descending = trav.descending != frontToBack;
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, descending ? axis.descending : axis.ascending);
+    if (points) glEnable(GL_PROGRAM_POINT_SIZE);
+    const GLenum primitive = points ? GL_POINTS : GL_TRIANGLES;
+    const int guardInt = int(guard);
+    glViewport(-guardInt, -guardInt, plane.width + 2 * guardInt, plane.height + 2 * guardInt);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
 
-    if (xray) {
-        glDisable(GL_BLEND);
-        glBindFramebuffer(GL_FRAMEBUFFER, g.resultFbo);
-        glUseProgram(g.resolveProgram);
-        glBindTextureUnit(0, g.accumTexture);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
+    std::array<bool, kBuckets> active = activeBuckets(g.lut);
+    if (settings.drawAllBuckets) active.fill(true);
+    uint64_t submitted = 0;
+    for (uint32_t r = 0; r < axis.runCount; ++r) submitted += active[axis.buckets[r]] ? axis.voxels[r] : 0;
+    m_stats.slicesDrawn = 0;
+
+    if (!sheets) {
+        glBindFramebuffer(GL_FRAMEBUFFER, g.frameFbo);
+        glDisable(GL_DEPTH_TEST);
+        if (xray) glBlendFunc(GL_ONE, GL_ONE);                 // order-free sums
+        else glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);     // premultiplied "over", back to front
+        if (axis.runCount > 0) glMultiDrawArraysIndirect(primitive, nullptr, GLsizei(axis.runCount), 0);
+        if (xray) {
+            glDisable(GL_BLEND);
+            glViewport(0, 0, plane.width, plane.height);
+            glTextureBarrier();
+            glUseProgram(g.resolveProgram);
+            glBindTextureUnit(2, g.image);
+            glBindTextureUnit(3, g.heat);
+            glBindVertexArray(g.emptyVao);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+        }
+    } else {
+        // Per slice: clear the sheet, add the slice's splats into it, composite it into the image.
+        // Everything is scissored to the slice's reach; slices without an active bucket are skipped.
+        const double margin = std::min(bound, settings.maxFootprintFraction * diagonal);
+        const uint32_t slices = uint32_t(g.dims[trav.axis]);
+        glEnable(GL_SCISSOR_TEST);
+        glUseProgram(g.compositeProgram);
+        glUniform1i(glGetUniformLocation(g.compositeProgram, "uFrontToBack"), frontToBack);
+        glUniform1i(glGetUniformLocation(g.compositeProgram, "uHeat"), settings.heatmap);
+        glUniform1f(glGetUniformLocation(g.compositeProgram, "uOpaqueAlpha"),
+                    earlyTermination ? float(settings.opaqueAlpha) : 2.0f);
+        glBindTextureUnit(0, g.sheet);
+        glBindTextureUnit(1, g.sheetHeat);
+        glBindTextureUnit(2, g.image);
+        glBindTextureUnit(3, g.heat);
+        for (uint32_t k = 0; k < slices; ++k) {
+            const uint32_t slice = descending ? slices - 1 - k : k;
+            const uint32_t r0 = axis.sliceRuns[slice], r1 = axis.sliceRuns[slice + 1];
+            bool any = false;
+            for (uint32_t r = r0; r < r1 && !any; ++r) any = active[axis.buckets[r]];
+            if (!any) continue;
+            ++m_stats.slicesDrawn;
+            const Rect rect = sliceRect(g.dims, g.origin, g.spacing, plane, trav.axis, int(slice), margin);
+            if (rect.x0 >= rect.x1 || rect.y0 >= rect.y1) continue;
+            // GL's rows run bottom up.
+            glScissor(rect.x0, plane.height - rect.y1, rect.x1 - rect.x0, rect.y1 - rect.y0);
+            glClearNamedFramebufferfv(g.sheetFbo, GL_COLOR, 0, zero);
+            if (settings.heatmap) glClearNamedFramebufferfv(g.sheetFbo, GL_COLOR, 1, zero);
+
+            glBindFramebuffer(GL_FRAMEBUFFER, g.sheetFbo);
+            glViewport(-guardInt, -guardInt, plane.width + 2 * guardInt, plane.height + 2 * guardInt);
+            glUseProgram(p);
+            glBindVertexArray(g.splatVao);
+            glEnable(GL_BLEND);
+            glBlendFunc(GL_ONE, GL_ONE);
+            if (earlyTermination) {
+                glEnable(GL_DEPTH_TEST);
+                glDepthFunc(GL_LESS);   // splats lie at depth 0.5; opaque pixels hold 0
+                glDepthMask(GL_FALSE);
+            } else {
+                glDisable(GL_DEPTH_TEST);
+            }
+            const uint32_t first = descending ? axis.descendingSlot[r0] : r0;
+            glMultiDrawArraysIndirect(primitive, reinterpret_cast<const void*>(size_t(first) * 16), GLsizei(r1 - r0), 0);
+
+            glBindFramebuffer(GL_FRAMEBUFFER, g.frameFbo);
+            glViewport(0, 0, plane.width, plane.height);
+            glDisable(GL_BLEND);
+            if (earlyTermination) {
+                glDepthFunc(GL_ALWAYS);
+                glDepthMask(GL_TRUE);
+            }
+            glTextureBarrier();   // the composite reads the image it writes, one texel per fragment
+            glUseProgram(g.compositeProgram);
+            glBindVertexArray(g.emptyVao);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+        }
+        glDisable(GL_SCISSOR_TEST);
+        glDisable(GL_DEPTH_TEST);
+        glDepthMask(GL_TRUE);
+        glDepthFunc(GL_LESS);
     }
+    if (points) glDisable(GL_PROGRAM_POINT_SIZE);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     if (timed) {
         glEndQuery(GL_TIME_ELAPSED);
         g.timerPending[slot] = true;
@@ -449,9 +858,53 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlErrors("SplatRenderer::render");
 
-    m_stats.splatsDrawn = count;
+    m_stats.splatsDrawn = submitted;
+    m_stats.points = points;
     m_stats.uploadBytes = 0;   // a frame uploads uniforms only
+    m_stats.hasCounters = settings.counters;
+    if (settings.counters) {   // waits for the frame: for tests, benchmarks and the stats panel's opt-in
+        std::array<GLuint, kCounterSlots> c{};
+        glGetNamedBufferSubData(g.counterBuffer, 0, sizeof(c), c.data());
+        SplatCounters& out = m_stats.counters;
+        out = {};
+        out.visible = c[kVisible];
+        out.culledTransparent = c[kTransparent];
+        out.culledNear = c[kNear];
+        out.culledDegenerate = c[kDegenerate];
+        out.culledHuge = c[kHuge];
+        out.culledOffscreen = c[kOffscreen];
+        out.drawn = c[kDrawn];
+        for (int m = 0; m < 3; ++m) out.drawnPerMode[m] = c[size_t(kMode0 + m)];
+    }
     m_stats.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
+}
+
+std::vector<uint8_t> SplatRenderer::patchModes(const ImagePlane& plane, const SplatSettings& settings) {
+    Gl& g = *m_gl;
+    if (!g.classTexture) throw RenderError("SplatRenderer::patchModes called before setScene");
+    const Traversal trav = chooseTraversal(plane);
+    const int a = (trav.axis + 1) % 3, b = (trav.axis + 2) % 3;
+    const int ps = std::max(settings.patchSize, 1);
+    const int na = (g.dims[a] + ps - 1) / ps, nb = (g.dims[b] + ps - 1) / ps, slices = g.dims[trav.axis];
+    const size_t n = size_t(na) * nb * slices;
+    if (g.patchBufferBytes < n * 4) {
+        glDeleteBuffers(1, &g.patchBuffer);
+        glCreateBuffers(1, &g.patchBuffer);
+        glNamedBufferStorage(g.patchBuffer, GLsizeiptr(n * 4), nullptr, 0);
+        g.patchBufferBytes = n * 4;
+    }
+    glUseProgram(g.patchProgram);
+    g.setCommonUniforms(g.patchProgram, plane, settings, trav.axis);
+    glUniform1i(glGetUniformLocation(g.patchProgram, "uNa"), na);
+    glUniform1i(glGetUniformLocation(g.patchProgram, "uNb"), nb);
+    glUniform1i(glGetUniformLocation(g.patchProgram, "uSlices"), slices);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.patchBuffer);
+    glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<uint32_t> words(n);
+    glGetNamedBufferSubData(g.patchBuffer, 0, GLsizeiptr(n * 4), words.data());
+    checkGlErrors("SplatRenderer::patchModes");
+    return std::vector<uint8_t>(words.begin(), words.end());
 }
 
 void SplatRenderer::collectTimers() {
@@ -471,29 +924,36 @@ void SplatRenderer::collectTimers() {
     }
 }
 
-Image SplatRenderer::readback() const {
-    const Gl& g = *m_gl;
-    Image img(g.width, g.height);
-    if (!g.resultTexture) return img;
+namespace {
+
+Image readTexture(GLuint texture, int w, int h) {
+    Image img(w, h);
+    if (!texture) return img;
     std::vector<float> raw(img.rgba.size());
-    glGetTextureImage(g.resultTexture, 0, GL_RGBA, GL_FLOAT, GLsizei(raw.size() * sizeof(float)), raw.data());
-    const size_t row = size_t(g.width) * 4;
-    for (int y = 0; y < g.height; ++y)   // GL's row 0 is the bottom
-        std::copy_n(&raw[size_t(g.height - 1 - y) * row], row, &img.rgba[size_t(y) * row]);
+    glGetTextureImage(texture, 0, GL_RGBA, GL_FLOAT, GLsizei(raw.size() * sizeof(float)), raw.data());
+    const size_t row = size_t(w) * 4;
+    for (int y = 0; y < h; ++y)   // GL's row 0 is the bottom
+        std::copy_n(&raw[size_t(h - 1 - y) * row], row, &img.rgba[size_t(y) * row]);
     checkGlErrors("SplatRenderer::readback");
     return img;
 }
 
+} // namespace
+
+Image SplatRenderer::readback() const { return readTexture(m_gl->image, m_gl->width, m_gl->height); }
+
+Image SplatRenderer::readbackHeatmap() const { return readTexture(m_gl->heat, m_gl->width, m_gl->height); }
+
 unsigned SplatRenderer::displayTexture(const float background[3]) {
     Gl& g = *m_gl;
-    if (!g.resultTexture) return 0;
+    if (!g.image) return 0;
     glBindFramebuffer(GL_FRAMEBUFFER, g.displayFbo);
     glViewport(0, 0, g.width, g.height);
     glDisable(GL_BLEND);
     glUseProgram(g.displayProgram);
     glUniform3f(glGetUniformLocation(g.displayProgram, "uBackground"), background[0], background[1], background[2]);
-    glBindTextureUnit(0, g.resultTexture);
-    glBindVertexArray(g.vao);
+    glBindTextureUnit(0, g.image);
+    glBindVertexArray(g.emptyVao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlErrors("SplatRenderer::displayTexture");

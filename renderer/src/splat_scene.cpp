@@ -1,8 +1,11 @@
-// Pre-classification: voxel classes, the LUT and the per-axis visible lists (see splat_scene.h).
+// Pre-classification: voxel classes, the LUT and the per-axis bucketed slice lists (see splat_scene.h).
 #include "renderer/splat_scene.h"
 
 #include "renderer/errors.h"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <cmath>
 
 namespace renderer {
@@ -14,11 +17,80 @@ glm::dvec3 SplatScene::positionOf(uint32_t index) const {
     return origin + spacing * glm::dvec3(x, y, z);
 }
 
+uint32_t SplatScene::voxelAt(int axis, uint32_t slice, uint32_t pos) const {
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    glm::uvec3 v;
+    v[axis] = slice;
+    v[a1] = pos % uint32_t(dims[a1]);
+    v[a2] = pos / uint32_t(dims[a1]);
+    return (v.z * uint32_t(dims.y) + v.y) * uint32_t(dims.x) + v.x;
+}
+
+namespace {
+
+// One axis: per slice and tile, count the buckets, mark the dense one, list the others' voxels.
+AxisLists buildAxisLists(const SplatScene& s, int axis) {
+    const glm::ivec3 d = s.dims;
+    const uint32_t slices = uint32_t(d[axis]);
+    const uint32_t sliceSize = uint32_t(d[(axis + 1) % 3]) * uint32_t(d[(axis + 2) % 3]);
+    // Slices are independent: build each in parallel, then concatenate.
+    std::vector<AxisLists> perSlice(slices);
+    tbb::parallel_for(uint32_t(0), slices, [&](uint32_t slice) {
+        AxisLists& out = perSlice[slice];
+        for (uint32_t tileBase = 0; tileBase < sliceSize; tileBase += kTileVoxels) {
+            const uint32_t tileSize = std::min(kTileVoxels, sliceSize - tileBase);
+            std::array<uint32_t, kBuckets> count{};
+            for (uint32_t p = 0; p < tileSize; ++p)
+                ++count[s.classes[s.voxelAt(axis, slice, tileBase + p)] >> kBucketShift];
+            std::array<uint32_t, kBuckets> offset{};
+            const uint32_t base = uint32_t(out.entries.size());
+            uint32_t listed = 0;
+            for (int b = 0; b < kBuckets; ++b) {
+                if (count[size_t(b)] == 0) continue;
+                SliceRun r;
+                r.slice = slice;
+                r.tileBase = tileBase;
+                r.bucket = uint16_t(b);
+                r.dense = 2 * count[size_t(b)] > tileSize;
+                r.first = r.dense ? 0 : base + listed;
+                r.count = r.dense ? tileSize : count[size_t(b)];
+                r.voxels = count[size_t(b)];
+                offset[size_t(b)] = r.first;
+                if (!r.dense) listed += count[size_t(b)];
+                out.runs.push_back(r);
+            }
+            out.entries.resize(base + listed);
+            std::array<bool, kBuckets> dense{};
+            for (const SliceRun& r : out.runs)
+                if (r.tileBase == tileBase && r.dense) dense[r.bucket] = true;
+            for (uint32_t p = 0; p < tileSize; ++p) {
+                const int b = s.classes[s.voxelAt(axis, slice, tileBase + p)] >> kBucketShift;
+                if (!dense[size_t(b)]) out.entries[offset[size_t(b)]++] = uint16_t(p);
+            }
+        }
+    });
+    AxisLists lists;
+    lists.sliceRuns.push_back(0);
+    for (uint32_t slice = 0; slice < slices; ++slice) {
+        const uint32_t shift = uint32_t(lists.entries.size());
+        for (SliceRun r : perSlice[slice].runs) {
+            if (!r.dense) r.first += shift;
+            lists.runs.push_back(r);
+        }
+        lists.entries.insert(lists.entries.end(), perSlice[slice].entries.begin(), perSlice[slice].entries.end());
+        lists.sliceRuns.push_back(uint32_t(lists.runs.size()));
+    }
+    return lists;
+}
+
+} // namespace
+
 SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, ValueRange window) {
     if (volume.voxelCount() == 0 || volume.values.size() != volume.voxelCount())
         throw RenderError("volume '" + volume.name + "' has no voxels");
-    if (volume.voxelCount() > size_t(UINT32_MAX))
-        throw RenderError("volume '" + volume.name + "' has more than 2^32 voxels");
+    // The GL path addresses a list entry as gl_VertexID / 6 (a signed int).
+    if (volume.voxelCount() > size_t(INT32_MAX / 6))
+        throw RenderError("volume '" + volume.name + "' has more than " + std::to_string(INT32_MAX / 6) + " voxels");
     SplatScene s;
     s.name = volume.name;
     s.dims = volume.dims;
@@ -29,33 +101,21 @@ SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, Val
     s.window = (window.hi > window.lo) ? window : volume.range;
     s.classes.resize(volume.voxelCount());
     for (size_t i = 0; i < s.classes.size(); ++i) s.classes[i] = classOf(volume.values[i], s.window.lo, s.window.hi);
+    for (int axis = 0; axis < 3; ++axis) s.lists[size_t(axis)] = buildAxisLists(s, axis);
     setTransferFunction(s, tf);
     return s;
 }
 
 void setTransferFunction(SplatScene& s, const TransferFunction& tf) {
     s.lut = bakeLut(tf);
-    const glm::ivec3 d = s.dims;
-    for (int axis = 0; axis < 3; ++axis) {
-        // Counting sort by the coordinate along `axis`; scanning in linear order keeps ties by index.
-        std::vector<uint32_t> count(size_t(d[axis]) + 1, 0);
-        for (int z = 0; z < d.z; ++z)
-            for (int y = 0; y < d.y; ++y)
-                for (int x = 0; x < d.x; ++x) {
-                    const size_t i = (size_t(z) * d.y + y) * d.x + x;
-                    if (s.lut[s.classes[i]].a > 0.0f) ++count[size_t(glm::ivec3(x, y, z)[axis]) + 1];
-                }
-        for (size_t k = 1; k < count.size(); ++k) count[k] += count[k - 1];
-        s.sliceStart[axis] = count;
-        auto& list = s.visible[axis];
-        list.assign(count.back(), 0);
-        for (int z = 0; z < d.z; ++z)
-            for (int y = 0; y < d.y; ++y)
-                for (int x = 0; x < d.x; ++x) {
-                    const size_t i = (size_t(z) * d.y + y) * d.x + x;
-                    if (s.lut[s.classes[i]].a > 0.0f) list[count[size_t(glm::ivec3(x, y, z)[axis])]++] = uint32_t(i);
-                }
-    }
+    s.visibleVoxels = size_t(std::count_if(s.classes.begin(), s.classes.end(),
+                                           [&](uint16_t c) { return s.lut[c].a > 0.0f; }));
+}
+
+std::array<bool, kBuckets> activeBuckets(const Lut& lut) {
+    std::array<bool, kBuckets> active{};
+    for (size_t c = 0; c < lut.size(); ++c) active[c >> kBucketShift] = active[c >> kBucketShift] || lut[c].a > 0.0f;
+    return active;
 }
 
 Traversal chooseTraversal(const ImagePlane& plane) {
@@ -67,6 +127,33 @@ Traversal chooseTraversal(const ImagePlane& plane) {
     // Back to front: when the view points along +axis, the far slices have the highest coordinate.
     t.descending = v[t.axis] > 0.0;
     return t;
+}
+
+std::vector<uint32_t> drawOrder(const SplatScene& scene, Traversal trav, bool reverse, bool allBuckets,
+                                std::vector<uint32_t>* sliceStarts) {
+    const AxisLists& lists = scene.lists[size_t(trav.axis)];
+    std::array<bool, kBuckets> active = activeBuckets(scene.lut);
+    if (allBuckets) active.fill(true);
+    const uint32_t slices = uint32_t(scene.dims[trav.axis]);
+    const bool descending = trav.descending != reverse;
+    std::vector<uint32_t> order;
+    if (sliceStarts) sliceStarts->clear();
+    for (uint32_t k = 0; k < slices; ++k) {
+        const uint32_t slice = descending ? slices - 1 - k : k;
+        if (sliceStarts) sliceStarts->push_back(uint32_t(order.size()));
+        for (uint32_t r = lists.sliceRuns[slice]; r < lists.sliceRuns[slice + 1]; ++r) {
+            const SliceRun& run = lists.runs[r];
+            if (!active[run.bucket]) continue;
+            for (uint32_t i = 0; i < run.count; ++i) {
+                const uint32_t pos = run.tileBase + (run.dense ? i : lists.entries[run.first + i]);
+                const uint32_t voxel = scene.voxelAt(trav.axis, slice, pos);
+                if (run.dense && (scene.classes[voxel] >> kBucketShift) != run.bucket) continue;
+                order.push_back(voxel);
+            }
+        }
+    }
+    if (sliceStarts) sliceStarts->push_back(uint32_t(order.size()));
+    return order;
 }
 
 } // namespace renderer

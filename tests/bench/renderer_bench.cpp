@@ -1,9 +1,11 @@
-// Frame time of the GL splatting path on real scans at 512x512, per filter and compositing mode.
+// Frame time of the GL splatting path on real scans at 512x512, per filter and compositing mode, the
+// gain of each culling step and of point sprites, and TF-edit latency against a scene rebuild.
 // Datasets: the bundled headsq always; bonsai and engine from SPLATLAB_DATA_DIR when it is set.
 // Each benchmark times whole frames (render + glFinish) and reports splats/s; the context line names
 // GL_RENDERER. On llvmpipe compare modes only as ratios measured in one run.
 #include "renderer/camera.h"
 #include "renderer/gl_context.h"
+#include "renderer/reference_renderer.h"
 #include "renderer/splat_renderer.h"
 #include "renderer/volume_io.h"
 
@@ -13,6 +15,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <map>
 
 using namespace renderer;
@@ -41,15 +44,18 @@ std::map<std::string, SplatScene>& scenes() {
     return cache;
 }
 
-void renderFrames(benchmark::State& state, const Dataset& d, FilterMode filter, Compositing comp) {
+const SplatScene& sceneOf(const Dataset& d) {
     auto& cache = scenes();
     if (!cache.count(d.name)) cache.emplace(d.name, buildSplatScene(loadVolume(d.path), builtinPreset(d.preset)));
-    const SplatScene& scene = cache.at(d.name);
+    return cache.at(d.name);
+}
+
+// Times whole frames (render + glFinish) of one configuration; one more frame with GPU counters on
+// reports what was drawn per filter.
+void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s) {
+    const SplatScene& scene = sceneOf(d);
     SplatRenderer r;
     r.setScene(scene);
-    SplatSettings s;
-    s.filter = filter;
-    s.compositing = comp;
     const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, 512, 512);
     r.render(plane, s);   // warm-up
     glFinish();
@@ -59,9 +65,53 @@ void renderFrames(benchmark::State& state, const Dataset& d, FilterMode filter, 
         glFinish();
         state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
-    state.counters["splats"] = double(r.stats().splatsDrawn);
+    const bool points = r.stats().points;
+    s.counters = true;
+    r.render(plane, s);
+    const SplatCounters& c = r.stats().counters;
+    state.counters["splats"] = double(c.drawn);
     state.counters["splats_per_s"] =
-        benchmark::Counter(double(r.stats().splatsDrawn) * double(state.iterations()), benchmark::Counter::kIsRate);
+        benchmark::Counter(double(c.drawn) * double(state.iterations()), benchmark::Counter::kIsRate);
+    state.counters["recon"] = double(c.drawnPerMode[0]);
+    state.counters["lowpass"] = double(c.drawnPerMode[1]);
+    state.counters["ewa"] = double(c.drawnPerMode[2]);
+    state.counters["points"] = points;
+    state.counters["bytes_per_voxel"] = double(r.sceneBytes()) / double(scene.classes.size());
+}
+
+// TF edit to finished frame: bucket selection (upload the LUT, render) against rebuilding the scene
+// (classify every voxel, build and upload the lists, render), alternating two presets.
+void tfEdit(benchmark::State& state, const Dataset& d, bool rebuild) {
+    const Volume volume = loadVolume(d.path);
+    SplatScene scene = buildSplatScene(volume, builtinPreset(d.preset));
+    SplatRenderer r;
+    r.setScene(scene);
+    const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, 512, 512);
+    const TransferFunction tfs[2] = {builtinPreset("ct-bone"), builtinPreset(d.preset)};
+    int k = 0;
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const TransferFunction& tf = tfs[k++ % 2];
+        if (rebuild) {
+            scene = buildSplatScene(volume, tf);
+            r.setScene(scene);
+        } else {
+            setTransferFunction(scene, tf);
+            r.setLut(scene.lut);
+        }
+        r.render(plane, SplatSettings{});
+        glFinish();
+        state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+}
+
+void add(const std::string& name, std::function<void(benchmark::State&)> fn, int iterations = 5) {
+    benchmark::RegisterBenchmark(name.c_str(), [fn](benchmark::State& st) { fn(st); })
+        ->UseManualTime()
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(iterations)
+        ->Repetitions(3)
+        ->ReportAggregatesOnly(true);
 }
 
 } // namespace
@@ -70,17 +120,31 @@ int main(int argc, char** argv) {
     auto gl = HeadlessGl::create();
     benchmark::AddCustomContext("GL_RENDERER", glRendererName());
     benchmark::AddCustomContext("GL_VERSION", glVersionString());
-    for (const Dataset& d : datasets())
-        for (auto filter : {FilterMode::Ewa, FilterMode::Reconstruction, FilterMode::LowPass})
-            for (auto comp : {Compositing::SplatEverySample, Compositing::XRay}) {
-                const std::string name = std::string(d.name) + "/" + filterModeName(filter) + "/" + compositingName(comp);
-                benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { renderFrames(st, d, filter, comp); })
-                    ->UseManualTime()
-                    ->Unit(benchmark::kMillisecond)
-                    ->Iterations(5)
-                    ->Repetitions(3)
-                    ->ReportAggregatesOnly(true);
+    for (const Dataset& d : datasets()) {
+        const std::string n = d.name;
+        for (auto filter : {FilterMode::Ewa, FilterMode::Adaptive, FilterMode::Reconstruction, FilterMode::LowPass})
+            for (auto comp : {Compositing::SplatEverySample, Compositing::SheetBackToFront, Compositing::SheetFrontToBack,
+                              Compositing::XRay}) {
+                SplatSettings s;
+                s.filter = filter;
+                s.compositing = comp;
+                add(n + "/" + filterModeName(filter) + "/" + compositingName(comp),
+                    [=](benchmark::State& st) { renderFrames(st, d, s); });
             }
+        // What each culling step and the primitive choice gain, full EWA.
+        SplatSettings s;
+        s.primitive = SplatSettings::Primitive::Quads;
+        add(n + "/ewa/splat-every-sample/quads", [=](benchmark::State& st) { renderFrames(st, d, s); });
+        s = {};
+        s.drawAllBuckets = true;
+        add(n + "/ewa/splat-every-sample/all-buckets", [=](benchmark::State& st) { renderFrames(st, d, s); });
+        s = {};
+        s.compositing = Compositing::SheetFrontToBack;
+        s.opaqueAlpha = 1.0;
+        add(n + "/ewa/sheet-front-to-back/no-early-termination", [=](benchmark::State& st) { renderFrames(st, d, s); });
+        add(n + "/tf-edit/select-buckets", [=](benchmark::State& st) { tfEdit(st, d, false); });
+        add(n + "/tf-edit/rebuild-scene", [=](benchmark::State& st) { tfEdit(st, d, true); }, 2);
+    }
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();

@@ -118,7 +118,7 @@ TEST(Classifier, PatchesTakeAShortcutOnlyWhenAllCornersAgree) {
     s.patchSize = 4;
     const AdaptiveThresholds t = adaptiveThresholds(scene.spacing, plane, s);
     int counts[3] = {};
-    for (uint32_t i : scene.visible[0]) {
+    for (uint32_t i : drawOrder(scene, {0, false})) {
         const FilterMode patch = classifyPatch(scene, plane, t, s.patchSize, 0, i);
         const FilterMode own = classifyDepth(plane.toCamera(scene.positionOf(i)).z, plane, t);
         ++counts[int(patch)];
@@ -144,10 +144,15 @@ TEST(SheetBuffer, FrontToBackEqualsBackToFront) {
     s.compositing = Compositing::SheetBackToFront;
     const Image btf = renderReference(scene, plane, s);
     s.compositing = Compositing::SheetFrontToBack;
+    s.opaqueAlpha = 1.0;   // no early termination
     const Image ftb = renderReference(scene, plane, s);
-    const ImageError e = compareImages(ftb, btf);
-    EXPECT_LT(e.maxAbs, 1e-6);   // the float image's rounding; the sums agree to 1e-15 in double
+    EXPECT_LT(compareImages(ftb, btf).maxAbs, 1e-6);   // the float image's rounding; 1e-15 in double
     EXPECT_GT(imageStats(btf).meanAlpha, 0.05);
+    // With early termination a pixel misses at most 1 - opaqueAlpha of what lies behind.
+    s.opaqueAlpha = 0.99;
+    const ImageError early = compareImages(renderReference(scene, plane, s), btf);
+    EXPECT_GT(early.maxAbs, 1e-6);
+    EXPECT_LE(early.maxAbs, 0.01 + 1e-6);
 }
 
 // == Ground truth
@@ -203,8 +208,10 @@ TEST(GroundTruth, ConvergesWhenTheToleranceTightens) {
 
 TEST(GroundTruth, CpuSplattingIsCloseOnASmallScene) {
     // 16^3 Marschner-Lobb at 64x64, magnified (sigma ~2.6 px): measured PSNR against the reference
-    // EWA 46.7 dB, reconstruction 47.5, adaptive 46.7 (all patches EWA or reconstruction here),
-    // low-pass 27.5 (1-px footprints leave the magnified volume blocky). Bounds 3-4 dB below.
+    // EWA 39.5 dB, reconstruction 40.0, adaptive 39.5 (all patches EWA or reconstruction here),
+    // low-pass 27.5 (1-px footprints leave the magnified volume blocky). Bounds 3.5 dB below.
+    // Splat-every-sample blends a slice's splats in bucket (value) order, as 000's lists do; in
+    // spatial order it measured 46.7 / 47.5: the order error sheet buffers avoid.
     const SplatScene scene = buildSplatScene(makeMarschnerLobb(16), ramp());
     const ImagePlane plane = makeImagePlane({30, 20, 2.5, 30.0}, scene.centre, scene.radius, 64, 64);
     GroundTruthOptions o;
@@ -216,7 +223,7 @@ TEST(GroundTruth, CpuSplattingIsCloseOnASmallScene) {
         s.filter = mode;
         const ImageError e = compareImages(renderReference(scene, plane, s), gt);
         std::printf("[ accuracy ] ML16 %s: PSNR %.2f dB, SSIM %.4f\n", filterModeName(mode), e.psnrDb, e.ssim);
-        EXPECT_GT(e.psnrDb, mode == FilterMode::LowPass ? 24.0 : 43.0) << filterModeName(mode);
+        EXPECT_GT(e.psnrDb, mode == FilterMode::LowPass ? 24.0 : 36.0) << filterModeName(mode);
     }
 }
 

@@ -117,23 +117,55 @@ TEST(TransferFunction, JsonRoundTripsAndRejectsBadFiles) {
     EXPECT_THROW(transferFunctionFromSpec("no-such-preset"), RenderError);
 }
 
-TEST(SplatScene, OnlyVisibleVoxelsAreListedInSliceOrder) {
+TEST(SplatScene, DrawOrderListsEachVoxelOfTheActiveBucketsOnceInSliceOrder) {
     Volume v = makeSphereShells(12, 4.0, 1.5);
     const TransferFunction tf{"t", {{0.0, {1, 1, 1}, 0.0}, {0.4, {1, 1, 1}, 0.0}, {0.6, {1, 1, 1}, 1.0}}};
     const SplatScene s = buildSplatScene(v, tf);
-    size_t expected = 0;
-    for (uint16_t c : s.classes) expected += s.lut[c].a > 0.0f;
-    ASSERT_GT(expected, 0u);
+    const auto active = activeBuckets(s.lut);
+    size_t expected = 0, visible = 0;
+    for (uint16_t c : s.classes) expected += active[c >> kBucketShift], visible += s.lut[c].a > 0.0f;
+    ASSERT_GT(visible, 0u);
     ASSERT_LT(expected, s.classes.size());
-    for (int axis = 0; axis < 3; ++axis) {
-        const auto& list = s.visible[size_t(axis)];
-        ASSERT_EQ(list.size(), expected);
-        for (size_t k = 1; k < list.size(); ++k) {
-            const auto coord = [&](uint32_t i) { return glm::ivec3(s.positionOf(i))[axis]; };
-            ASSERT_TRUE(coord(list[k - 1]) < coord(list[k]) ||
-                        (coord(list[k - 1]) == coord(list[k]) && list[k - 1] < list[k]));
+    EXPECT_EQ(s.visibleCount(), visible);
+    for (int axis = 0; axis < 3; ++axis)
+        for (bool descending : {false, true}) {
+            std::vector<uint32_t> starts;
+            const auto order = drawOrder(s, {axis, descending}, false, false, &starts);
+            ASSERT_EQ(order.size(), expected);
+            ASSERT_EQ(starts.size(), size_t(s.dims[axis]) + 1);
+            std::vector<int> seen(s.classes.size(), 0);
+            for (size_t k = 0; k < starts.size() - 1; ++k)
+                for (uint32_t i = starts[k]; i < starts[k + 1]; ++i) {
+                    const int slice = glm::ivec3(glm::round(s.positionOf(order[i]) - s.origin))[axis];
+                    ASSERT_EQ(slice, descending ? s.dims[axis] - 1 - int(k) : int(k));
+                    ++seen[order[i]];
+                }
+            for (size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i], active[s.classes[i] >> kBucketShift] ? 1 : 0);
+            // Every voxel once when all buckets are drawn, and front-to-back is the slice order reversed.
+            EXPECT_EQ(drawOrder(s, {axis, descending}, false, true).size(), s.classes.size());
+            std::vector<uint32_t> reversedStarts;
+            const auto reversed = drawOrder(s, {axis, descending}, true, false, &reversedStarts);
+            ASSERT_EQ(reversed.size(), order.size());
+            EXPECT_EQ(reversed[0], order[starts[starts.size() - 2]]);
         }
-        for (uint32_t i : list) EXPECT_GT(s.lut[s.classes[i]].a, 0.0f);
+}
+
+TEST(SplatScene, ListsStayCompactWhereOneValueDominatesATile) {
+    // 40^3 of air with a 10^3 block: air is one dense run per slice (no entries), so the three axis
+    // lists hold only the block's voxels: 2 bytes each, 3 axes.
+    Volume v;
+    v.dims = {40, 40, 40};
+    v.values.assign(v.voxelCount(), 0.0f);
+    for (int z = 15; z < 25; ++z)
+        for (int y = 15; y < 25; ++y)
+            for (int x = 15; x < 25; ++x) v.values[(size_t(z) * 40 + y) * 40 + x] = 1.0f;
+    v.range = {0.0f, 1.0f};
+    const SplatScene s = buildSplatScene(v, builtinPreset("grey-ramp"));
+    for (const auto& lists : s.lists) {
+        EXPECT_EQ(lists.entries.size(), 1000u);
+        size_t dense = 0;
+        for (const auto& r : lists.runs) dense += r.dense;
+        EXPECT_EQ(dense, 40u);
     }
 }
 
@@ -182,7 +214,7 @@ TEST(ReferenceRenderer, NearPlaneAndHugeFootprintsAreCulledAndCounted) {
     SplatCounters c;
     const Image img = renderReference(scene, plane, s, &c);
     EXPECT_GT(c.culledNear, 0u);
-    EXPECT_EQ(c.visible, c.drawn + c.culledNear + c.culledOffscreen + c.culledHuge + c.culledDegenerate);
+    EXPECT_EQ(c.visible, c.drawn + c.culledTransparent + c.culledNear + c.culledOffscreen + c.culledHuge + c.culledDegenerate);
     EXPECT_TRUE(imageStats(img).finite);
     s.maxFootprintFraction = 0.01;   // every footprint is now "huge"
     renderReference(scene, plane, s, &c);

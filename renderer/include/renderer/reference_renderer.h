@@ -8,7 +8,8 @@
 namespace renderer {
 
 struct SplatCounters {
-    uint64_t visible = 0;          // splats in the traversal list
+    uint64_t visible = 0;          // voxels of the drawn buckets (transparent ones included)
+    uint64_t culledTransparent = 0;// voxel of a drawn bucket whose own class has opacity 0
     uint64_t drawn = 0;            // splats that reached the image
     uint64_t culledNear = 0;       // centre at or in front of the near plane
     uint64_t culledOffscreen = 0;  // cutoff ellipse misses the image
@@ -32,7 +33,13 @@ SplatGeometry splatGeometry(const SplatScene& scene, const ImagePlane& plane, co
 // Extinction per object unit of a voxel of the given class (TF opacity x density / mean spacing).
 double extinctionOf(const SplatScene& scene, const SplatSettings& settings, uint16_t cls);
 
+// heatmap (optional): the filter-mode heatmap, composited like the image: premultiplied RGBA with
+// r, g, b = the share of reconstruction-only, low-pass-only and full EWA splats in the pixel's alpha.
 Image renderReference(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
-                      SplatCounters* counters = nullptr);
+                      SplatCounters* counters = nullptr, Image* heatmap = nullptr);
+
+// Per-patch filter of the frame (classifier.h) for the traversal axis: slice-major, then rows of
+// patches along the slice's second in-plane axis (index = (slice * nb + pb) * na + pa).
+std::vector<uint8_t> patchModes(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings);
 
 } // namespace renderer

@@ -1,8 +1,10 @@
-// The GL splatting path. Retained mode: the voxel classes, the LUT and the visible lists live on the
-// GPU; a frame uploads only a few uniforms and the vertex stage rebuilds each splat from its voxel
-// index. Needs a current GL 4.5 core context (HeadlessGl or the editor's window); owns its targets.
+// The GL splatting path. Retained mode: the voxel classes, the LUT and the bucketed slice lists live
+// on the GPU; a frame uploads only a few uniforms, a compute pass turns the LUT into indirect draws of
+// the active buckets, and the vertex stage rebuilds each splat from its list entry. A TF edit uploads
+// the LUT and nothing else. Needs a current GL 4.5 core context (HeadlessGl or the editor's window).
 #pragma once
 #include "renderer/image.h"
+#include "renderer/reference_renderer.h"
 #include "renderer/splat_scene.h"
 #include "renderer/splat_settings.h"
 
@@ -14,8 +16,12 @@ namespace renderer {
 struct FrameStats {
     double gpuMs = 0.0;          // GPU time of the last frame whose timer query is ready (ring, no stall)
     double cpuMs = 0.0;          // CPU time spent issuing the frame
-    uint64_t splatsDrawn = 0;    // splats submitted (visible list of the traversal axis)
+    uint64_t splatsDrawn = 0;    // voxels of the active buckets sent to the vertex stage
     uint64_t uploadBytes = 0;    // bytes uploaded to buffers and textures by the last call
+    bool points = false;         // the frame drew point sprites (else two-triangle quads)
+    int slicesDrawn = 0;         // sheet modes: slices with an active bucket (the rest are skipped)
+    bool hasCounters = false;    // SplatSettings::counters was on: `counters` holds the GPU's counts
+    SplatCounters counters;
 };
 
 class SplatRenderer {
@@ -25,15 +31,22 @@ public:
     SplatRenderer(const SplatRenderer&) = delete;
     SplatRenderer& operator=(const SplatRenderer&) = delete;
 
-    // Uploads classes, LUT and visible lists. Call again after setTransferFunction(scene, ...).
+    // Uploads classes, LUT and the bucketed lists. After setTransferFunction(scene, ...) call setLut.
     // Throws RenderError("<volume>: needs N MiB of GPU memory, M MiB free") when the scene does not fit:
     // checked up front where the driver reports free memory (GL_NVX_gpu_memory_info, GL_ATI_meminfo) or
     // a limit is set, and after every allocation through GL_OUT_OF_MEMORY.
     void setScene(const SplatScene& scene);
+    // A TF edit: uploads the LUT (its bytes are all a TF edit costs); the next frame re-selects buckets.
+    void setLut(const Lut& lut);
     // Renders into the internal RGBA32F target (resized to plane.width x plane.height).
     void render(const ImagePlane& plane, const SplatSettings& settings);
     // The last frame as premultiplied float RGBA, row 0 at the top (X-ray already resolved).
     Image readback() const;
+    // The last frame's filter-mode heatmap (rendered when SplatSettings::heatmap was on; see
+    // renderReference for its meaning).
+    Image readbackHeatmap() const;
+    // The per-patch filter for this view (computed on the GPU; layout of patchModes() on the CPU).
+    std::vector<uint8_t> patchModes(const ImagePlane& plane, const SplatSettings& settings);
     // The last frame composited over `background` in an RGBA8 texture, for display (GL name). Memory
     // row 0 is the image's top row, so ImGui::Image's default uvs show it upright.
     unsigned displayTexture(const float background[3]);

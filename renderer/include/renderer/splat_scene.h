@@ -1,6 +1,8 @@
 // The pre-classified scene both renderers consume: per-voxel LUT classes, the LUT, and per traversal
-// axis the visible voxels in slice order. One definition of "visible" and of draw order, so the CPU
-// oracle and the GL path composite the very same splats in the very same order.
+// axis the voxels of each slice bucketed by quantised class (000 sec. 4.3, list-based classification).
+// A TF edit re-bakes the LUT and only changes which buckets are drawn: the lists never change. One
+// definition of the draw order, so the CPU oracle and the GL path composite the same splats in the
+// same order.
 #pragma once
 #include "renderer/camera.h"
 #include "renderer/transfer_function.h"
@@ -13,6 +15,34 @@
 
 namespace renderer {
 
+// Classes fall into kBuckets buckets of kLutSize / kBuckets consecutive classes each.
+constexpr int kBucketShift = 6;
+constexpr int kBuckets = kLutSize >> kBucketShift;
+// A slice is cut into tiles of at most this many in-slice positions, so a list entry fits 16 bits.
+constexpr uint32_t kTileVoxels = 65536;
+
+// The voxels of one bucket in one tile of one slice. Sparse runs list their voxels as 16-bit offsets
+// from the tile's first position; a dense run (the bucket holds more than half of the tile) lists
+// nothing and is drawn by walking the whole tile, keeping the bucket's voxels. Dense runs keep the
+// lists small where one value dominates (air in a CT scan), which bounds GPU bytes per voxel.
+struct SliceRun {
+    uint32_t first = 0;      // sparse: first entry in AxisLists::entries
+    uint32_t count = 0;      // sparse: entries; dense: positions in the tile
+    uint32_t voxels = 0;     // voxels of the bucket (== count when sparse)
+    uint32_t slice = 0;      // coordinate along the axis
+    uint32_t tileBase = 0;   // in-slice position of the tile's first voxel
+    uint16_t bucket = 0;
+    bool dense = false;
+};
+
+// In-slice position of voxel v in a slice along `axis`: v[a1] + v[a2] * dims[a1], a1 = (axis+1)%3,
+// a2 = (axis+2)%3 (the same in-plane axes as the classifier's patches).
+struct AxisLists {
+    std::vector<uint16_t> entries;
+    std::vector<SliceRun> runs;          // sorted by (slice, tile, bucket)
+    std::vector<uint32_t> sliceRuns;     // runs of slice s: [sliceRuns[s], sliceRuns[s + 1])
+};
+
 struct SplatScene {
     std::string name;                    // the volume's name, for messages
     glm::ivec3 dims{0};
@@ -23,25 +53,35 @@ struct SplatScene {
     ValueRange window;                   // data values mapped to TF domain [0,1]
     std::vector<uint16_t> classes;       // per voxel, x fastest: index into lut
     Lut lut;
-    // Per axis (0 = x, 1 = y, 2 = z): linear indices of voxels whose class has opacity > 0, sorted by
-    // their coordinate along that axis, ties by linear index; sliceStart[a][s] is where slice s begins.
-    std::array<std::vector<uint32_t>, 3> visible;
-    std::array<std::vector<uint32_t>, 3> sliceStart;
+    std::array<AxisLists, 3> lists;      // per axis (0 = x, 1 = y, 2 = z)
+    size_t visibleVoxels = 0;            // voxels whose class has opacity > 0 under lut
 
-    size_t visibleCount() const { return visible[2].size(); }
+    size_t visibleCount() const { return visibleVoxels; }
     glm::dvec3 positionOf(uint32_t index) const;
+    // Linear voxel index of in-slice position `pos` of `slice` along `axis`.
+    uint32_t voxelAt(int axis, uint32_t slice, uint32_t pos) const;
 };
 
 // Classifies every voxel over `window` (the volume's range when lo == hi) and builds the lists.
 SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, ValueRange window = {});
-// A TF edit: re-bakes the LUT and rebuilds the visible lists (issue 4 replaces this with buckets).
+// A TF edit: re-bakes the LUT and recounts visible voxels; the lists stay.
 void setTransferFunction(SplatScene& scene, const TransferFunction& tf);
+
+// Buckets holding at least one class with opacity > 0: the only ones drawn.
+std::array<bool, kBuckets> activeBuckets(const Lut& lut);
 
 // Splat-every-sample draws along the object axis most parallel to the view, far slices first.
 struct Traversal {
     int axis = 2;
-    bool descending = false;   // true: walk the axis list from its end (highest coordinate first)
+    bool descending = false;   // true: slices from the highest coordinate down
 };
 Traversal chooseTraversal(const ImagePlane& plane);
+
+// The draw order: slices in traversal order (reversed when `reverse`, for front-to-back), within a
+// slice its runs in order, within a run its voxels in order. Lists every voxel of the active buckets
+// (allBuckets: of every bucket), transparent ones included: the renderers cull those per voxel.
+// sliceStarts (optional) gets where each slice begins, plus the end.
+std::vector<uint32_t> drawOrder(const SplatScene& scene, Traversal trav, bool reverse = false,
+                                bool allBuckets = false, std::vector<uint32_t>* sliceStarts = nullptr);
 
 } // namespace renderer

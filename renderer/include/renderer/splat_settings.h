@@ -30,6 +30,18 @@ struct SplatSettings {
     double cMin = 0.3;
     double cMax = 0.0;
     int patchSize = 8;                  // slice voxels per patch side; 1 classifies every voxel
+
+    // Compute only what the scene needs. Front-to-back sheets stop adding to a pixel once its alpha
+    // reaches opaqueAlpha (>= 1: never); what is lost there is at most 1 - opaqueAlpha of the pixel.
+    double opaqueAlpha = 0.998;
+    bool drawAllBuckets = false;        // baseline for measurements: every voxel reaches the vertex
+                                        // stage, transparent ones are culled there
+
+    // GL only: how a splat is rasterised (both give the same image) and what else a frame records.
+    enum class Primitive { Auto, Points, Quads };   // Auto: points whenever every footprint fits
+    Primitive primitive = Primitive::Auto;          // the largest point size, quads otherwise
+    bool heatmap = false;               // also render the filter-mode heatmap (renderers' readback)
+    bool counters = false;              // count splats per mode and per guard on the GPU (atomics)
 };
 
 } // namespace renderer
