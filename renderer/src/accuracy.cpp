@@ -39,13 +39,26 @@ ViewedVolume grazingCheckerboard(int board, int cell, int width, int height) {
     // Both values opaque, as in 000 fig. 8 ("all voxels classified as non-transparent").
     v.tf = {"black-white", {{0.0, {0.0, 0.0, 0.0}, 1.0}, {0.49, {0.0, 0.0, 0.0}, 1.0}, {0.51, {1, 1, 1}, 1.0},
                             {1.0, {1, 1, 1}, 1.0}}};
+    // Eye above the middle of the near edge at board / 64 over the top face, looking along +x and
+    // pitched 21 degrees down: the top row meets the board just short of its far edge.
     const double b = board;
-    const glm::dvec3 centre = v.volume.centre();
-    const double radius = v.volume.boundingRadius();
-    v.camera = GRAZE_AZ == 180 ? cameraAt(glm::dvec3(GRAZE_X * b, 0.5 * (b - 1), 2 + GRAZE_H * b), 180.0, GRAZE_EL, GRAZE_FOV, centre, radius, height) : cameraAt(glm::dvec3(GRAZE_X * b, GRAZE_X * b, 2 + GRAZE_H * b), 225.0, GRAZE_EL, GRAZE_FOV, centre, radius, height);
+    const glm::dvec3 eye(0.0, 0.5 * (b - 1), 2.0 + b / 64.0);
+    v.camera = cameraAt(eye, 180.0, 21.0, 40.0, v.volume.centre(), v.volume.boundingRadius(), height);
     v.width = width;
     v.height = height;
     return v;
+}
+
+ImagePlane cropPlane(const ImagePlane& plane, int x0, int y0, int width, int height) {
+    if (x0 < 0 || y0 < 0 || width < 1 || height < 1 || x0 + width > plane.width || y0 + height > plane.height)
+        throw RenderError("cropPlane: window " + std::to_string(width) + "x" + std::to_string(height) + " at (" +
+                          std::to_string(x0) + ", " + std::to_string(y0) + ") is not inside the " +
+                          std::to_string(plane.width) + "x" + std::to_string(plane.height) + " image");
+    ImagePlane crop = plane;
+    crop.width = width;
+    crop.height = height;
+    crop.centrePx -= glm::dvec2(x0, y0);
+    return crop;
 }
 
 const char* regionName(Region r) {

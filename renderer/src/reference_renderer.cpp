@@ -4,6 +4,8 @@
 #include "renderer/reference_renderer.h"
 
 #include "renderer/classifier.h"
+#include "renderer/errors.h"
+#include "renderer/shading.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
@@ -12,6 +14,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <numbers>
 
 namespace renderer {
 
@@ -29,8 +32,24 @@ SplatGeometry splatGeometry(const SplatScene& scene, const ImagePlane& plane, co
         if (counters) ++counters->culledNear;
         return g;
     }
-    const glm::dmat3 varCamera = kernelVarianceCamera(settings.kernelScale * scene.spacing, plane.viewFromObject);
-    const Footprint f = projectKernel(u, varCamera, plane.fPx, mode, glm::dmat2(1.0), plane.orthographic);
+    const glm::dvec3 sigma = settings.kernelScale * scene.spacing;
+    // Surface splats: the kernel flattened along the gradient; edge-on its reconstruction footprint
+    // becomes a line, so without the low-pass filter its variance gets the pixel-sampling floor.
+    bool surface = false;
+    glm::dmat3 varCamera;
+    if (settings.surfaceFlatten > 1.0 && !scene.gradients.empty()) {
+        const DecodedGradient grad = decodeGradient(scene.gradients[voxel]);
+        surface = grad.magnitude >= settings.surfaceGradient;
+        varCamera = surface ? surfaceVarianceCamera(sigma, plane.viewFromObject, grad.normal, settings.surfaceFlatten)
+                            : kernelVarianceCamera(sigma, plane.viewFromObject);
+    } else {
+        varCamera = kernelVarianceCamera(sigma, plane.viewFromObject);
+    }
+    Footprint f = projectKernel(u, varCamera, plane.fPx, mode, glm::dmat2(1.0), plane.orthographic);
+    if (surface && mode == FilterMode::Reconstruction) {
+        f.variancePx = clampFootprintVariance(f.variancePx);
+        f.peak = f.jacobianDet / (2.0 * std::numbers::pi * std::sqrt(glm::determinant(f.variancePx)));
+    }
     const double det = glm::determinant(f.variancePx);
     if (!(det > 1e-12)) {
         if (counters) ++counters->culledDegenerate;
@@ -62,8 +81,9 @@ namespace {
 
 struct Splat {
     SplatGeometry geometry;
-    glm::dvec3 colour;
-    int mode = 0;     // resolved filter, for the heatmap
+    glm::dvec3 colour;          // TF colour, shaded unless shading is per fragment
+    glm::dvec3 gradientCamera;  // per-fragment shading: W times the decoded relative gradient
+    int mode = 0;               // resolved filter, for the heatmap
 };
 
 void addCounters(SplatCounters& a, const SplatCounters& b) {
@@ -90,6 +110,14 @@ inline void sheetColour(const double* q, double* c, double& a) {
 }
 
 } // namespace
+
+void requireGradients(const SplatScene& scene, const SplatSettings& settings) {
+    const bool needs = settings.shading != SplatSettings::Shading::None || settings.surfaceFlatten > 1.0;
+    if (needs && scene.gradients.size() != scene.classes.size())
+        throw RenderError("scene '" + scene.name + "': shading and surface splats need gradients (addGradients)");
+    if (!(settings.surfaceFlatten >= 1.0))
+        throw RenderError("surface flatten must be >= 1 (1: off), got " + std::to_string(settings.surfaceFlatten));
+}
 
 std::vector<uint8_t> patchModes(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings) {
     const Traversal trav = chooseTraversal(plane);
@@ -120,6 +148,7 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
     const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
     const bool frontToBack = mode == Compositing::SheetFrontToBack;
     const Traversal trav = chooseTraversal(plane);
+    requireGradients(scene, settings);
     std::vector<uint32_t> sliceStarts;
     const std::vector<uint32_t> order = drawOrder(scene, trav, frontToBack, settings.drawAllBuckets, &sliceStarts);
     const size_t n = order.size();
@@ -143,6 +172,12 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
                 splatGeometry(scene, plane, settings, voxel, extinctionOf(scene, settings, cls), m, &c);
             splats[k].colour = glm::dvec3(scene.lut[cls]);
             splats[k].mode = int(m);
+            if (settings.shading != SplatSettings::Shading::None) {
+                splats[k].gradientCamera = plane.viewFromObject * decodeGradient(scene.gradients[voxel]).gradient();
+                if (settings.shading == SplatSettings::Shading::PerSplat)   // towards the eye from the centre
+                    splats[k].colour = shade(splats[k].colour, splats[k].gradientCamera,
+                                             -plane.toCamera(scene.positionOf(voxel)), settings.shadingParams);
+            }
         }
     });
     SplatCounters total;
@@ -157,6 +192,7 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
     std::vector<double> acc(size_t(layers) * w * h * 4, 0.0);
     const size_t layerSize = size_t(w) * h * 4;
     const double cut2 = settings.cutoffSigmas * settings.cutoffSigmas;
+    const bool perFragment = settings.shading == SplatSettings::Shading::PerFragment;
     constexpr int kBand = 8;
     tbb::parallel_for(0, (h + kBand - 1) / kBand, [&](int band) {
         const int y0 = band * kBand, y1 = std::min(h, y0 + kBand);
@@ -210,8 +246,15 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
                     if (e > cut2) continue;
                     if (frontToBack && opaque[size_t(y - y0) * w + x]) continue;
                     const double tau = g.amplitude * std::exp(-0.5 * e);
+                    glm::dvec3 shaded = s.colour;
+                    if (perFragment) {   // towards the eye along this pixel's ray
+                        const glm::dvec3 toEye = plane.orthographic
+                                                     ? glm::dvec3(0, 0, -1)
+                                                     : -glm::dvec3((glm::dvec2(x + 0.5, y + 0.5) - plane.centrePx) / plane.fPx, 1.0);
+                        shaded = shade(s.colour, s.gradientCamera, toEye, settings.shadingParams);
+                    }
                     for (int l = 0; l < layers; ++l) {
-                        const double* colour = l == 0 ? &s.colour[0] : heat;
+                        const double* colour = l == 0 ? &shaded[0] : heat;
                         double* p = sheets ? &sheet[l * bandSize + (size_t(y - y0) * w + x) * 4]
                                            : &acc[l * layerSize + (size_t(y) * w + x) * 4];
                         if (sheets || mode == Compositing::XRay) {

@@ -8,6 +8,7 @@
 #include "renderer/classifier.h"
 #include "renderer/errors.h"
 #include "renderer/gl_context.h"
+#include "renderer/shading.h"
 
 #include <algorithm>
 #include <array>
@@ -69,7 +70,13 @@ layout(location = 0) in uvec4 aRun;  // per draw (baseInstance): slice, tile bas
 layout(std430, binding = 0) readonly buffer Entries { uint entries[]; };   // 16-bit offsets, two a word
 layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
 layout(std430, binding = 2) buffer Counters { uint counters[]; };
+layout(std430, binding = 3) readonly buffer Gradients { uint gradients[]; };   // packed (shading.h)
 layout(binding = 0) uniform usampler3D classes;      // per-voxel LUT class (R16UI)
+
+uniform int uShading;         // 0 none, 1 per splat (here), 2 per fragment
+uniform ShadingParams uShadingParams;
+uniform float uSurfaceFlatten, uSurfaceGradient;   // flatten 1: no surface splats
+uniform vec3 uSigma;          // kernel sigma per object axis
 
 uniform int uVertsPerSplat;   // 1: point sprite, 6: two triangles
 uniform bool uCount;          // count per splat into Counters (slots: see SplatRenderer::render)
@@ -85,6 +92,7 @@ flat out vec3 vConic;         // (a, b, c): e = a dx^2 + 2 b dx dy + c dy^2
 flat out float vAmplitude;
 flat out vec3 vColour;
 flat out vec3 vHeat;          // one-hot filter mode
+flat out vec3 vGradient;      // per-fragment shading: W times the decoded relative gradient
 
 void count(int slot) {
     if (uCount && gl_VertexID % uVertsPerSplat == 0) atomicAdd(counters[slot], 1u);
@@ -119,10 +127,15 @@ void main() {
                     : transpose(mat3(uFPx * iz, 0.0, -uFPx * u.x * iz * iz,
                                      0.0, uFPx * iz, -uFPx * u.y * iz * iz,
                                      u.x / l, u.y / l, u.z / l));
-    mat3 V = J * uVarCamera * transpose(J);
+    uint voxel = uint(ijk.x) + uint(uDims.x) * (uint(ijk.y) + uint(uDims.y) * uint(ijk.z));
+    vec4 grad = (uShading != 0 || uSurfaceFlatten > 1.0) ? unpackGradient(gradients[voxel]) : vec4(0.0);
+    bool surface = uSurfaceFlatten > 1.0 && grad.w >= uSurfaceGradient;
+    mat3 varCamera = surface ? surfaceVarianceCamera(uSigma, uViewFromObject, grad.xyz, uSurfaceFlatten) : uVarCamera;
+    mat3 V = J * varCamera * transpose(J);
     mat2 vHat = mat2(V[0][0], V[0][1], V[1][0], V[1][1]);
     int mode = resolveFilter(ijk);
     mat2 M = mode == 0 ? vHat : (mode == 1 ? mat2(1.0) : vHat + mat2(1.0));
+    if (surface && mode == 0) M = clampFootprintVariance(M, kMinFootprintVariancePx2);
     float det = M[0][0] * M[1][1] - M[0][1] * M[1][0];
     if (!(det > 1e-12)) { count(3); return; }
     vec2 halfExtent = uCutoff * sqrt(vec2(M[0][0], M[1][1]));
@@ -137,7 +150,8 @@ void main() {
     vCentre = centre;
     vConic = vec3(M[1][1], -M[0][1], M[0][0]) / det;
     vAmplitude = tf.a * uExtinctionScale * detJ / (6.283185307 * sqrt(det));
-    vColour = tf.rgb;
+    vGradient = uViewFromObject * (grad.xyz * grad.w);
+    vColour = uShading == 1 ? shade(tf.rgb, vGradient, -u, uShadingParams) : tf.rgb;
     vHeat = vec3(mode == 0 ? 1.0 : 0.0, mode == 1 ? 1.0 : 0.0, mode == 2 ? 1.0 : 0.0);
     // One pixel of margin: the fragment test, not the primitive, decides coverage.
     vec2 p = centre;
@@ -148,14 +162,18 @@ void main() {
 }
 )";
 
-const char* kSplatFrag = R"(#version 450 core
+const char* kSplatFragMain = R"(
 flat in vec2 vCentre;
 flat in vec3 vConic;
 flat in float vAmplitude;
 flat in vec3 vColour;
 flat in vec3 vHeat;
-uniform vec2 uViewport;
-uniform float uCutoff;
+flat in vec3 vGradient;
+uniform vec2 uViewport, uCentrePx;
+uniform float uCutoff, uFPx;
+uniform bool uOrtho;
+uniform int uShading;
+uniform ShadingParams uShadingParams;
 uniform bool uAdditive;       // sheets and X-ray sum optical depth; splat-every-sample blends "over"
 layout(location = 0) out vec4 fragColour;
 layout(location = 1) out vec4 fragHeat;
@@ -167,7 +185,13 @@ void main() {
     float tau = vAmplitude * exp(-0.5 * e);
     // 1 - exp(-tau) loses all digits in float for tiny tau; the series is exact to 1e-10 there.
     float w = uAdditive ? tau : (tau < 1e-3 ? tau * (1.0 - 0.5 * tau) : 1.0 - exp(-tau));
-    fragColour = vec4(vColour * w, w);
+    vec3 colour = vColour;
+    if (uShading == 2) {   // towards the eye along this pixel's ray
+        vec2 px = vec2(gl_FragCoord.x, uViewport.y - gl_FragCoord.y);
+        vec3 toEye = uOrtho ? vec3(0.0, 0.0, -1.0) : -vec3((px - uCentrePx) / uFPx, 1.0);
+        colour = shade(vColour, vGradient, toEye, uShadingParams);
+    }
+    fragColour = vec4(colour * w, w);
     fragHeat = vec4(vHeat * w, w);
 }
 )";
@@ -360,7 +384,8 @@ struct SplatRenderer::Gl {
     GLuint commandsProgram = 0, patchProgram = 0;
     GLuint splatVao = 0, emptyVao = 0;
     GLuint classTexture = 0;
-    GLuint lutBuffer = 0, counterBuffer = 0, patchBuffer = 0;
+    GLuint lutBuffer = 0, counterBuffer = 0, patchBuffer = 0, gradientBuffer = 0;
+    bool hasGradients = false;
     size_t patchBufferBytes = 0;
     std::array<AxisBuffers, 3> axes;
     Lut lut;                             // CPU copy: which buckets are active, which slices are empty
@@ -391,8 +416,8 @@ struct SplatRenderer::Gl {
         const GLuint vaos[] = {splatVao, emptyVao};
         glDeleteVertexArrays(2, vaos);
         glDeleteTextures(1, &classTexture);
-        const GLuint buffers[] = {lutBuffer, counterBuffer, patchBuffer};
-        glDeleteBuffers(3, buffers);
+        const GLuint buffers[] = {lutBuffer, counterBuffer, patchBuffer, gradientBuffer};
+        glDeleteBuffers(4, buffers);
         for (auto& a : axes) a.release();
         releaseTargets();
         glDeleteQueries(kTimerRing, timers.data());
@@ -555,7 +580,8 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     installGlDebugCallback();
     Gl& g = *m_gl;
     const std::string header = "#version 450 core\n";
-    g.splatProgram = gl::buildProgram("splat", (header + kSplatCommon + kSplatVertMain).c_str(), kSplatFrag);
+    g.splatProgram = gl::buildProgram("splat", (header + shadingGlsl() + kSplatCommon + kSplatVertMain).c_str(),
+                                      (header + shadingGlsl() + kSplatFragMain).c_str());
     g.compositeProgram = gl::buildProgram("sheet_composite", kFullscreenVert, kCompositeFrag);
     g.resolveProgram = gl::buildProgram("xray_resolve", kFullscreenVert, kResolveFrag);
     g.displayProgram = gl::buildProgram("display", kFullscreenVert, kDisplayFrag);
@@ -593,6 +619,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     auto runBytes = [](const AxisLists& l) { return std::max<size_t>(l.runs.size(), 1) * (16 + 8 + 16 + 16); };
     uint64_t needed = scene.classes.size() * sizeof(uint16_t) + scene.lut.size() * sizeof(glm::vec4);
     for (const auto& l : scene.lists) needed += entryBytes(l) + runBytes(l);
+    needed += std::max<size_t>(scene.gradients.size(), 1) * 4;
     std::optional<uint64_t> freeBytes = freeGpuMemoryBytes();
     if (freeBytes) *freeBytes += g.sceneBytes;
     if (g.memoryLimit) freeBytes = std::min(freeBytes.value_or(g.memoryLimit), g.memoryLimit);
@@ -627,6 +654,12 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         if (data) m_stats.uploadBytes += bytes;
         g.sceneBytes += bytes;
     };
+    // Packed gradients, 4 bytes a voxel, when the scene has them (one word otherwise: a valid binding).
+    glDeleteBuffers(1, &g.gradientBuffer);
+    const uint32_t noGradient = 0;
+    makeBuffer(g.gradientBuffer, std::max<size_t>(scene.gradients.size(), 1) * 4,
+               scene.gradients.empty() ? &noGradient : scene.gradients.data(), "gradients");
+    g.hasGradients = scene.gradients.size() == scene.classes.size();
     for (int axis = 0; axis < 3; ++axis) {
         const AxisLists& lists = scene.lists[size_t(axis)];
         AxisBuffers& a = g.axes[size_t(axis)];
@@ -689,6 +722,11 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         throw RenderError("image size " + std::to_string(plane.width) + "x" + std::to_string(plane.height) +
                           " out of range (1..16384)");
     if (!g.classTexture) throw RenderError("SplatRenderer::render called before setScene");
+    const bool needsGradients = settings.shading != SplatSettings::Shading::None || settings.surfaceFlatten > 1.0;
+    if (needsGradients && !g.hasGradients)
+        throw RenderError("shading and surface splats need the scene's gradients (addGradients before setScene)");
+    if (!(settings.surfaceFlatten >= 1.0))
+        throw RenderError("surface flatten must be >= 1 (1: off), got " + std::to_string(settings.surfaceFlatten));
     g.ensureTargets(plane.width, plane.height);
 
     collectTimers();
@@ -746,6 +784,18 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                 float(settings.density / meanSpacing * g.spacing.x * g.spacing.y * g.spacing.z));
     glUniform1f(glGetUniformLocation(p, "uMaxHalfExtent"), float(settings.maxFootprintFraction * diagonal));
     glUniform1i(glGetUniformLocation(p, "uAdditive"), sheets || xray);
+    glUniform1i(glGetUniformLocation(p, "uShading"), int(settings.shading));
+    const ShadingParams& sp = settings.shadingParams;
+    glUniform1f(glGetUniformLocation(p, "uShadingParams.ambient"), float(sp.ambient));
+    glUniform1f(glGetUniformLocation(p, "uShadingParams.diffuse"), float(sp.diffuse));
+    glUniform1f(glGetUniformLocation(p, "uShadingParams.specular"), float(sp.specular));
+    glUniform1f(glGetUniformLocation(p, "uShadingParams.shininess"), float(sp.shininess));
+    glUniform1f(glGetUniformLocation(p, "uShadingParams.flatGradient"), float(sp.flatGradient));
+    glUniform1f(glGetUniformLocation(p, "uSurfaceFlatten"), float(settings.surfaceFlatten));
+    glUniform1f(glGetUniformLocation(p, "uSurfaceGradient"), float(settings.surfaceGradient));
+    const glm::dvec3 sigma = settings.kernelScale * g.spacing;
+    glUniform3f(glGetUniformLocation(p, "uSigma"), float(sigma.x), float(sigma.y), float(sigma.z));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, g.gradientBuffer);
     glBindTextureUnit(0, g.classTexture);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, axis.entries);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.lutBuffer);

@@ -2,6 +2,7 @@
 #include "renderer/splat_scene.h"
 
 #include "renderer/errors.h"
+#include "renderer/shading.h"
 
 #include <tbb/parallel_for.h>
 
@@ -104,6 +105,13 @@ SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, Val
     for (int axis = 0; axis < 3; ++axis) s.lists[size_t(axis)] = buildAxisLists(s, axis);
     setTransferFunction(s, tf);
     return s;
+}
+
+void addGradients(SplatScene& s, const GradientField& field) {
+    if (field.dims != s.dims)
+        throw RenderError("gradients of a " + std::to_string(field.dims.x) + "x" + std::to_string(field.dims.y) + "x" +
+                          std::to_string(field.dims.z) + " volume do not fit scene '" + s.name + "'");
+    s.gradients = packGradients(field).texels;
 }
 
 void setTransferFunction(SplatScene& s, const TransferFunction& tf) {

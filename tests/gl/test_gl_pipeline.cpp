@@ -5,6 +5,8 @@
 #include "test_paths.h"
 
 #include "renderer/errors.h"
+#include "renderer/gradients.h"
+#include "renderer/metrics.h"
 #include "renderer/procedural.h"
 #include "renderer/reference_renderer.h"
 #include "renderer/splat_renderer.h"
@@ -139,8 +141,9 @@ TEST_F(GlTest, TfEditUploadsOnlyTheLutAndSelectsBuckets) {
     EXPECT_GT(r.stats().uploadBytes, scene.classes.size() * 2);
     r.render(plane, SplatSettings{});
     EXPECT_EQ(r.stats().uploadBytes, 0u);   // a frame uploads uniforms only
-    // GPU bytes: classes 2 a voxel, the LUT, per axis 2 per listed voxel (whole words) and 56 per run.
-    uint64_t expected = scene.classes.size() * 2 + kLutSize * 16;
+    // GPU bytes: classes 2 a voxel, the LUT, per axis 2 per listed voxel (whole words) and 56 per run,
+    // and one word standing in for the gradients (4 bytes a voxel once the scene has them).
+    uint64_t expected = scene.classes.size() * 2 + kLutSize * 16 + 4;
     for (const auto& l : scene.lists) expected += (l.entries.size() + 1) / 2 * 4 + l.runs.size() * 56;
     EXPECT_EQ(r.sceneBytes(), expected);
 
@@ -202,5 +205,82 @@ TEST_F(GlTest, RealScansStayWithinEightGpuBytesPerVoxel) {
         const double perVoxel = double(r.sceneBytes()) / double(scene.classes.size());
         std::cout << "[ memory   ] " << name << ": " << perVoxel << " GPU bytes per voxel\n";
         EXPECT_LE(perVoxel, 8.0) << name;
+    }
+}
+
+namespace {
+
+SplatScene withGradients(const Volume& v, const TransferFunction& tf) {
+    SplatScene scene = buildSplatScene(v, tf);
+    addGradients(scene, *computeGradients(v));
+    return scene;
+}
+
+} // namespace
+
+TEST_F(GlTest, ShadingPerSplatAndPerFragmentMatchCpu) {
+    const Volume v = makeSphereShells(24, 8.0, 2.5);
+    const SplatScene scene = withGradients(v, ramp());
+    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 30, .elevationDeg = 20, .fovYDeg = 50}, scene.centre,
+                                            scene.radius, 96, 96);
+    SplatRenderer r;
+    r.setScene(scene);
+    SplatSettings s;
+    const Image unshaded = renderReference(scene, plane, s);
+    for (auto shading : {SplatSettings::Shading::PerSplat, SplatSettings::Shading::PerFragment}) {
+        s.shading = shading;
+        r.render(plane, s);
+        const Image cpu = renderReference(scene, plane, s);
+        // Shading must change the image (a test of something), and GL must agree with the CPU.
+        EXPECT_GT(compareImages(cpu, unshaded).maxAbs, 0.05);
+        EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu,
+                            shading == SplatSettings::Shading::PerSplat ? "gl_shaded_splat" : "gl_shaded_fragment");
+    }
+    writeImage(r.readback(), testing_support::testOutputDir() / "shells_shaded.png");
+    SplatScene bare = buildSplatScene(v, ramp());
+    r.setScene(bare);
+    EXPECT_THROW(r.render(plane, s), RenderError);   // shading without gradients: a clear error
+    EXPECT_THROW(renderReference(bare, plane, s), RenderError);
+}
+
+TEST_F(GlTest, SurfaceSplatsMatchCpuAndStayFiniteEdgeOn) {
+    // A slab seen face-on, obliquely and exactly edge-on: flattened kernels in every filter mode. Its
+    // profile across z is a tent (0, .25, .5, .75, 1, .75, ...), so visible voxels have a gradient.
+    Volume v;
+    v.dims = {24, 24, 9};
+    v.values.assign(v.voxelCount(), 0.0f);
+    for (int z = 0; z < 9; ++z)
+        for (int i = 0; i < 24 * 24; ++i) v.values[size_t(z) * 24 * 24 + i] = float(1.0 - std::abs(z - 4) / 4.0);
+    v.range = {0.0f, 1.0f};
+    const SplatScene scene = withGradients(v, ramp());
+    SplatRenderer r;
+    r.setScene(scene);
+    for (double elevation : {89.0, 40.0, 0.0}) {
+        const ImagePlane plane =
+            makeImagePlane(Camera{.azimuthDeg = 0, .elevationDeg = elevation, .distance = 1.6}, scene.centre,
+                           scene.radius, 64, 64);
+        for (auto filter : {FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Ewa, FilterMode::Adaptive}) {
+            SplatSettings s;
+            s.filter = filter;
+            s.surfaceFlatten = 20.0;
+            s.surfaceGradient = 0.05;
+            s.counters = true;
+            SplatCounters cpuCounters;
+            const Image cpu = renderReference(scene, plane, s, &cpuCounters);
+            r.render(plane, s);
+            const Image gl = r.readback();
+            const std::string name = "gl_surface_el" + std::to_string(int(elevation)) + "_" + filterModeName(filter);
+            EXPECT_TRUE(imageStats(gl).finite) << name;
+            EXPECT_EQ(cpuCounters.culledHuge, 0u) << name;
+            EXPECT_EQ(r.stats().counters.drawn, cpuCounters.drawn) << name;
+            EXPECT_IMAGES_CLOSE(gl, cpu, kGlVsCpu, name);
+            // Flattening must show where it can: not in low-pass footprints (V_h alone), and barely
+            // face-on (the kernel is flattened along the view, which does not project).
+            if (elevation == 40.0 && filter != FilterMode::LowPass) {
+                SplatSettings volumeKernels = s;
+                volumeKernels.surfaceFlatten = 1.0;
+                EXPECT_GT(compareImages(cpu, renderReference(scene, plane, volumeKernels)).maxAbs, 1e-3) << name;
+            }
+        }
     }
 }

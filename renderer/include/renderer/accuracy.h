@@ -26,10 +26,15 @@ struct ViewedVolume {
 };
 
 // 000 fig. 8: a board x board x 3 checkerboard of `cell`-voxel cells, every voxel opaque (black and
-// white), seen from just above one corner along the diagonal (40 degree fov). The view scales with
-// height / board: at height = board / 2 (512 board at 256 rows, 128 board at 64 rows) the rows near
-// the eye are magnified, those towards the far corner minified at the paper's c_min and c_max.
+// white), seen from just above the near edge along +x (40 degree fov). At height = board / 8 (512
+// board at 64 rows) the bottom quarter of the rows is magnified and the top few rows minified at the
+// paper's c_min and c_max. A taller image cannot show both: c_max / c_min ~ 8 is the depth ratio the
+// board must span, and minified depths (0.7 f_px c_max voxels) grow with the image height.
 ViewedVolume grazingCheckerboard(int board, int cell, int width, int height);
+
+// The window (x0, y0, width, height) of `plane` as an image plane of its own: the same camera with the
+// principal point moved, so splatting and the ground truth of a crop equal those pixels of the whole.
+ImagePlane cropPlane(const ImagePlane& plane, int x0, int y0, int width, int height);
 
 // What the classifier (classifier.h) says about a pixel: Magnified when its centre ray enters and
 // leaves the box of voxel centres at depths that both take reconstruction only, Minified when both

@@ -5,6 +5,7 @@
 // same order.
 #pragma once
 #include "renderer/camera.h"
+#include "renderer/gradients.h"
 #include "renderer/transfer_function.h"
 #include "renderer/volume.h"
 
@@ -55,6 +56,7 @@ struct SplatScene {
     Lut lut;
     std::array<AxisLists, 3> lists;      // per axis (0 = x, 1 = y, 2 = z)
     size_t visibleVoxels = 0;            // voxels whose class has opacity > 0 under lut
+    std::vector<uint32_t> gradients;     // packed per voxel (shading.h), empty until addGradients
 
     size_t visibleCount() const { return visibleVoxels; }
     glm::dvec3 positionOf(uint32_t index) const;
@@ -64,6 +66,9 @@ struct SplatScene {
 
 // Classifies every voxel over `window` (the volume's range when lo == hi) and builds the lists.
 SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, ValueRange window = {});
+// Packs the volume's gradients into the scene, for shading and surface splats (GradientField from
+// computeGradients, which reports progress and can be cancelled).
+void addGradients(SplatScene& scene, const GradientField& field);
 // A TF edit: re-bakes the LUT and recounts visible voxels; the lists stay.
 void setTransferFunction(SplatScene& scene, const TransferFunction& tf);
 

@@ -1,6 +1,7 @@
 // Settings every rendering path shares (CPU oracle, GL, editor, CLI); plain data, no behaviour.
 #pragma once
 #include "renderer/ewa.h"
+#include "renderer/shading.h"
 
 #include <string>
 
@@ -30,6 +31,16 @@ struct SplatSettings {
     double cMin = 0.3;
     double cMax = 0.0;
     int patchSize = 8;                  // slice voxels per patch side; 1 classifies every voxel
+
+    // Shading (needs the scene's gradients): headlight Phong per splat in the vertex stage, with the
+    // splat centre's view direction, or per fragment, with each pixel's ray (000 sec. 4.4).
+    enum class Shading { None, PerSplat, PerFragment };
+    Shading shading = Shading::None;
+    ShadingParams shadingParams;
+    // Surface splats (001 sec. 5; needs gradients): voxels whose gradient magnitude (relative to the
+    // volume's largest) reaches surfaceGradient get kernels flattened by 1/surfaceFlatten along it.
+    double surfaceFlatten = 1.0;        // 1: volume kernels everywhere
+    double surfaceGradient = 0.1;
 
     // Compute only what the scene needs. Front-to-back sheets stop adding to a pixel once its alpha
     // reaches opaqueAlpha (>= 1: never); what is lost there is at most 1 - opaqueAlpha of the pixel.
