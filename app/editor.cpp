@@ -295,6 +295,7 @@ int runEditor(const EditorOptions& options) {
             guarded([&] {
                 const renderer::ValueRange window = renderer::windowFor(*doc.volume, state.window);
                 renderer::SplatScene scene = renderer::buildSplatScene(*doc.volume, doc.tf, window);
+                if (doc.gradients) renderer::addGradients(scene, *doc.gradients);
                 splats->setScene(scene);
                 doc.scene = std::move(scene);
             });
@@ -304,6 +305,14 @@ int runEditor(const EditorOptions& options) {
             doc.gradients = std::move(gradientJob->result);
             if (!gradientJob->error.empty()) state.errorMessage = "gradients: " + gradientJob->error;
             gradientJob.reset();
+            if (splats && doc.gradients) {   // shading and surface splats become available
+                guarded([&] {
+                    renderer::addGradients(doc.scene, *doc.gradients);
+                    splats->setScene(doc.scene);
+                    state.gradientsReady = true;
+                });
+                renderPending = true;
+            }
         }
         if (splats && renderPending && renderWidth > 0) {
             renderPending = false;
@@ -311,7 +320,7 @@ int runEditor(const EditorOptions& options) {
                 const renderer::ImagePlane plane = renderer::makeImagePlane(
                     state.camera, doc.scene.centre, doc.scene.radius, renderWidth, renderHeight);
                 splats->render(plane, state.settings);
-                texture = splats->displayTexture(state.background.data());
+                texture = splats->displayTexture(state.background.data(), state.showHeatmap);
             });
             if (!rendered) texture = 0;
         }

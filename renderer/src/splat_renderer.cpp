@@ -994,7 +994,7 @@ Image SplatRenderer::readback() const { return readTexture(m_gl->image, m_gl->wi
 
 Image SplatRenderer::readbackHeatmap() const { return readTexture(m_gl->heat, m_gl->width, m_gl->height); }
 
-unsigned SplatRenderer::displayTexture(const float background[3]) {
+unsigned SplatRenderer::displayTexture(const float background[3], bool heatmap) {
     Gl& g = *m_gl;
     if (!g.image) return 0;
     glBindFramebuffer(GL_FRAMEBUFFER, g.displayFbo);
@@ -1002,7 +1002,7 @@ unsigned SplatRenderer::displayTexture(const float background[3]) {
     glDisable(GL_BLEND);
     glUseProgram(g.displayProgram);
     glUniform3f(glGetUniformLocation(g.displayProgram, "uBackground"), background[0], background[1], background[2]);
-    glBindTextureUnit(0, g.image);
+    glBindTextureUnit(0, heatmap ? g.heat : g.image);
     glBindVertexArray(g.emptyVao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -69,6 +69,15 @@ bool drawUpAxisCombo(glm::dvec3& up) {
 
 } // namespace
 
+static const char* shadingName(renderer::SplatSettings::Shading s) {
+    switch (s) {
+    case renderer::SplatSettings::Shading::None: return "none";
+    case renderer::SplatSettings::Shading::PerSplat: return "per splat";
+    case renderer::SplatSettings::Shading::PerFragment: return "per fragment";
+    }
+    return "?";
+}
+
 SettingsChanges drawSettingsPanel(EditorState& state) {
     SettingsChanges changes;
     renderer::SplatSettings& s = state.settings;
@@ -96,15 +105,52 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     hint("Extinction per voxel length at TF opacity 1");
     changes.settingsChanged |= enumCombo("Filter", s.filter,
                                          std::array{renderer::FilterMode::Reconstruction,
-                                                    renderer::FilterMode::LowPass, renderer::FilterMode::Ewa},
+                                                    renderer::FilterMode::LowPass, renderer::FilterMode::Ewa,
+                                                    renderer::FilterMode::Adaptive},
                                          &renderer::filterModeName);
     hint("reconstruction: kernel only (aliases when minified)\nlow-pass: screen filter only\n"
-         "ewa: both convolved, the resampling filter");
-    changes.settingsChanged |=
-        enumCombo("Compositing", s.compositing,
-                  std::array{renderer::Compositing::SplatEverySample, renderer::Compositing::XRay},
-                  &renderer::compositingName);
-    hint("splat-every-sample: back-to-front 'over' in slice order\nxray: additive, order-free");
+         "ewa: both convolved, the resampling filter\nadaptive: per patch, the cheapest that suffices");
+    if (s.filter == renderer::FilterMode::Adaptive) {
+        changes.settingsChanged |= sliderDouble("c_min", s.cMin, 0.05, 1.0, "%.2f");
+        hint("Reconstruction only where a kernel spans more than 1 px / c_min (paper: 0.3)");
+        changes.settingsChanged |= ImGui::SliderInt("Patch size", &s.patchSize, 1, 32);
+    }
+    changes.settingsChanged |= enumCombo("Compositing", s.compositing,
+                                         std::array{renderer::Compositing::SplatEverySample,
+                                                    renderer::Compositing::SheetBackToFront,
+                                                    renderer::Compositing::SheetFrontToBack,
+                                                    renderer::Compositing::XRay},
+                                         &renderer::compositingName);
+    hint("splat-every-sample: back-to-front 'over' in slice order\nsheets: a slice sums into a float "
+         "sheet, sheets composite in order\nxray: additive, order-free");
+    if (s.compositing == renderer::Compositing::SheetFrontToBack) {
+        changes.settingsChanged |= sliderDouble("Opaque at", s.opaqueAlpha, 0.9, 1.0, "%.3f");
+        hint("Early termination: pixels this opaque take no more splats (1: never)");
+    }
+
+    sectionTitle("Shading and surfaces");
+    ImGui::BeginDisabled(!state.gradientsReady);
+    changes.settingsChanged |= enumCombo("Shading", s.shading,
+                                         std::array{renderer::SplatSettings::Shading::None,
+                                                    renderer::SplatSettings::Shading::PerSplat,
+                                                    renderer::SplatSettings::Shading::PerFragment},
+                                         &shadingName);
+    hint("Headlight Phong from the gradients: per splat (vertex stage) or per fragment");
+    changes.settingsChanged |= sliderDouble("Surface flatten", s.surfaceFlatten, 1.0, 50.0, "%.1f",
+                                            ImGuiSliderFlags_Logarithmic);
+    changes.settingsChanged |= sliderDouble("Surface gradient", s.surfaceGradient, 0.0, 1.0, "%.2f");
+    hint("Voxels whose gradient reaches this fraction of the largest get kernels flattened along it (1: off)");
+    ImGui::EndDisabled();
+    if (!state.gradientsReady) ImGui::TextDisabled("(gradients not computed yet)");
+
+    sectionTitle("Inspect");
+    if (ImGui::Checkbox("Filter heatmap", &state.showHeatmap)) {
+        s.heatmap = state.showHeatmap;
+        changes.settingsChanged = true;
+    }
+    hint("Red: reconstruction only, green: low-pass only, blue: full EWA, weighted by opacity");
+    changes.settingsChanged |= ImGui::Checkbox("GPU counters", &s.counters);
+    hint("Count splats per filter and per cull on the GPU (waits for each frame)");
 
     sectionTitle("Camera");
     changes.cameraChanged |= sliderDouble("Field of view", state.camera.fovYDeg, 10.0, 100.0, "%.0f deg");
@@ -200,7 +246,15 @@ void drawStatsPanel(const StatsView& stats) {
         ImGui::Text("render  cpu %.2f ms   gpu (pending)", f.cpuMs);
     ImGui::Text("splats  %llu drawn of %zu visible", static_cast<unsigned long long>(f.splatsDrawn),
                 stats.visibleSplats);
-    ImGui::Text("upload  %.1f KiB", double(f.uploadBytes) / 1024.0);
+    ImGui::Text("upload  %.1f KiB   %s", double(f.uploadBytes) / 1024.0, f.points ? "point sprites" : "quads");
+    if (f.hasCounters) {
+        const renderer::SplatCounters& c = f.counters;
+        ImGui::Text("filters recon %llu  low-pass %llu  ewa %llu", (unsigned long long)c.drawnPerMode[0],
+                    (unsigned long long)c.drawnPerMode[1], (unsigned long long)c.drawnPerMode[2]);
+        ImGui::Text("culled  transparent %llu  near %llu  offscreen %llu  huge %llu",
+                    (unsigned long long)c.culledTransparent, (unsigned long long)c.culledNear,
+                    (unsigned long long)c.culledOffscreen, (unsigned long long)c.culledHuge);
+    }
     if (!stats.frameMsHistory.empty()) {
         const float peak = *std::max_element(stats.frameMsHistory.begin(), stats.frameMsHistory.end());
         char label[48];

@@ -47,9 +47,10 @@ public:
     Image readbackHeatmap() const;
     // The per-patch filter for this view (computed on the GPU; layout of patchModes() on the CPU).
     std::vector<uint8_t> patchModes(const ImagePlane& plane, const SplatSettings& settings);
-    // The last frame composited over `background` in an RGBA8 texture, for display (GL name). Memory
-    // row 0 is the image's top row, so ImGui::Image's default uvs show it upright.
-    unsigned displayTexture(const float background[3]);
+    // The last frame (or its filter-mode heatmap, when that was rendered) composited over `background`
+    // in an RGBA8 texture, for display (GL name). Memory row 0 is the image's top row, so
+    // ImGui::Image's default uvs show it upright.
+    unsigned displayTexture(const float background[3], bool heatmap = false);
     // Reads finished GPU timer queries without waiting (call once per UI frame); render() calls it too.
     void collectTimers();
     const FrameStats& stats() const { return m_stats; }

@@ -18,6 +18,8 @@ struct EditorState {
     std::string errorMessage; // shown in a modal until dismissed; empty when none
     renderer::WindowSettings window; // which data values map onto the TF (custom: data units)
     bool histogramLog = true;        // the Window section's histogram: log-scale counts
+    bool gradientsReady = false;     // the scene has gradients: shading and surface splats can be on
+    bool showHeatmap = false;        // the viewport shows the filter-mode heatmap instead of the image
 };
 
 } // namespace ui
