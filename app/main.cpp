@@ -1,5 +1,6 @@
 // The splatlab command line: `render` and `info` run headless (EGL, no X server); `editor` opens the
 // window. Errors from the renderer become one line on stderr and a non-zero exit.
+#include "accuracy.h"
 #include "editor.h"
 
 #include "renderer/camera.h"
@@ -348,6 +349,9 @@ int main(int argc, char** argv) {
                    "Also compute the gradients (progress bar on stderr) and print their stats");
     addRawFlags(info, infoRaw);
 
+    AccuracyArgs acc;
+    auto* accuracy = addAccuracyCommand(app, acc);
+
     EditorOptions e;
     e.volumePath = std::filesystem::path(SPLATLAB_ASSET_DIR) / "volumes" / "headsq.nhdr";
     std::string editorSize = "1280x800", editorVolume, screenshot, editorUp, editorCamera;
@@ -367,6 +371,7 @@ int main(int argc, char** argv) {
         if (*reference) return runReference(ref, gt, cacheDir, noCache);
         if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);
         if (*info) return runInfo(infoPath, infoRaw, infoGradients);
+        if (*accuracy) return runAccuracy(acc);
         // The bundled headsq stores its slices from the crown down, so it is shown with -z up.
         e.upAxis = editorVolume.empty() ? "-z" : "z";
         if (editorVolume.empty()) e.camera = parseCamera("60,15,2.5,30");   // a three-quarter view of the face

@@ -24,7 +24,7 @@ Camera cameraAt(glm::dvec3 eye, double azimuthDeg, double pitchDeg, double fovYD
     const glm::dvec3 right = glm::normalize(glm::cross(-toEye, up)), down = glm::cross(-toEye, right);
     const double fPx = 0.5 * height / std::tan(0.5 * fovYDeg * deg);
     const double distance = glm::dot(eye - centre, toEye);
-    const glm::dvec3 pan = (centre + toEye * distance - eye) * (fPx / distance);   // in pixels
+    const glm::dvec3 pan = (centre + toEye * distance - eye) * (fPx / distance); // in pixels
     Camera c{azimuthDeg, pitchDeg, distance / radius, fovYDeg};
     c.panPx = {glm::dot(pan, right), glm::dot(pan, down)};
     return c;
@@ -37,8 +37,11 @@ ViewedVolume grazingCheckerboard(int board, int cell, int width, int height) {
     v.name = "grazing-checkerboard-" + std::to_string(board);
     v.volume = makeCheckerboard({board, board, 3}, cell);
     // Both values opaque, as in 000 fig. 8 ("all voxels classified as non-transparent").
-    v.tf = {"black-white", {{0.0, {0.0, 0.0, 0.0}, 1.0}, {0.49, {0.0, 0.0, 0.0}, 1.0}, {0.51, {1, 1, 1}, 1.0},
-                            {1.0, {1, 1, 1}, 1.0}}};
+    v.tf = {"black-white",
+            {{0.0, {0.0, 0.0, 0.0}, 1.0},
+             {0.49, {0.0, 0.0, 0.0}, 1.0},
+             {0.51, {1, 1, 1}, 1.0},
+             {1.0, {1, 1, 1}, 1.0}}};
     // Eye above the middle of the near edge at board / 64 over the top face, looking along +x and
     // pitched 21 degrees down: the top row meets the board just short of its far edge.
     const double b = board;
@@ -51,8 +54,8 @@ ViewedVolume grazingCheckerboard(int board, int cell, int width, int height) {
 
 ImagePlane cropPlane(const ImagePlane& plane, int x0, int y0, int width, int height) {
     if (x0 < 0 || y0 < 0 || width < 1 || height < 1 || x0 + width > plane.width || y0 + height > plane.height)
-        throw RenderError("cropPlane: window " + std::to_string(width) + "x" + std::to_string(height) + " at (" +
-                          std::to_string(x0) + ", " + std::to_string(y0) + ") is not inside the " +
+        throw RenderError("cropPlane: window " + std::to_string(width) + "x" + std::to_string(height) +
+                          " at (" + std::to_string(x0) + ", " + std::to_string(y0) + ") is not inside the " +
                           std::to_string(plane.width) + "x" + std::to_string(plane.height) + " image");
     ImagePlane crop = plane;
     crop.width = width;
@@ -63,15 +66,20 @@ ImagePlane cropPlane(const ImagePlane& plane, int x0, int y0, int width, int hei
 
 const char* regionName(Region r) {
     switch (r) {
-    case Region::Empty: return "empty";
-    case Region::Magnified: return "magnified";
-    case Region::Transition: return "transition";
-    case Region::Minified: return "minified";
+    case Region::Empty:
+        return "empty";
+    case Region::Magnified:
+        return "magnified";
+    case Region::Transition:
+        return "transition";
+    case Region::Minified:
+        return "minified";
     }
     return "?";
 }
 
-std::vector<Region> classifyPixels(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings) {
+std::vector<Region> classifyPixels(const SplatScene& scene, const ImagePlane& plane,
+                                   const SplatSettings& settings) {
     const AdaptiveThresholds t = adaptiveThresholds(scene.spacing, plane, settings);
     const glm::dvec3 lo = scene.origin, hi = scene.origin + scene.spacing * glm::dvec3(scene.dims - 1);
     const glm::dmat3 objectFromView = glm::transpose(plane.viewFromObject);
@@ -83,9 +91,10 @@ std::vector<Region> classifyPixels(const SplatScene& scene, const ImagePlane& pl
             const glm::dvec2 m = (glm::dvec2(x + 0.5, y + 0.5) - plane.centrePx) / plane.fPx;
             const glm::dvec3 originCam = plane.orthographic ? glm::dvec3(m, 0.0) : glm::dvec3(0.0);
             const glm::dvec3 dirCam = plane.orthographic ? glm::dvec3(0, 0, 1) : glm::dvec3(m, 1.0);
-            const glm::dvec3 o = objectFromView * (originCam - plane.translation), d = objectFromView * dirCam;
+            const glm::dvec3 o = objectFromView * (originCam - plane.translation),
+                             d = objectFromView * dirCam;
             double s0 = plane.nearDepth, s1 = std::numeric_limits<double>::infinity();
-            for (int a = 0; a < 3 && s0 <= s1; ++a) {   // slab test; a flat box still counts as hit
+            for (int a = 0; a < 3 && s0 <= s1; ++a) { // slab test; a flat box still counts as hit
                 if (d[a] == 0.0) {
                     if (o[a] < lo[a] || o[a] > hi[a]) s0 = s1 + 1.0;
                     continue;
@@ -108,9 +117,10 @@ RegionError regionError(const Image& image, const Image& reference, const std::v
                         Region region) {
     if (image.width != reference.width || image.height != reference.height ||
         regions.size() != size_t(image.width) * size_t(image.height))
-        throw RenderError("regionError: image " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                          ", reference " + std::to_string(reference.width) + "x" + std::to_string(reference.height) +
-                          " and " + std::to_string(regions.size()) + " region labels must agree");
+        throw RenderError("regionError: image " + std::to_string(image.width) + "x" +
+                          std::to_string(image.height) + ", reference " + std::to_string(reference.width) +
+                          "x" + std::to_string(reference.height) + " and " + std::to_string(regions.size()) +
+                          " region labels must agree");
     RegionError e;
     double sum2 = 0.0, bias = 0.0;
     for (size_t i = 0; i < regions.size(); ++i) {

@@ -1,5 +1,5 @@
 // The command line as a user meets it: `render` writes a picture without an X server, `info` reports
-// the volume, and mistakes get one clear line on stderr and a non-zero exit.
+// the volume, `accuracy` writes its report, and mistakes get one clear line on stderr and a non-zero exit.
 #include "renderer/image.h"
 #include "test_paths.h"
 
@@ -8,6 +8,8 @@
 
 #include <array>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <sys/wait.h>
 
@@ -106,4 +108,23 @@ TEST(Cli, RenderTakesAWindowInDataUnits) {
         splatlab("render \"" + headsq() + "\" --out \"" + out.string() + "\" --window 3000,500");
     EXPECT_NE(bad.status, 0);
     EXPECT_THAT(bad.output, HasSubstr("LO must be below HI"));
+}
+
+TEST(Cli, AccuracyWritesTheReportWithItsTablesAndThumbnails) {
+    // The docs/accuracy.md generator at a tiny scale: one hard case, a 64-voxel board, 4^3 Marschner-Lobb.
+    const auto dir = testing_support::testOutputDir() / "cli_accuracy";
+    std::filesystem::remove_all(dir);
+    const CliRun r = splatlab("accuracy --out \"" + dir.string() + "\" --cache \"" + (dir / "cache").string() +
+                              "\" --only one-voxel --board 64 --marschner-lobb 4 --kernel-scales 0.6,0.7");
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::ifstream in(dir / "accuracy.md");
+    const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    for (const char* part : {"## Hard cases", "| one-voxel |", "## The paper's claims per region", "| minified |",
+                             "## Kernel scale on Marschner-Lobb", "| 0.60 |", "| 0.70 |"})
+        EXPECT_THAT(md, HasSubstr(part));
+    EXPECT_TRUE(std::filesystem::exists(dir / "images" / "accuracy" / "one-voxel_ewa.png"));
+    EXPECT_TRUE(std::filesystem::exists(dir / "images" / "accuracy" / "board_regions.png"));
+    const CliRun bad = splatlab("accuracy --out \"" + dir.string() + "\" --kernel-scales 0");
+    EXPECT_NE(bad.status, 0);
+    EXPECT_THAT(bad.output, HasSubstr("--kernel-scales"));
 }

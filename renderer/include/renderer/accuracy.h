@@ -41,14 +41,15 @@ ImagePlane cropPlane(const ImagePlane& plane, int x0, int y0, int width, int hei
 // take low-pass only, Transition otherwise, Empty when the ray misses the box. Conservative like the
 // patch rule (000 sec. 4.1): a shortcut region only where the whole stretch of ray agrees.
 enum class Region : uint8_t { Empty, Magnified, Transition, Minified };
-const char* regionName(Region r);   // "empty", "magnified", "transition", "minified"
-std::vector<Region> classifyPixels(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings);
+const char* regionName(Region r); // "empty", "magnified", "transition", "minified"
+std::vector<Region> classifyPixels(const SplatScene& scene, const ImagePlane& plane,
+                                   const SplatSettings& settings);
 
 struct RegionError {
     size_t pixels = 0;
-    double rmse = 0.0;         // premultiplied RGBA over the region's pixels, as metrics.h
-    double psnrDb = 0.0;       // 20 log10(1 / rmse); +inf when identical
-    double alphaBias = 0.0;    // mean alpha of the image minus that of the reference: > 0 over-covers
+    double rmse = 0.0;      // premultiplied RGBA over the region's pixels, as metrics.h
+    double psnrDb = 0.0;    // 20 log10(1 / rmse); +inf when identical
+    double alphaBias = 0.0; // mean alpha of the image minus that of the reference: > 0 over-covers
 };
 // Error of `image` against `reference` over the pixels whose region is `region`. Throws RenderError
 // when the sizes differ.
