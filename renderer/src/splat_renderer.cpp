@@ -17,6 +17,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <limits>
+#include <map>
 #include <optional>
 
 namespace renderer {
@@ -73,13 +74,11 @@ layout(std430, binding = 2) buffer Counters { uint counters[]; };
 layout(std430, binding = 3) readonly buffer Gradients { uint gradients[]; };   // packed (shading.h)
 layout(binding = 0) uniform usampler3D classes;      // per-voxel LUT class (R16UI)
 
-uniform int uShading;         // 0 none, 1 per splat (here), 2 per fragment
 uniform ShadingParams uShadingParams;
 uniform float uSurfaceFlatten, uSurfaceGradient;   // flatten 1: no surface splats
 uniform vec3 uSigma;          // kernel sigma per object axis
 
 uniform int uVertsPerSplat;   // 1: point sprite, 6: two triangles
-uniform bool uCount;          // count per splat into Counters (slots: see SplatRenderer::render)
 uniform vec2 uCentrePx, uViewport;
 uniform float uGuardPx;       // the viewport reaches this far past the image (points clip by centre)
 uniform mat3 uVarCamera;      // W V'' W^T, shared by every voxel of a rectilinear grid
@@ -94,8 +93,12 @@ flat out vec3 vColour;
 flat out vec3 vHeat;          // one-hot filter mode
 flat out vec3 vGradient;      // per-fragment shading: W times the decoded relative gradient
 
-void count(int slot) {
-    if (uCount && gl_VertexID % uVertsPerSplat == 0) atomicAdd(counters[slot], 1u);
+// Program variants (SplatRenderer::Gl::splatProgram) switch features with #defines: llvmpipe runs
+// both sides of a branch under a mask, so an unused feature would still cost every vertex/fragment.
+void count(int slot) {   // COUNTERS: count per splat (slots: CounterSlot)
+#ifdef COUNTERS
+    if (gl_VertexID % uVertsPerSplat == 0) atomicAdd(counters[slot], 1u);
+#endif
 }
 
 const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
@@ -128,9 +131,18 @@ void main() {
                                      0.0, uFPx * iz, -uFPx * u.y * iz * iz,
                                      u.x / l, u.y / l, u.z / l));
     uint voxel = uint(ijk.x) + uint(uDims.x) * (uint(ijk.y) + uint(uDims.y) * uint(ijk.z));
-    vec4 grad = (uShading != 0 || uSurfaceFlatten > 1.0) ? unpackGradient(gradients[voxel]) : vec4(0.0);
-    bool surface = uSurfaceFlatten > 1.0 && grad.w >= uSurfaceGradient;
+#if defined(SURFACE) || defined(SPLAT_SHADING) || defined(FRAGMENT_SHADING)
+    vec4 grad = unpackGradient(gradients[voxel]);
+#else
+    vec4 grad = vec4(0.0);
+#endif
+#ifdef SURFACE
+    bool surface = grad.w >= uSurfaceGradient;
     mat3 varCamera = surface ? surfaceVarianceCamera(uSigma, uViewFromObject, grad.xyz, uSurfaceFlatten) : uVarCamera;
+#else
+    bool surface = false;
+    mat3 varCamera = uVarCamera;
+#endif
     mat3 V = J * varCamera * transpose(J);
     mat2 vHat = mat2(V[0][0], V[0][1], V[1][0], V[1][1]);
     int mode = resolveFilter(ijk);
@@ -151,12 +163,17 @@ void main() {
     vConic = vec3(M[1][1], -M[0][1], M[0][0]) / det;
     vAmplitude = tf.a * uExtinctionScale * detJ / (6.283185307 * sqrt(det));
     vGradient = uViewFromObject * (grad.xyz * grad.w);
-    vColour = uShading == 1 ? shade(tf.rgb, vGradient, -u, uShadingParams) : tf.rgb;
+#ifdef SPLAT_SHADING
+    vColour = shade(tf.rgb, vGradient, -u, uShadingParams);
+#else
+    vColour = tf.rgb;
+#endif
     vHeat = vec3(mode == 0 ? 1.0 : 0.0, mode == 1 ? 1.0 : 0.0, mode == 2 ? 1.0 : 0.0);
-    // One pixel of margin: the fragment test, not the primitive, decides coverage.
+    // Half a pixel of margin against rounding: the fragment test, not the primitive, decides coverage
+    // (a pixel centre on the box's edge would lie on the cutoff ellipse).
     vec2 p = centre;
-    if (uVertsPerSplat == 1) gl_PointSize = 2.0 * (max(halfExtent.x, halfExtent.y) + 1.0);
-    else p += kCorners[gl_VertexID % 6] * (halfExtent + 1.0);
+    if (uVertsPerSplat == 1) gl_PointSize = 2.0 * max(halfExtent.x, halfExtent.y) + 1.0;
+    else p += kCorners[gl_VertexID % 6] * (halfExtent + 0.5);
     vec2 span = uViewport + 2.0 * uGuardPx;
     gl_Position = vec4(2.0 * (p.x + uGuardPx) / span.x - 1.0, 1.0 - 2.0 * (p.y + uGuardPx) / span.y, 0.0, 1.0);
 }
@@ -172,11 +189,12 @@ flat in vec3 vGradient;
 uniform vec2 uViewport, uCentrePx;
 uniform float uCutoff, uFPx;
 uniform bool uOrtho;
-uniform int uShading;
 uniform ShadingParams uShadingParams;
 uniform bool uAdditive;       // sheets and X-ray sum optical depth; splat-every-sample blends "over"
 layout(location = 0) out vec4 fragColour;
+#ifdef HEATMAP
 layout(location = 1) out vec4 fragHeat;
+#endif
 
 void main() {
     vec2 d = vec2(gl_FragCoord.x, uViewport.y - gl_FragCoord.y) - vCentre;   // y down, like the CPU
@@ -186,13 +204,15 @@ void main() {
     // 1 - exp(-tau) loses all digits in float for tiny tau; the series is exact to 1e-10 there.
     float w = uAdditive ? tau : (tau < 1e-3 ? tau * (1.0 - 0.5 * tau) : 1.0 - exp(-tau));
     vec3 colour = vColour;
-    if (uShading == 2) {   // towards the eye along this pixel's ray
-        vec2 px = vec2(gl_FragCoord.x, uViewport.y - gl_FragCoord.y);
-        vec3 toEye = uOrtho ? vec3(0.0, 0.0, -1.0) : -vec3((px - uCentrePx) / uFPx, 1.0);
-        colour = shade(vColour, vGradient, toEye, uShadingParams);
-    }
+#ifdef FRAGMENT_SHADING   // towards the eye along this pixel's ray
+    vec2 px = vec2(gl_FragCoord.x, uViewport.y - gl_FragCoord.y);
+    vec3 toEye = uOrtho ? vec3(0.0, 0.0, -1.0) : -vec3((px - uCentrePx) / uFPx, 1.0);
+    colour = shade(vColour, vGradient, toEye, uShadingParams);
+#endif
     fragColour = vec4(colour * w, w);
+#ifdef HEATMAP
     fragHeat = vec4(vHeat * w, w);
+#endif
 }
 )";
 
@@ -379,8 +399,12 @@ struct AxisBuffers {
 
 } // namespace
 
+// Feature bits of a splat program variant (the #defines above).
+enum SplatVariant { kCounters = 1, kSurface = 2, kSplatShading = 4, kFragmentShading = 8, kHeatmap = 16 };
+
 struct SplatRenderer::Gl {
-    GLuint splatProgram = 0, compositeProgram = 0, resolveProgram = 0, displayProgram = 0;
+    std::map<int, GLuint> splatPrograms;   // by SplatVariant bits, built on first use
+    GLuint compositeProgram = 0, resolveProgram = 0, displayProgram = 0;
     GLuint commandsProgram = 0, patchProgram = 0;
     GLuint splatVao = 0, emptyVao = 0;
     GLuint classTexture = 0;
@@ -411,7 +435,8 @@ struct SplatRenderer::Gl {
     uint64_t memoryLimit = 0;   // setMemoryLimit(); 0: none beyond what the driver reports
 
     ~Gl() {
-        for (GLuint p : {splatProgram, compositeProgram, resolveProgram, displayProgram, commandsProgram, patchProgram})
+        for (auto [bits, p] : splatPrograms) glDeleteProgram(p);
+        for (GLuint p : {compositeProgram, resolveProgram, displayProgram, commandsProgram, patchProgram})
             glDeleteProgram(p);
         const GLuint vaos[] = {splatVao, emptyVao};
         glDeleteVertexArrays(2, vaos);
@@ -467,6 +492,21 @@ struct SplatRenderer::Gl {
         displayFbo = makeFbo({displayTex}, 0);
         width = w;
         height = h;
+    }
+
+    GLuint splatProgram(int bits) {
+        auto it = splatPrograms.find(bits);
+        if (it != splatPrograms.end()) return it->second;
+        std::string header = "#version 450 core\n";
+        const std::pair<int, const char*> defines[] = {{kCounters, "COUNTERS"}, {kSurface, "SURFACE"},
+                                                       {kSplatShading, "SPLAT_SHADING"},
+                                                       {kFragmentShading, "FRAGMENT_SHADING"}, {kHeatmap, "HEATMAP"}};
+        for (auto [bit, name] : defines)
+            if (bits & bit) header += std::string("#define ") + name + "\n";
+        const GLuint p = gl::buildProgram("splat", (header + shadingGlsl() + kSplatCommon + kSplatVertMain).c_str(),
+                                          (header + shadingGlsl() + kSplatFragMain).c_str());
+        splatPrograms[bits] = p;
+        return p;
     }
 
     // Uniforms of SPLAT_COMMON for this view.
@@ -579,14 +619,12 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
         throw GlError("SplatRenderer", "needs OpenGL 4.5 core, the current context has " + glVersionString());
     installGlDebugCallback();
     Gl& g = *m_gl;
-    const std::string header = "#version 450 core\n";
-    g.splatProgram = gl::buildProgram("splat", (header + shadingGlsl() + kSplatCommon + kSplatVertMain).c_str(),
-                                      (header + shadingGlsl() + kSplatFragMain).c_str());
+    g.splatProgram(0);   // the common variant: a broken shader fails here, not in the first frame
     g.compositeProgram = gl::buildProgram("sheet_composite", kFullscreenVert, kCompositeFrag);
     g.resolveProgram = gl::buildProgram("xray_resolve", kFullscreenVert, kResolveFrag);
     g.displayProgram = gl::buildProgram("display", kFullscreenVert, kDisplayFrag);
     g.commandsProgram = gl::buildComputeProgram("bucket_commands", kCommandsComp);
-    g.patchProgram = gl::buildComputeProgram("patch_modes", (header + kSplatCommon + kPatchCompMain).c_str());
+    g.patchProgram = gl::buildComputeProgram("patch_modes", (std::string("#version 450 core\n") + kSplatCommon + kPatchCompMain).c_str());
     glCreateVertexArrays(1, &g.splatVao);
     glCreateVertexArrays(1, &g.emptyVao);
     // Attribute 0: the run record, one per draw (divisor 1 reads element baseInstance).
@@ -737,7 +775,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     // Points cost one vertex and one primitive a splat instead of six and two; they need every
     // footprint to fit the largest point size, and a guard band, since a point is clipped by its centre.
     const double bound = maxHalfExtentBound(g.dims, g.origin, g.spacing, plane, settings);
-    const double pointFits = 0.5 * g.maxPointSize - 1.0;
+    const double pointFits = 0.5 * (g.maxPointSize - 1.0);   // gl_PointSize = 2 h + 1
     bool points = settings.primitive == SplatSettings::Primitive::Points ||
                   (settings.primitive == SplatSettings::Primitive::Auto && bound <= pointFits);
     if (points && !(bound <= pointFits) && settings.primitive == SplatSettings::Primitive::Points)
@@ -767,14 +805,18 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glNamedFramebufferDrawBuffers(g.frameFbo, targets, bothTargets);
     glNamedFramebufferDrawBuffers(g.sheetFbo, targets, bothTargets);
 
-    const GLuint p = g.splatProgram;
+    using Shading = SplatSettings::Shading;
+    const int variant = (settings.counters ? kCounters : 0) | (settings.surfaceFlatten > 1.0 ? kSurface : 0) |
+                        (settings.shading == Shading::PerSplat ? kSplatShading : 0) |
+                        (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
+                        (settings.heatmap ? kHeatmap : 0);
+    const GLuint p = g.splatProgram(variant);
     glUseProgram(p);
     g.setCommonUniforms(p, plane, settings, trav.axis);
     const glm::mat3 varCamera(kernelVarianceCamera(settings.kernelScale * g.spacing, plane.viewFromObject));
     const double meanSpacing = (g.spacing.x + g.spacing.y + g.spacing.z) / 3.0;
     const double diagonal = std::hypot(double(plane.width), double(plane.height));
     glUniform1i(glGetUniformLocation(p, "uVertsPerSplat"), verts);
-    glUniform1i(glGetUniformLocation(p, "uCount"), settings.counters);
     glUniform2f(glGetUniformLocation(p, "uCentrePx"), float(plane.centrePx.x), float(plane.centrePx.y));
     glUniform2f(glGetUniformLocation(p, "uViewport"), float(plane.width), float(plane.height));
     glUniform1f(glGetUniformLocation(p, "uGuardPx"), guard);
@@ -784,7 +826,6 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                 float(settings.density / meanSpacing * g.spacing.x * g.spacing.y * g.spacing.z));
     glUniform1f(glGetUniformLocation(p, "uMaxHalfExtent"), float(settings.maxFootprintFraction * diagonal));
     glUniform1i(glGetUniformLocation(p, "uAdditive"), sheets || xray);
-    glUniform1i(glGetUniformLocation(p, "uShading"), int(settings.shading));
     const ShadingParams& sp = settings.shadingParams;
     glUniform1f(glGetUniformLocation(p, "uShadingParams.ambient"), float(sp.ambient));
     glUniform1f(glGetUniformLocation(p, "uShadingParams.diffuse"), float(sp.diffuse));

@@ -7,6 +7,7 @@
 #include "renderer/gl_context.h"
 #include "renderer/reference_renderer.h"
 #include "renderer/splat_renderer.h"
+#include "renderer/transfer_function.h"
 #include "renderer/volume_io.h"
 
 #include <benchmark/benchmark.h>
@@ -32,7 +33,8 @@ std::vector<Dataset> datasets() {
     std::vector<Dataset> d;
     const char* dir = std::getenv("SPLATLAB_DATA_DIR");
     if (dir && std::filesystem::is_directory(dir)) {
-        d.push_back({"bonsai", std::filesystem::path(dir) / "bonsai.nhdr", "grey-ramp"});
+        d.push_back({"bonsai", std::filesystem::path(dir) / "bonsai.nhdr",
+                     SPLATLAB_ASSET_DIR "/presets/bonsai.json"});
         d.push_back({"engine", std::filesystem::path(dir) / "engine.nhdr", "fire"});
     }
     d.push_back({"headsq", std::filesystem::path(SPLATLAB_ASSET_DIR) / "volumes" / "headsq.nhdr", "ct-skin-bone"});
@@ -46,17 +48,18 @@ std::map<std::string, SplatScene>& scenes() {
 
 const SplatScene& sceneOf(const Dataset& d) {
     auto& cache = scenes();
-    if (!cache.count(d.name)) cache.emplace(d.name, buildSplatScene(loadVolume(d.path), builtinPreset(d.preset)));
+    if (!cache.count(d.name))
+        cache.emplace(d.name, buildSplatScene(loadVolume(d.path), transferFunctionFromSpec(d.preset)));
     return cache.at(d.name);
 }
 
 // Times whole frames (render + glFinish) of one configuration; one more frame with GPU counters on
 // reports what was drawn per filter.
-void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s) {
+void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Camera camera = {}) {
     const SplatScene& scene = sceneOf(d);
     SplatRenderer r;
     r.setScene(scene);
-    const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, 512, 512);
+    const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, 512, 512);
     r.render(plane, s);   // warm-up
     glFinish();
     for (auto _ : state) {
@@ -83,11 +86,11 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s) {
 // (classify every voxel, build and upload the lists, render), alternating two presets.
 void tfEdit(benchmark::State& state, const Dataset& d, bool rebuild) {
     const Volume volume = loadVolume(d.path);
-    SplatScene scene = buildSplatScene(volume, builtinPreset(d.preset));
+    SplatScene scene = buildSplatScene(volume, transferFunctionFromSpec(d.preset));
     SplatRenderer r;
     r.setScene(scene);
     const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, 512, 512);
-    const TransferFunction tfs[2] = {builtinPreset("ct-bone"), builtinPreset(d.preset)};
+    const TransferFunction tfs[2] = {builtinPreset("ct-bone"), transferFunctionFromSpec(d.preset)};
     int k = 0;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -105,7 +108,7 @@ void tfEdit(benchmark::State& state, const Dataset& d, bool rebuild) {
     }
 }
 
-void add(const std::string& name, std::function<void(benchmark::State&)> fn, int iterations = 5) {
+void add(const std::string& name, std::function<void(benchmark::State&)> fn, int iterations = 3) {
     benchmark::RegisterBenchmark(name.c_str(), [fn](benchmark::State& st) { fn(st); })
         ->UseManualTime()
         ->Unit(benchmark::kMillisecond)
@@ -142,6 +145,14 @@ int main(int argc, char** argv) {
         s.compositing = Compositing::SheetFrontToBack;
         s.opaqueAlpha = 1.0;
         add(n + "/ewa/sheet-front-to-back/no-early-termination", [=](benchmark::State& st) { renderFrames(st, d, s); });
+        // Adaptive against full EWA where it can choose: close up (magnified) and far away (minified).
+        for (auto [view, distance] : {std::pair{"near", 1.2}, std::pair{"far", 8.0}})
+            for (auto filter : {FilterMode::Ewa, FilterMode::Adaptive}) {
+                SplatSettings v;
+                v.filter = filter;
+                add(n + "/" + view + "/" + filterModeName(filter),
+                    [=](benchmark::State& st) { renderFrames(st, d, v, Camera{.distance = distance}); });
+            }
         add(n + "/tf-edit/select-buckets", [=](benchmark::State& st) { tfEdit(st, d, false); });
         add(n + "/tf-edit/rebuild-scene", [=](benchmark::State& st) { tfEdit(st, d, true); }, 2);
     }
