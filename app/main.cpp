@@ -170,6 +170,8 @@ struct SceneArgs {
     std::string window = "data";
     double kernelScale = SplatSettings{}.kernelScale, density = 1.0;
     bool orthographic = false;
+    std::string shading = "none";
+    double surfaceFlatten = 1.0, surfaceGradient = SplatSettings{}.surfaceGradient;
     RawFlags raw;
 };
 
@@ -187,6 +189,13 @@ void addSceneOptions(CLI::App* cmd, SceneArgs& a) {
         ->capture_default_str();
     cmd->add_option("--kernel-scale", a.kernelScale, "Reconstruction sigma in voxel spacings")->capture_default_str();
     cmd->add_option("--density", a.density, "Extinction per voxel length at TF opacity 1")->capture_default_str();
+    cmd->add_option("--shading", a.shading, "Headlight Phong: none, per-splat, per-fragment")->capture_default_str();
+    cmd->add_option("--surface", a.surfaceFlatten,
+                    "Surface splats: flatten kernels by this factor along strong gradients (1: off)")
+        ->capture_default_str();
+    cmd->add_option("--surface-gradient", a.surfaceGradient,
+                    "Gradient magnitude (fraction of the largest) from which a voxel is a surface splat")
+        ->capture_default_str();
     addRawFlags(cmd, a.raw);
 }
 
@@ -209,9 +218,27 @@ Scene buildScene(const SceneArgs& a) {
     if (!(a.density > 0)) throw CLI::ValidationError("--density", "must be > 0");
     s.settings.kernelScale = a.kernelScale;
     s.settings.density = a.density;
+    const std::pair<const char*, SplatSettings::Shading> shadings[] = {{"none", SplatSettings::Shading::None},
+                                                                       {"per-splat", SplatSettings::Shading::PerSplat},
+                                                                       {"per-fragment", SplatSettings::Shading::PerFragment}};
+    bool knownShading = false;
+    for (auto [name, mode] : shadings)
+        if (a.shading == name) s.settings.shading = mode, knownShading = true;
+    if (!knownShading)
+        throw CLI::ValidationError("--shading", "'" + a.shading + "': expected none, per-splat or per-fragment");
+    if (!(a.surfaceFlatten >= 1.0 && a.surfaceFlatten <= 1e6))
+        throw CLI::ValidationError("--surface", "must be in [1, 1e6] (1: volume kernels)");
+    if (!(a.surfaceGradient >= 0.0 && a.surfaceGradient <= 1.0))
+        throw CLI::ValidationError("--surface-gradient", "must be in [0, 1]");
+    s.settings.surfaceFlatten = a.surfaceFlatten;
+    s.settings.surfaceGradient = a.surfaceGradient;
     const TransferFunction tf = transferFunctionFromSpec(a.tf);
     const Volume volume = loadVolume(a.volume, rawOptions(a.raw));
     s.scene = buildSplatScene(volume, tf, windowFor(volume, parseWindow(a.window)));
+    if (s.settings.shading != SplatSettings::Shading::None || s.settings.surfaceFlatten > 1.0) {
+        std::fprintf(stderr, "gradients\n");
+        addGradients(s.scene, *computeGradients(volume, printProgress));
+    }
     s.plane = makeImagePlane(camera, s.scene.centre, s.scene.radius, size.x, size.y);
     return s;
 }
@@ -220,9 +247,41 @@ double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-int runRender(const SceneArgs& a, int frames, bool cpu) {
+// What only `render` sets: GL options and extra outputs.
+struct RenderArgs {
+    int frames = 5;
+    bool cpu = false, counters = false;
+    std::string heatmap, primitive = "auto";
+    double opaqueAlpha = SplatSettings{}.opaqueAlpha, cMin = SplatSettings{}.cMin;
+    int patchSize = SplatSettings{}.patchSize;
+};
+
+void printCounters(const SplatCounters& c) {
+    std::printf("  drawn %llu (reconstruction %llu, low-pass %llu, ewa %llu); culled transparent %llu, near %llu, "
+                "offscreen %llu, huge %llu, degenerate %llu\n",
+                (unsigned long long)c.drawn, (unsigned long long)c.drawnPerMode[0], (unsigned long long)c.drawnPerMode[1],
+                (unsigned long long)c.drawnPerMode[2], (unsigned long long)c.culledTransparent,
+                (unsigned long long)c.culledNear, (unsigned long long)c.culledOffscreen, (unsigned long long)c.culledHuge,
+                (unsigned long long)c.culledDegenerate);
+}
+
+int runRender(const SceneArgs& a, const RenderArgs& ra) {
+    const int frames = ra.frames;
+    const bool cpu = ra.cpu;
     if (frames < 1) throw CLI::ValidationError("--frames", "must be >= 1");
-    const Scene s = buildScene(a);
+    if (!(ra.opaqueAlpha > 0.0 && ra.opaqueAlpha <= 1.0)) throw CLI::ValidationError("--opaque-alpha", "must be in (0, 1]");
+    if (!(ra.cMin > 0.0)) throw CLI::ValidationError("--c-min", "must be > 0");
+    if (ra.patchSize < 1 || ra.patchSize > 256) throw CLI::ValidationError("--patch-size", "must be 1..256");
+    Scene s = buildScene(a);
+    s.settings.opaqueAlpha = ra.opaqueAlpha;
+    s.settings.cMin = ra.cMin;
+    s.settings.patchSize = ra.patchSize;
+    s.settings.heatmap = !ra.heatmap.empty();
+    s.settings.counters = ra.counters;
+    if (ra.primitive == "points") s.settings.primitive = SplatSettings::Primitive::Points;
+    else if (ra.primitive == "quads") s.settings.primitive = SplatSettings::Primitive::Quads;
+    else if (ra.primitive != "auto") throw CLI::ValidationError("--primitive", "'" + ra.primitive + "': expected auto, points or quads");
+    Image heatmap;
     Image image;
     std::vector<double> ms;
     std::string device;
@@ -231,7 +290,7 @@ int runRender(const SceneArgs& a, int frames, bool cpu) {
         device = "CPU oracle (double)";
         for (int i = 0; i < frames; ++i) {
             const auto t0 = std::chrono::steady_clock::now();
-            image = renderReference(s.scene, s.plane, s.settings, &counters);
+            image = renderReference(s.scene, s.plane, s.settings, &counters, s.settings.heatmap ? &heatmap : nullptr);
             ms.push_back(msSince(t0));
         }
     } else {
@@ -248,19 +307,23 @@ int runRender(const SceneArgs& a, int frames, bool cpu) {
             ms.push_back(msSince(t0));
         }
         image = gl.readback();
+        if (s.settings.heatmap) heatmap = gl.readbackHeatmap();
+        if (ra.counters) {   // one more frame with the GPU's counters on (they wait for the frame)
+            SplatSettings counted = s.settings;
+            counted.counters = true;
+            gl.render(s.plane, counted);
+            counters = gl.stats().counters;
+        }
+        std::printf("  %s, %.2f GPU bytes per voxel\n", gl.stats().points ? "point sprites" : "quads",
+                    double(gl.sceneBytes()) / double(s.scene.classes.size()));
     }
     writeImage(image, a.out);
+    if (s.settings.heatmap) writeImage(heatmap, ra.heatmap);
     std::sort(ms.begin(), ms.end());
     std::printf("%s: %dx%d, %zu splats, %s, %s, %.2f ms/frame (median of %d) on %s\n", a.out.c_str(),
                 s.plane.width, s.plane.height, s.scene.visibleCount(), filterModeName(s.settings.filter),
                 compositingName(s.settings.compositing), ms[ms.size() / 2], frames, device.c_str());
-    if (cpu)
-        std::printf("  drawn %llu (reconstruction %llu, low-pass %llu, ewa %llu); culled near %llu, offscreen %llu, "
-                    "huge %llu, degenerate %llu\n",
-                    (unsigned long long)counters.drawn, (unsigned long long)counters.drawnPerMode[0],
-                    (unsigned long long)counters.drawnPerMode[1], (unsigned long long)counters.drawnPerMode[2],
-                    (unsigned long long)counters.culledNear, (unsigned long long)counters.culledOffscreen,
-                    (unsigned long long)counters.culledHuge, (unsigned long long)counters.culledDegenerate);
+    if (cpu || ra.counters) printCounters(counters);
     return 0;
 }
 
@@ -308,16 +371,23 @@ int main(int argc, char** argv) {
     app.require_subcommand(0, 1);
 
     SceneArgs r;
-    int frames = 5;
-    bool cpu = false;
+    RenderArgs ra;
     auto* render = app.add_subcommand("render", "Render a volume headless to an image (PNG, EXR, ...)");
     addSceneOptions(render, r);
     render->add_option("--compositing", r.compositing,
-                       "splat-every-sample, xray; with --cpu also sheet-back-to-front, sheet-front-to-back")
+                       "splat-every-sample, sheet-back-to-front, sheet-front-to-back, xray")
         ->capture_default_str();
     render->add_option("--filter", r.filter, "reconstruction, low-pass, ewa or adaptive")->capture_default_str();
-    render->add_option("--frames", frames, "Timed frames (the median is printed)")->capture_default_str();
-    render->add_flag("--cpu", cpu, "Render with the double-precision CPU oracle instead of GL");
+    render->add_option("--c-min", ra.cMin, "Adaptive: reconstruction only where R_k > 1 px / c_min")->capture_default_str();
+    render->add_option("--patch-size", ra.patchSize, "Adaptive: slice voxels per patch side")->capture_default_str();
+    render->add_option("--opaque-alpha", ra.opaqueAlpha,
+                       "Front-to-back sheets stop at pixels this opaque (1: never)")->capture_default_str();
+    render->add_option("--primitive", ra.primitive, "GL splat primitive: auto, points, quads")->capture_default_str();
+    render->add_option("--heatmap", ra.heatmap, "Also write the filter-mode heatmap (red reconstruction, green "
+                                                "low-pass, blue EWA, weighted by opacity)");
+    render->add_flag("--counters", ra.counters, "Print splats per filter and per cull (GL: counted on the GPU)");
+    render->add_option("--frames", ra.frames, "Timed frames (the median is printed)")->capture_default_str();
+    render->add_flag("--cpu", ra.cpu, "Render with the double-precision CPU oracle instead of GL");
 
     SceneArgs ref;
     GroundTruthOptions gt;
@@ -367,7 +437,7 @@ int main(int argc, char** argv) {
 
     try {
         app.parse(argc, argv);
-        if (*render) return runRender(r, frames, cpu);
+        if (*render) return runRender(r, ra);
         if (*reference) return runReference(ref, gt, cacheDir, noCache);
         if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);
         if (*info) return runInfo(infoPath, infoRaw, infoGradients);

@@ -388,6 +388,7 @@ struct AxisBuffers {
     std::vector<uint32_t> sliceRuns;   // as AxisLists::sliceRuns
     std::vector<uint16_t> buckets;     // per run
     std::vector<uint32_t> voxels;      // per run: voxels of its bucket
+    std::vector<glm::u16vec2> lo, hi;  // per run: in-slice bounds of its voxels
     std::vector<uint32_t> descendingSlot;
 
     void release() {
@@ -584,13 +585,14 @@ double maxHalfExtentBound(const glm::ivec3& dims, const glm::dvec3& origin, cons
     return settings.cutoffSigmas * std::sqrt(jacobian2 * sigma * sigma + 1.0);
 }
 
-// Pixel rectangle a slice's splats can touch: its four corner voxels projected, grown by the largest
-// footprint. The whole image when the slice reaches the near plane.
+// Pixel rectangle a slice's splats can touch: the corners of the in-slice box [lo, hi] holding its
+// drawn voxels, projected and grown by the largest footprint. The whole image when the box reaches
+// the near plane.
 struct Rect {
     int x0, y0, x1, y1;
 };
-Rect sliceRect(const glm::ivec3& dims, const glm::dvec3& origin, const glm::dvec3& spacing, const ImagePlane& plane,
-               int axis, int slice, double margin) {
+Rect sliceRect(const glm::dvec3& origin, const glm::dvec3& spacing, const ImagePlane& plane, int axis, int slice,
+               glm::u16vec2 lo, glm::u16vec2 hi, double margin) {
     const Rect all{0, 0, plane.width, plane.height};
     if (!std::isfinite(margin)) return all;
     const int a = (axis + 1) % 3, b = (axis + 2) % 3;
@@ -598,8 +600,8 @@ Rect sliceRect(const glm::ivec3& dims, const glm::dvec3& origin, const glm::dvec
     for (int corner = 0; corner < 4; ++corner) {
         glm::dvec3 ijk(0.0);
         ijk[axis] = slice;
-        ijk[a] = (corner & 1) ? dims[a] - 1 : 0;
-        ijk[b] = (corner & 2) ? dims[b] - 1 : 0;
+        ijk[a] = (corner & 1) ? hi.x : lo.x;
+        ijk[b] = (corner & 2) ? hi.y : lo.y;
         const glm::dvec3 u = plane.toCamera(origin + spacing * ijk);
         if (!plane.orthographic && !(u.z > plane.nearDepth)) return all;
         const glm::dvec2 p = plane.project(u);
@@ -711,6 +713,8 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         std::vector<glm::uvec2> places(std::max<size_t>(n, 1), glm::uvec2(0));
         a.buckets.resize(n);
         a.voxels.resize(n);
+        a.lo.resize(n);
+        a.hi.resize(n);
         a.descendingSlot.resize(n);
         a.sliceRuns = lists.sliceRuns;
         // Descending order: slices from the top, each slice's runs in their own order.
@@ -726,6 +730,8 @@ void SplatRenderer::setScene(const SplatScene& scene) {
             places[r] = glm::uvec2(run.first, a.descendingSlot[r]);
             a.buckets[r] = run.bucket;
             a.voxels[r] = run.voxels;
+            a.lo[r] = run.lo;
+            a.hi[r] = run.hi;
         }
         makeBuffer(a.runs, runs.size() * sizeof(glm::uvec4), runs.data(), "slice runs");
         makeBuffer(a.places, places.size() * sizeof(glm::uvec2), places.data(), "slice runs");
@@ -893,11 +899,13 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         for (uint32_t k = 0; k < slices; ++k) {
             const uint32_t slice = descending ? slices - 1 - k : k;
             const uint32_t r0 = axis.sliceRuns[slice], r1 = axis.sliceRuns[slice + 1];
-            bool any = false;
-            for (uint32_t r = r0; r < r1 && !any; ++r) any = active[axis.buckets[r]];
-            if (!any) continue;
+            // The sheet covers only the active runs' voxels: their in-slice box, projected.
+            glm::u16vec2 lo(UINT16_MAX), hi(0);
+            for (uint32_t r = r0; r < r1; ++r)
+                if (active[axis.buckets[r]]) lo = glm::min(lo, axis.lo[r]), hi = glm::max(hi, axis.hi[r]);
+            if (lo.x > hi.x) continue;   // no active bucket: nothing to draw or composite
             ++m_stats.slicesDrawn;
-            const Rect rect = sliceRect(g.dims, g.origin, g.spacing, plane, trav.axis, int(slice), margin);
+            const Rect rect = sliceRect(g.origin, g.spacing, plane, trav.axis, int(slice), lo, hi, margin);
             if (rect.x0 >= rect.x1 || rect.y0 >= rect.y1) continue;
             // GL's rows run bottom up.
             glScissor(rect.x0, plane.height - rect.y1, rect.x1 - rect.x0, rect.y1 - rect.y0);

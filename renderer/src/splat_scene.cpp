@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace renderer {
 
@@ -41,8 +42,17 @@ AxisLists buildAxisLists(const SplatScene& s, int axis) {
         for (uint32_t tileBase = 0; tileBase < sliceSize; tileBase += kTileVoxels) {
             const uint32_t tileSize = std::min(kTileVoxels, sliceSize - tileBase);
             std::array<uint32_t, kBuckets> count{};
-            for (uint32_t p = 0; p < tileSize; ++p)
-                ++count[s.classes[s.voxelAt(axis, slice, tileBase + p)] >> kBucketShift];
+            std::array<glm::u16vec2, kBuckets> lo, hi;
+            lo.fill(glm::u16vec2(UINT16_MAX));
+            hi.fill(glm::u16vec2(0));
+            const uint32_t rowLength = uint32_t(d[(axis + 1) % 3]);
+            for (uint32_t p = 0; p < tileSize; ++p) {
+                const int b = s.classes[s.voxelAt(axis, slice, tileBase + p)] >> kBucketShift;
+                ++count[size_t(b)];
+                const glm::u16vec2 ab(uint16_t((tileBase + p) % rowLength), uint16_t((tileBase + p) / rowLength));
+                lo[size_t(b)] = glm::min(lo[size_t(b)], ab);
+                hi[size_t(b)] = glm::max(hi[size_t(b)], ab);
+            }
             std::array<uint32_t, kBuckets> offset{};
             const uint32_t base = uint32_t(out.entries.size());
             uint32_t listed = 0;
@@ -56,6 +66,8 @@ AxisLists buildAxisLists(const SplatScene& s, int axis) {
                 r.first = r.dense ? 0 : base + listed;
                 r.count = r.dense ? tileSize : count[size_t(b)];
                 r.voxels = count[size_t(b)];
+                r.lo = lo[size_t(b)];
+                r.hi = hi[size_t(b)];
                 offset[size_t(b)] = r.first;
                 if (!r.dense) listed += count[size_t(b)];
                 out.runs.push_back(r);
@@ -92,6 +104,8 @@ SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, Val
     // The GL path addresses a list entry as gl_VertexID / 6 (a signed int).
     if (volume.voxelCount() > size_t(INT32_MAX / 6))
         throw RenderError("volume '" + volume.name + "' has more than " + std::to_string(INT32_MAX / 6) + " voxels");
+    if (std::max({volume.dims.x, volume.dims.y, volume.dims.z}) > 65535)
+        throw RenderError("volume '" + volume.name + "' is longer than 65535 voxels along an axis");
     SplatScene s;
     s.name = volume.name;
     s.dims = volume.dims;

@@ -57,6 +57,35 @@ TEST(Cli, RenderWritesAPictureOfTheVolumeHeadless) {
     EXPECT_GT(double(bright) / (96.0 * 80.0), 0.2);
 }
 
+TEST(Cli, RenderWritesTheHeatmapAndPrintsGpuCountersWithShadingAndSheets) {
+    const auto dir = testing_support::testOutputDir("cli_heatmap");
+    const CliRun r = splatlab("render \"" + headsq() + "\" --out \"" + (dir / "img.png").string() + "\" --heatmap \"" +
+                              (dir / "heat.exr").string() + "\" --counters --filter adaptive --shading per-splat " +
+                              "--surface 8 --compositing sheet-front-to-back --size 64x64 --frames 1 --up -z");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_THAT(r.output, HasSubstr("drawn "));
+    EXPECT_THAT(r.output, HasSubstr("GPU bytes per voxel"));
+    // The heatmap's three shares add up to the pixel's alpha, and some pixel is covered.
+    const renderer::Image heat = renderer::readImage(dir / "heat.exr");
+    ASSERT_EQ(heat.width, 64);
+    double covered = 0.0;
+    for (size_t i = 0; i < heat.rgba.size(); i += 4) {
+        ASSERT_NEAR(heat.rgba[i] + heat.rgba[i + 1] + heat.rgba[i + 2], heat.rgba[i + 3], 1e-4);
+        covered += heat.rgba[i + 3];
+    }
+    EXPECT_GT(covered, 64.0);
+}
+
+TEST(Cli, BadRenderOptionsNameTheFlag) {
+    const auto out = (testing_support::testOutputDir() / "cli_bad.png").string();
+    for (auto [args, flag] : {std::pair{"--shading phong", "--shading"}, std::pair{"--surface 0.5", "--surface"},
+                              std::pair{"--primitive lines", "--primitive"}, std::pair{"--opaque-alpha 0", "--opaque-alpha"}}) {
+        const CliRun r = splatlab("render \"" + headsq() + "\" --out \"" + out + "\" --size 8x8 --frames 1 " + args);
+        EXPECT_NE(r.status, 0) << args;
+        EXPECT_THAT(r.output, HasSubstr(flag)) << args;
+    }
+}
+
 TEST(Cli, InfoPrintsDimsTypeSpacingAndRange) {
     const CliRun r = splatlab("info \"" + headsq() + "\"");
     ASSERT_EQ(r.status, 0) << r.output;

@@ -164,7 +164,14 @@ TEST(SplatScene, ListsStayCompactWhereOneValueDominatesATile) {
     for (const auto& lists : s.lists) {
         EXPECT_EQ(lists.entries.size(), 1000u);
         size_t dense = 0;
-        for (const auto& r : lists.runs) dense += r.dense;
+        for (const auto& r : lists.runs) {
+            dense += r.dense;
+            // The block's runs know where in the slice their voxels lie (the sheet's scissor box).
+            const glm::u16vec2 lo = r.dense ? glm::u16vec2(0) : glm::u16vec2(15);
+            const glm::u16vec2 hi = r.dense ? glm::u16vec2(39) : glm::u16vec2(24);
+            EXPECT_EQ(r.lo, lo);
+            EXPECT_EQ(r.hi, hi);
+        }
         EXPECT_EQ(dense, 40u);
     }
 }

@@ -34,6 +34,9 @@ struct SliceRun {
     uint32_t tileBase = 0;   // in-slice position of the tile's first voxel
     uint16_t bucket = 0;
     bool dense = false;
+    // In-slice bounds of the bucket's voxels along the slice's two axes (a1, a2 below), inclusive:
+    // what the slice's sheet must cover when this run is drawn.
+    glm::u16vec2 lo{0}, hi{0};
 };
 
 // In-slice position of voxel v in a slice along `axis`: v[a1] + v[a2] * dims[a1], a1 = (axis+1)%3,
