@@ -72,6 +72,8 @@ layout(std430, binding = 0) readonly buffer Entries { uint entries[]; };   // 16
 layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
 layout(std430, binding = 2) buffer Counters { uint counters[]; };
 layout(std430, binding = 3) readonly buffer Gradients { uint gradients[]; };   // packed (shading.h)
+layout(std430, binding = 4) readonly buffer PatchModes { uint patchModes[]; };
+uniform int uPatchColumns, uPatchRows;   // patches along the slice's axes a1 and a2
 layout(binding = 0) uniform usampler3D classes;      // per-voxel LUT class (R16UI)
 
 uniform ShadingParams uShadingParams;
@@ -145,7 +147,12 @@ void main() {
 #endif
     mat3 V = J * varCamera * transpose(J);
     mat2 vHat = mat2(V[0][0], V[0][1], V[1][0], V[1][1]);
-    int mode = resolveFilter(ijk);
+#ifdef ADAPTIVE   // the patch's filter, classified once per patch by the patch pass
+    int pa = ijk[a1] / uPatchSize, pb = ijk[a2] / uPatchSize;
+    int mode = int(patchModes[(ijk[uAxis] * uPatchRows + pb) * uPatchColumns + pa]);
+#else
+    int mode = uFilter;
+#endif
     mat2 M = mode == 0 ? vHat : (mode == 1 ? mat2(1.0) : vHat + mat2(1.0));
     if (surface && mode == 0) M = clampFootprintVariance(M, kMinFootprintVariancePx2);
     float det = M[0][0] * M[1][1] - M[0][1] * M[1][0];
@@ -223,18 +230,15 @@ void main() {
 }
 )";
 
-// Sheet compositing: reads the frame's image in place (one read and one write per pixel after a
-// texture barrier) and adds the slice's sheet in front of it or behind it. Front to back, pixels
-// whose alpha reached uOpaqueAlpha get depth 0, and later splat fragments fail the depth test there.
-const char* kCompositeFrag = R"(#version 450 core
+// Sheet compositing: the slice's sheet as premultiplied colour, blended behind the image (front to
+// back: src (1 - dst.a) + dst) or over it (back to front). HEATMAP: the heat sheet likewise.
+const char* kCompositeFragMain = R"(
 layout(binding = 0) uniform sampler2D sheet;
 layout(binding = 1) uniform sampler2D sheetHeat;
-layout(binding = 2) uniform sampler2D image;
-layout(binding = 3) uniform sampler2D heat;
-uniform bool uFrontToBack, uHeat;
-uniform float uOpaqueAlpha;
 layout(location = 0) out vec4 outColour;
+#ifdef HEATMAP
 layout(location = 1) out vec4 outHeat;
+#endif
 
 // (sum c tau, sum tau) -> premultiplied colour of alpha 1 - exp(-sum tau).
 vec4 sheetRgba(vec4 q) {
@@ -242,13 +246,24 @@ vec4 sheetRgba(vec4 q) {
     float a = q.a < 1e-3 ? q.a * (1.0 - 0.5 * q.a) : 1.0 - exp(-q.a);
     return vec4(q.rgb / q.a * a, a);
 }
-vec4 combine(vec4 dst, vec4 src) { return uFrontToBack ? dst + (1.0 - dst.a) * src : src + (1.0 - src.a) * dst; }
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
-    outColour = combine(texelFetch(image, p, 0), sheetRgba(texelFetch(sheet, p, 0)));
-    outHeat = uHeat ? combine(texelFetch(heat, p, 0), sheetRgba(texelFetch(sheetHeat, p, 0))) : vec4(0.0);
-    gl_FragDepth = (uFrontToBack && outColour.a >= uOpaqueAlpha) ? 0.0 : 1.0;
+    outColour = sheetRgba(texelFetch(sheet, p, 0));
+#ifdef HEATMAP
+    outHeat = sheetRgba(texelFetch(sheetHeat, p, 0));
+#endif
+}
+)";
+
+// Early termination, before each front-to-back slice: pixels of the image whose alpha reached
+// uOpaqueAlpha get depth 0.5 in the sheet's depth buffer, where the splats (also at 0.5) then fail
+// GL_LESS: no fill is spent behind opaque pixels.
+const char* kOpaqueMaskFrag = R"(#version 450 core
+layout(binding = 2) uniform sampler2D image;
+uniform float uOpaqueAlpha;
+void main() {
+    if (texelFetch(image, ivec2(gl_FragCoord.xy), 0).a < uOpaqueAlpha) discard;
 }
 )";
 
@@ -401,11 +416,12 @@ struct AxisBuffers {
 } // namespace
 
 // Feature bits of a splat program variant (the #defines above).
-enum SplatVariant { kCounters = 1, kSurface = 2, kSplatShading = 4, kFragmentShading = 8, kHeatmap = 16 };
+enum SplatVariant { kCounters = 1, kSurface = 2, kSplatShading = 4, kFragmentShading = 8, kHeatmap = 16, kAdaptive = 32 };
 
 struct SplatRenderer::Gl {
     std::map<int, GLuint> splatPrograms;   // by SplatVariant bits, built on first use
-    GLuint compositeProgram = 0, resolveProgram = 0, displayProgram = 0;
+    std::array<GLuint, 2> compositePrograms{};   // without and with the heatmap
+    GLuint opaqueMaskProgram = 0, resolveProgram = 0, displayProgram = 0;
     GLuint commandsProgram = 0, patchProgram = 0;
     GLuint splatVao = 0, emptyVao = 0;
     GLuint classTexture = 0;
@@ -437,7 +453,8 @@ struct SplatRenderer::Gl {
 
     ~Gl() {
         for (auto [bits, p] : splatPrograms) glDeleteProgram(p);
-        for (GLuint p : {compositeProgram, resolveProgram, displayProgram, commandsProgram, patchProgram})
+        for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
+                         commandsProgram, patchProgram})
             glDeleteProgram(p);
         const GLuint vaos[] = {splatVao, emptyVao};
         glDeleteVertexArrays(2, vaos);
@@ -501,13 +518,36 @@ struct SplatRenderer::Gl {
         std::string header = "#version 450 core\n";
         const std::pair<int, const char*> defines[] = {{kCounters, "COUNTERS"}, {kSurface, "SURFACE"},
                                                        {kSplatShading, "SPLAT_SHADING"},
-                                                       {kFragmentShading, "FRAGMENT_SHADING"}, {kHeatmap, "HEATMAP"}};
+                                                       {kFragmentShading, "FRAGMENT_SHADING"}, {kHeatmap, "HEATMAP"},
+                                                       {kAdaptive, "ADAPTIVE"}};
         for (auto [bit, name] : defines)
             if (bits & bit) header += std::string("#define ") + name + "\n";
         const GLuint p = gl::buildProgram("splat", (header + shadingGlsl() + kSplatCommon + kSplatVertMain).c_str(),
                                           (header + shadingGlsl() + kSplatFragMain).c_str());
         splatPrograms[bits] = p;
         return p;
+    }
+
+    // The adaptive classifier once per patch (compute) into patchBuffer; returns the patch count.
+    size_t classifyPatches(const ImagePlane& plane, const SplatSettings& settings, int axis) {
+        const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+        const int ps = std::max(settings.patchSize, 1);
+        const int na = (dims[a] + ps - 1) / ps, nb = (dims[b] + ps - 1) / ps, slices = dims[axis];
+        const size_t n = size_t(na) * nb * slices;
+        if (patchBufferBytes < n * 4) {
+            glDeleteBuffers(1, &patchBuffer);
+            glCreateBuffers(1, &patchBuffer);
+            glNamedBufferStorage(patchBuffer, GLsizeiptr(n * 4), nullptr, 0);
+            patchBufferBytes = n * 4;
+        }
+        glUseProgram(patchProgram);
+        setCommonUniforms(patchProgram, plane, settings, axis);
+        glUniform1i(glGetUniformLocation(patchProgram, "uNa"), na);
+        glUniform1i(glGetUniformLocation(patchProgram, "uNb"), nb);
+        glUniform1i(glGetUniformLocation(patchProgram, "uSlices"), slices);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, patchBuffer);
+        glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
+        return n;
     }
 
     // Uniforms of SPLAT_COMMON for this view.
@@ -622,7 +662,11 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     installGlDebugCallback();
     Gl& g = *m_gl;
     g.splatProgram(0);   // the common variant: a broken shader fails here, not in the first frame
-    g.compositeProgram = gl::buildProgram("sheet_composite", kFullscreenVert, kCompositeFrag);
+    for (int heat = 0; heat < 2; ++heat)
+        g.compositePrograms[size_t(heat)] = gl::buildProgram(
+            "sheet_composite",  kFullscreenVert,
+            (std::string("#version 450 core\n") + (heat ? "#define HEATMAP\n" : "") + kCompositeFragMain).c_str());
+    g.opaqueMaskProgram = gl::buildProgram("opaque_mask", kFullscreenVert, kOpaqueMaskFrag);
     g.resolveProgram = gl::buildProgram("xray_resolve", kFullscreenVert, kResolveFrag);
     g.displayProgram = gl::buildProgram("display", kFullscreenVert, kDisplayFrag);
     g.commandsProgram = gl::buildComputeProgram("bucket_commands", kCommandsComp);
@@ -815,9 +859,19 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     const int variant = (settings.counters ? kCounters : 0) | (settings.surfaceFlatten > 1.0 ? kSurface : 0) |
                         (settings.shading == Shading::PerSplat ? kSplatShading : 0) |
                         (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
-                        (settings.heatmap ? kHeatmap : 0);
+                        (settings.heatmap ? kHeatmap : 0) | (settings.filter == FilterMode::Adaptive ? kAdaptive : 0);
+    if (settings.filter == FilterMode::Adaptive) {
+        g.classifyPatches(plane, settings, trav.axis);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
     const GLuint p = g.splatProgram(variant);
     glUseProgram(p);
+    {
+        const int ps = std::max(settings.patchSize, 1);
+        glUniform1i(glGetUniformLocation(p, "uPatchColumns"), (g.dims[(trav.axis + 1) % 3] + ps - 1) / ps);
+        glUniform1i(glGetUniformLocation(p, "uPatchRows"), (g.dims[(trav.axis + 2) % 3] + ps - 1) / ps);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.patchBuffer ? g.patchBuffer : g.counterBuffer);
+    }
     g.setCommonUniforms(p, plane, settings, trav.axis);
     const glm::mat3 varCamera(kernelVarianceCamera(settings.kernelScale * g.spacing, plane.viewFromObject));
     const double meanSpacing = (g.spacing.x + g.spacing.y + g.spacing.z) / 3.0;
@@ -887,15 +941,13 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         const double margin = std::min(bound, settings.maxFootprintFraction * diagonal);
         const uint32_t slices = uint32_t(g.dims[trav.axis]);
         glEnable(GL_SCISSOR_TEST);
-        glUseProgram(g.compositeProgram);
-        glUniform1i(glGetUniformLocation(g.compositeProgram, "uFrontToBack"), frontToBack);
-        glUniform1i(glGetUniformLocation(g.compositeProgram, "uHeat"), settings.heatmap);
-        glUniform1f(glGetUniformLocation(g.compositeProgram, "uOpaqueAlpha"),
-                    earlyTermination ? float(settings.opaqueAlpha) : 2.0f);
+        const GLuint composite = g.compositePrograms[settings.heatmap ? 1 : 0];
+        glUseProgram(g.opaqueMaskProgram);
+        glUniform1f(glGetUniformLocation(g.opaqueMaskProgram, "uOpaqueAlpha"), float(settings.opaqueAlpha));
         glBindTextureUnit(0, g.sheet);
         glBindTextureUnit(1, g.sheetHeat);
         glBindTextureUnit(2, g.image);
-        glBindTextureUnit(3, g.heat);
+        bool first = true;
         for (uint32_t k = 0; k < slices; ++k) {
             const uint32_t slice = descending ? slices - 1 - k : k;
             const uint32_t r0 = axis.sliceRuns[slice], r1 = axis.sliceRuns[slice + 1];
@@ -911,8 +963,21 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             glScissor(rect.x0, plane.height - rect.y1, rect.x1 - rect.x0, rect.y1 - rect.y0);
             glClearNamedFramebufferfv(g.sheetFbo, GL_COLOR, 0, zero);
             if (settings.heatmap) glClearNamedFramebufferfv(g.sheetFbo, GL_COLOR, 1, zero);
-
             glBindFramebuffer(GL_FRAMEBUFFER, g.sheetFbo);
+            glDisable(GL_BLEND);
+            if (earlyTermination && !first) {   // mark what earlier slices made opaque
+                glViewport(0, 0, plane.width, plane.height);
+                glEnable(GL_DEPTH_TEST);
+                glDepthFunc(GL_ALWAYS);
+                glDepthMask(GL_TRUE);
+                glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+                glUseProgram(g.opaqueMaskProgram);
+                glBindVertexArray(g.emptyVao);
+                glDrawArrays(GL_TRIANGLES, 0, 3);
+                glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+            }
+            first = false;
+
             glViewport(-guardInt, -guardInt, plane.width + 2 * guardInt, plane.height + 2 * guardInt);
             glUseProgram(p);
             glBindVertexArray(g.splatVao);
@@ -920,23 +985,21 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             glBlendFunc(GL_ONE, GL_ONE);
             if (earlyTermination) {
                 glEnable(GL_DEPTH_TEST);
-                glDepthFunc(GL_LESS);   // splats lie at depth 0.5; opaque pixels hold 0
+                glDepthFunc(GL_LESS);   // splats lie at depth 0.5 like the mask: masked pixels reject them
                 glDepthMask(GL_FALSE);
             } else {
                 glDisable(GL_DEPTH_TEST);
             }
-            const uint32_t first = descending ? axis.descendingSlot[r0] : r0;
-            glMultiDrawArraysIndirect(primitive, reinterpret_cast<const void*>(size_t(first) * 16), GLsizei(r1 - r0), 0);
+            const uint32_t firstCommand = descending ? axis.descendingSlot[r0] : r0;
+            glMultiDrawArraysIndirect(primitive, reinterpret_cast<const void*>(size_t(firstCommand) * 16),
+                                      GLsizei(r1 - r0), 0);
 
             glBindFramebuffer(GL_FRAMEBUFFER, g.frameFbo);
             glViewport(0, 0, plane.width, plane.height);
-            glDisable(GL_BLEND);
-            if (earlyTermination) {
-                glDepthFunc(GL_ALWAYS);
-                glDepthMask(GL_TRUE);
-            }
-            glTextureBarrier();   // the composite reads the image it writes, one texel per fragment
-            glUseProgram(g.compositeProgram);
+            glDisable(GL_DEPTH_TEST);
+            if (frontToBack) glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);   // "under": src (1 - dst.a) + dst
+            else glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);                // "over"
+            glUseProgram(composite);
             glBindVertexArray(g.emptyVao);
             glDrawArrays(GL_TRIANGLES, 0, 3);
         }
@@ -981,24 +1044,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
 std::vector<uint8_t> SplatRenderer::patchModes(const ImagePlane& plane, const SplatSettings& settings) {
     Gl& g = *m_gl;
     if (!g.classTexture) throw RenderError("SplatRenderer::patchModes called before setScene");
-    const Traversal trav = chooseTraversal(plane);
-    const int a = (trav.axis + 1) % 3, b = (trav.axis + 2) % 3;
-    const int ps = std::max(settings.patchSize, 1);
-    const int na = (g.dims[a] + ps - 1) / ps, nb = (g.dims[b] + ps - 1) / ps, slices = g.dims[trav.axis];
-    const size_t n = size_t(na) * nb * slices;
-    if (g.patchBufferBytes < n * 4) {
-        glDeleteBuffers(1, &g.patchBuffer);
-        glCreateBuffers(1, &g.patchBuffer);
-        glNamedBufferStorage(g.patchBuffer, GLsizeiptr(n * 4), nullptr, 0);
-        g.patchBufferBytes = n * 4;
-    }
-    glUseProgram(g.patchProgram);
-    g.setCommonUniforms(g.patchProgram, plane, settings, trav.axis);
-    glUniform1i(glGetUniformLocation(g.patchProgram, "uNa"), na);
-    glUniform1i(glGetUniformLocation(g.patchProgram, "uNb"), nb);
-    glUniform1i(glGetUniformLocation(g.patchProgram, "uSlices"), slices);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.patchBuffer);
-    glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
+    const size_t n = g.classifyPatches(plane, settings, chooseTraversal(plane).axis);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<uint32_t> words(n);
     glGetNamedBufferSubData(g.patchBuffer, 0, GLsizeiptr(n * 4), words.data());
