@@ -252,7 +252,7 @@ struct RenderArgs {
     int frames = 5;
     bool cpu = false, counters = false;
     std::string heatmap, primitive = "auto";
-    double opaqueAlpha = SplatSettings{}.opaqueAlpha, cMin = SplatSettings{}.cMin;
+    double opaqueAlpha = SplatSettings{}.opaqueAlpha, cMin = SplatSettings{}.cMin, cMax = SplatSettings{}.cMax;
     int patchSize = SplatSettings{}.patchSize;
 };
 
@@ -271,10 +271,12 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     if (frames < 1) throw CLI::ValidationError("--frames", "must be >= 1");
     if (!(ra.opaqueAlpha > 0.0 && ra.opaqueAlpha <= 1.0)) throw CLI::ValidationError("--opaque-alpha", "must be in (0, 1]");
     if (!(ra.cMin > 0.0)) throw CLI::ValidationError("--c-min", "must be > 0");
+    if (!(ra.cMax >= 0.0)) throw CLI::ValidationError("--c-max", "must be >= 0 (0: 2 (1 + 2 tan^2(fov/2)))");
     if (ra.patchSize < 1 || ra.patchSize > 256) throw CLI::ValidationError("--patch-size", "must be 1..256");
     Scene s = buildScene(a);
     s.settings.opaqueAlpha = ra.opaqueAlpha;
     s.settings.cMin = ra.cMin;
+    s.settings.cMax = ra.cMax;
     s.settings.patchSize = ra.patchSize;
     s.settings.heatmap = !ra.heatmap.empty();
     s.settings.counters = ra.counters;
@@ -313,6 +315,7 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
             counted.counters = true;
             gl.render(s.plane, counted);
             counters = gl.stats().counters;
+            std::printf("  %llu fragments passed (all passes)\n", (unsigned long long)gl.stats().fragments);
         }
         std::printf("  %s, %.2f GPU bytes per voxel\n", gl.stats().points ? "point sprites" : "quads",
                     double(gl.sceneBytes()) / double(s.scene.classes.size()));
@@ -379,6 +382,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     render->add_option("--filter", r.filter, "reconstruction, low-pass, ewa or adaptive")->capture_default_str();
     render->add_option("--c-min", ra.cMin, "Adaptive: reconstruction only where R_k > 1 px / c_min")->capture_default_str();
+    render->add_option("--c-max", ra.cMax, "Adaptive: low-pass only where R_k < 1 px / c_max (0: the paper's "
+                                           "2 (1 + 2 tan^2(fov/2)))")->capture_default_str();
     render->add_option("--patch-size", ra.patchSize, "Adaptive: slice voxels per patch side")->capture_default_str();
     render->add_option("--opaque-alpha", ra.opaqueAlpha,
                        "Front-to-back sheets stop at pixels this opaque (1: never)")->capture_default_str();

@@ -445,6 +445,7 @@ struct SplatRenderer::Gl {
     uint64_t frameCounter = 0, newestTimed = 0;
     int timerNext = 0;
     GLint maxPointSize = 1;
+    GLuint fragmentQuery = 0;   // GL_SAMPLES_PASSED of a counted frame
     // Scene constants the vertex stage needs.
     glm::ivec3 dims{0};
     glm::dvec3 origin{0.0}, spacing{1.0};
@@ -464,6 +465,7 @@ struct SplatRenderer::Gl {
         for (auto& a : axes) a.release();
         releaseTargets();
         glDeleteQueries(kTimerRing, timers.data());
+        glDeleteQueries(1, &fragmentQuery);
     }
 
     void releaseTargets() {
@@ -679,6 +681,7 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     glVertexArrayAttribBinding(g.splatVao, 0, 0);
     glVertexArrayBindingDivisor(g.splatVao, 0, 1);
     glCreateQueries(GL_TIME_ELAPSED, kTimerRing, g.timers.data());
+    glCreateQueries(GL_SAMPLES_PASSED, 1, &g.fragmentQuery);
     glCreateBuffers(1, &g.counterBuffer);
     glNamedBufferStorage(g.counterBuffer, kCounterSlots * sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);
     GLfloat pointRange[2] = {1, 1};
@@ -821,6 +824,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     const size_t slot = size_t(g.timerNext);
     const bool timed = !g.timerPending[slot];   // ring full of unfinished frames: skip, never stall
     if (timed) glBeginQuery(GL_TIME_ELAPSED, g.timers[slot]);
+    if (settings.counters) glBeginQuery(GL_SAMPLES_PASSED, g.fragmentQuery);
 
     // Points cost one vertex and one primitive a splat instead of six and two; they need every
     // footprint to fit the largest point size, and a guard band, since a point is clipped by its centre.
@@ -1010,6 +1014,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     }
     if (points) glDisable(GL_PROGRAM_POINT_SIZE);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    if (settings.counters) glEndQuery(GL_SAMPLES_PASSED);
     if (timed) {
         glEndQuery(GL_TIME_ELAPSED);
         g.timerPending[slot] = true;
@@ -1025,6 +1030,9 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     m_stats.uploadBytes = 0;   // a frame uploads uniforms only
     m_stats.hasCounters = settings.counters;
     if (settings.counters) {   // waits for the frame: for tests, benchmarks and the stats panel's opt-in
+        GLuint64 fragments = 0;
+        glGetQueryObjectui64v(g.fragmentQuery, GL_QUERY_RESULT, &fragments);
+        m_stats.fragments = fragments;
         std::array<GLuint, kCounterSlots> c{};
         glGetNamedBufferSubData(g.counterBuffer, 0, sizeof(c), c.data());
         SplatCounters& out = m_stats.counters;

@@ -5,6 +5,7 @@
 // GL_RENDERER. On llvmpipe compare modes only as ratios measured in one run.
 #include "renderer/camera.h"
 #include "renderer/gl_context.h"
+#include "renderer/gradients.h"
 #include "renderer/reference_renderer.h"
 #include "renderer/splat_renderer.h"
 #include "renderer/transfer_function.h"
@@ -46,17 +47,23 @@ std::map<std::string, SplatScene>& scenes() {
     return cache;
 }
 
-const SplatScene& sceneOf(const Dataset& d) {
+// The dataset's scene; with gradients (for shading) when the settings need them.
+const SplatScene& sceneOf(const Dataset& d, bool gradients = false) {
     auto& cache = scenes();
-    if (!cache.count(d.name))
-        cache.emplace(d.name, buildSplatScene(loadVolume(d.path), transferFunctionFromSpec(d.preset)));
-    return cache.at(d.name);
+    const std::string key = std::string(d.name) + (gradients ? "+gradients" : "");
+    if (!cache.count(key)) {
+        const Volume volume = loadVolume(d.path);
+        SplatScene scene = buildSplatScene(volume, transferFunctionFromSpec(d.preset));
+        if (gradients) addGradients(scene, *computeGradients(volume));
+        cache.emplace(key, std::move(scene));
+    }
+    return cache.at(key);
 }
 
 // Times whole frames (render + glFinish) of one configuration; one more frame with GPU counters on
 // reports what was drawn per filter.
 void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Camera camera = {}) {
-    const SplatScene& scene = sceneOf(d);
+    const SplatScene& scene = sceneOf(d, s.shading != SplatSettings::Shading::None || s.surfaceFlatten > 1.0);
     SplatRenderer r;
     r.setScene(scene);
     const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, 512, 512);
@@ -80,6 +87,7 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
     state.counters["ewa"] = double(c.drawnPerMode[2]);
     state.counters["points"] = points;
     state.counters["bytes_per_voxel"] = double(r.sceneBytes()) / double(scene.classes.size());
+    state.counters["fragments"] = double(r.stats().fragments);
 }
 
 // TF edit to finished frame: bucket selection (upload the LUT, render) against rebuilding the scene
@@ -153,6 +161,16 @@ int main(int argc, char** argv) {
                 add(n + "/" + view + "/" + filterModeName(filter),
                     [=](benchmark::State& st) { renderFrames(st, d, v, Camera{.distance = distance}); });
             }
+        // Shading per splat (vertex stage) against per fragment, and surface splats.
+        for (auto [name, shading] : {std::pair{"per-splat", SplatSettings::Shading::PerSplat},
+                                     std::pair{"per-fragment", SplatSettings::Shading::PerFragment}}) {
+            SplatSettings v;
+            v.shading = shading;
+            add(n + "/ewa/splat-every-sample/shaded-" + name, [=](benchmark::State& st) { renderFrames(st, d, v); });
+        }
+        s = {};
+        s.surfaceFlatten = 8.0;
+        add(n + "/ewa/splat-every-sample/surface-splats", [=](benchmark::State& st) { renderFrames(st, d, s); });
         add(n + "/tf-edit/select-buckets", [=](benchmark::State& st) { tfEdit(st, d, false); });
         add(n + "/tf-edit/rebuild-scene", [=](benchmark::State& st) { tfEdit(st, d, true); }, 2);
     }

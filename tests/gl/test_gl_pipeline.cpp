@@ -80,11 +80,16 @@ TEST_F(GlTest, EarlyTerminationChangesAPixelByLessThanWhatItSkips) {
     s.compositing = Compositing::SheetFrontToBack;
     s.density = 8.0;
     s.opaqueAlpha = 1.0;
+    s.counters = true;
     r.render(f.plane, s);
     const Image full = r.readback();
+    const uint64_t fullFragments = r.stats().fragments;
     s.opaqueAlpha = 0.95;
     r.render(f.plane, s);
     const Image early = r.readback();
+    // Stopping at opaque pixels must save fill: fewer fragments pass.
+    EXPECT_LT(r.stats().fragments, fullFragments);
+    EXPECT_GT(r.stats().fragments, 0u);
     double worst = 0.0;
     size_t changed = 0;
     for (size_t i = 0; i < full.rgba.size(); ++i) {

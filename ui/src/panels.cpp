@@ -113,6 +113,8 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     if (s.filter == renderer::FilterMode::Adaptive) {
         changes.settingsChanged |= sliderDouble("c_min", s.cMin, 0.05, 1.0, "%.2f");
         hint("Reconstruction only where a kernel spans more than 1 px / c_min (paper: 0.3)");
+        changes.settingsChanged |= sliderDouble("c_max", s.cMax, 0.0, 8.0, "%.2f");
+        hint("Low-pass only where a kernel spans less than 1 px / c_max (0: the paper's 2 (1 + 2 tan^2(fov/2)))");
         changes.settingsChanged |= ImGui::SliderInt("Patch size", &s.patchSize, 1, 32);
     }
     changes.settingsChanged |= enumCombo("Compositing", s.compositing,
@@ -254,6 +256,7 @@ void drawStatsPanel(const StatsView& stats) {
         ImGui::Text("culled  transparent %llu  near %llu  offscreen %llu  huge %llu",
                     (unsigned long long)c.culledTransparent, (unsigned long long)c.culledNear,
                     (unsigned long long)c.culledOffscreen, (unsigned long long)c.culledHuge);
+        ImGui::Text("fragments %llu (all passes)", (unsigned long long)f.fragments);
     }
     if (!stats.frameMsHistory.empty()) {
         const float peak = *std::max_element(stats.frameMsHistory.begin(), stats.frameMsHistory.end());

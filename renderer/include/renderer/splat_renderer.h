@@ -22,6 +22,8 @@ struct FrameStats {
     int slicesDrawn = 0;         // sheet modes: slices with an active bucket (the rest are skipped)
     bool hasCounters = false;    // SplatSettings::counters was on: `counters` holds the GPU's counts
     SplatCounters counters;
+    uint64_t fragments = 0;      // with counters: samples passed in the frame (GL_SAMPLES_PASSED; sheet
+                                 // and resolve passes included, discarded and depth-failed ones not)
 };
 
 class SplatRenderer {
