@@ -138,10 +138,11 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
                                                     renderer::SplatSettings::Shading::PerFragment},
                                          &shadingName);
     hint("Headlight Phong from the gradients: per splat (vertex stage) or per fragment");
-    changes.settingsChanged |= sliderDouble("Surface flatten", s.surfaceFlatten, 1.0, 50.0, "%.1f",
+    changes.settingsChanged |= sliderDouble("Flatten", s.surfaceFlatten, 1.0, 50.0, "%.1f",
                                             ImGuiSliderFlags_Logarithmic);
-    changes.settingsChanged |= sliderDouble("Surface gradient", s.surfaceGradient, 0.0, 1.0, "%.2f");
-    hint("Voxels whose gradient reaches this fraction of the largest get kernels flattened along it (1: off)");
+    changes.settingsChanged |= sliderDouble("Surface at", s.surfaceGradient, 0.0, 1.0, "%.2f");
+    hint("Flatten: surface-splat kernels are this much thinner along the gradient (1: off)\n"
+         "Surface at: gradient magnitude, as a fraction of the largest, from which a voxel is a surface");
     ImGui::EndDisabled();
     if (!state.gradientsReady) ImGui::TextDisabled("(gradients not computed yet)");
 
@@ -246,7 +247,7 @@ void drawStatsPanel(const StatsView& stats) {
         ImGui::Text("render  cpu %.2f ms   gpu %.2f ms", f.cpuMs, f.gpuMs);
     else
         ImGui::Text("render  cpu %.2f ms   gpu (pending)", f.cpuMs);
-    ImGui::Text("splats  %llu drawn of %zu visible", static_cast<unsigned long long>(f.splatsDrawn),
+    ImGui::Text("splats  %llu sent (%zu visible)", static_cast<unsigned long long>(f.splatsDrawn),
                 stats.visibleSplats);
     ImGui::Text("upload  %.1f KiB   %s", double(f.uploadBytes) / 1024.0, f.points ? "point sprites" : "quads");
     if (f.hasCounters) {
