@@ -223,6 +223,8 @@ int runEditor(const EditorOptions& options) {
     guarded([&] {
         state.camera = options.camera;
         state.camera.up = renderer::axisFromName(options.upAxis);
+        state.settings.filter = renderer::filterModeFromName(options.filter);
+        state.showHeatmap = state.settings.heatmap = options.heatmap;
         if (options.volumePath.empty()) return;
         doc.tf = renderer::transferFunctionFromSpec(options.tfSpec);
         state.presetName = doc.tf.name.empty() ? options.tfSpec : doc.tf.name;

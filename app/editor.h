@@ -14,6 +14,8 @@ struct EditorOptions {
     std::filesystem::path screenshotPath; // non-empty: write a PNG of the window after `frames` frames
     int frames = 0;                       // > 0: exit after this many frames (0: until the window closes)
     int width = 1280, height = 800;       // window size in screen coordinates
+    std::string filter = "ewa";           // starting filter mode (ewa.h names)
+    bool heatmap = false;                 // start showing the filter-mode heatmap
 };
 
 // Runs the editor until the window closes, or for `frames` frames. Returns the process exit code:

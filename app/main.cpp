@@ -437,6 +437,9 @@ int main(int argc, char** argv) {
     editor->add_option("--frames", e.frames, "Exit after this many frames (0: run until closed)");
     editor->add_option("--size", editorSize, "Window size WxH")->capture_default_str();
     editor->add_option("--camera", editorCamera, "Starting view: azimuth,elevation,distance,fov");
+    editor->add_option("--filter", e.filter, "Starting filter: reconstruction, low-pass, ewa or adaptive")
+        ->capture_default_str();
+    editor->add_flag("--heatmap", e.heatmap, "Start with the filter-mode heatmap in the viewport");
     editor->add_option("--up", editorUp, "Object axis shown upwards: x, y, z, -x, -y, -z (default: z; "
                                          "-z for the bundled headsq)");
 

@@ -80,3 +80,30 @@ TEST(EditorScreenshot, ViewportShowsTheVolumeAndPanelsDifferFromIt) {
     EXPECT_GT(std::abs(modalLuminance(image, left) - background), 2.0 / 255.0) << "see " << shot;
     EXPECT_GT(fractionBrighterThan(image, left, 0.5), 0.002) << "no text in the settings panel, see " << shot;
 }
+
+TEST(EditorScreenshot, HeatmapViewShowsFilterColoursInsteadOfTheVolume) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    const std::filesystem::path volume = testing_support::assetDir() / "volumes" / "headsq.nhdr";
+    const std::filesystem::path shot = testing_support::testOutputDir() / "editor_heatmap.png";
+    std::filesystem::remove(shot);
+    // Full EWA everywhere: the heatmap is pure blue where the volume is (no red, no green).
+    const std::string command = "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" "
+                                "xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor \"" +
+                                volume.string() + "\" --filter ewa --heatmap --screenshot \"" + shot.string() +
+                                "\" --frames 5 --size 1280x800";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    const renderer::Image image = renderer::readImage(shot);
+    const ui::DockLayout layout = ui::makeEditorLayout();
+    const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    const ui::Rect centre = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.25f);
+    size_t blue = 0, other = 0;
+    for (int y = int(centre.y); y < int(centre.bottom()); ++y)
+        for (int x = int(centre.x); x < int(centre.right()); ++x) {
+            const auto p = image.pixel(x, y);
+            if (p[2] > 0.3f && p[0] < 0.1f && p[1] < 0.1f) ++blue;
+            else if (p[0] > 0.3f || p[1] > 0.3f) ++other;
+        }
+    EXPECT_GT(blue, 10u * (other + 1)) << "see " << shot;
+    EXPECT_GT(double(blue) / (double(centre.w) * centre.h), 0.3) << "see " << shot;
+}
