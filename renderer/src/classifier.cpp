@@ -19,17 +19,24 @@ AdaptiveThresholds adaptiveThresholds(glm::dvec3 spacing, const ImagePlane& plan
     return t;
 }
 
-FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThresholds& t) {
+FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThresholds& t, FilterMode previous,
+                         double hysteresis) {
     // At or behind the near plane a kernel is as magnified as it gets (and is culled when drawn).
     if (!plane.orthographic && !(u2 > plane.nearDepth)) return FilterMode::Reconstruction;
     const double pxPerUnit = plane.orthographic ? plane.fPx : plane.fPx / u2;
-    if (t.sigmaMin * pxPerUnit > t.reconstructionAbovePx) return FilterMode::Reconstruction;
-    if (t.sigmaMax * pxPerUnit < t.lowPassBelowPx) return FilterMode::LowPass;
+    double reconAbove = t.reconstructionAbovePx, lowPassBelow = t.lowPassBelowPx;
+    if (hysteresis > 0.0 && previous != FilterMode::Adaptive) {   // enter by 1 + h, leave by 1 / (1 + h)
+        const double band = 1.0 + hysteresis;
+        reconAbove = previous == FilterMode::Reconstruction ? reconAbove / band : reconAbove * band;
+        lowPassBelow = previous == FilterMode::LowPass ? lowPassBelow * band : lowPassBelow / band;
+    }
+    if (t.sigmaMin * pxPerUnit > reconAbove) return FilterMode::Reconstruction;
+    if (t.sigmaMax * pxPerUnit < lowPassBelow) return FilterMode::LowPass;
     return FilterMode::Ewa;
 }
 
 FilterMode classifyPatch(const SplatScene& scene, const ImagePlane& plane, const AdaptiveThresholds& t,
-                         int patchSize, int axis, uint32_t voxel) {
+                         int patchSize, int axis, uint32_t voxel, FilterMode previous, double hysteresis) {
     const glm::ivec3 d = scene.dims;
     const glm::ivec3 v(int(voxel % uint32_t(d.x)), int((voxel / uint32_t(d.x)) % uint32_t(d.y)),
                        int(voxel / (uint32_t(d.x) * uint32_t(d.y))));
@@ -43,7 +50,7 @@ FilterMode classifyPatch(const SplatScene& scene, const ImagePlane& plane, const
         c[a] = (corner & 1) ? a1 : a0;
         c[b] = (corner & 2) ? b1 : b0;
         const double u2 = plane.toCamera(scene.origin + scene.spacing * glm::dvec3(c)).z;
-        const FilterMode m = classifyDepth(u2, plane, t);
+        const FilterMode m = classifyDepth(u2, plane, t, previous, hysteresis);
         if (corner == 0) mode = m;
         else if (m != mode) return FilterMode::Ewa;   // corners disagree: the full filter
     }

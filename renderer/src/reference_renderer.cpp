@@ -119,7 +119,8 @@ void requireGradients(const SplatScene& scene, const SplatSettings& settings) {
         throw RenderError("surface flatten must be >= 1 (1: off), got " + std::to_string(settings.surfaceFlatten));
 }
 
-std::vector<uint8_t> patchModes(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings) {
+std::vector<uint8_t> patchModes(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                                const std::vector<uint8_t>* previous) {
     const Traversal trav = chooseTraversal(plane);
     const glm::ivec3 d = scene.dims;
     const int a = (trav.axis + 1) % 3, b = (trav.axis + 2) % 3;
@@ -127,6 +128,7 @@ std::vector<uint8_t> patchModes(const SplatScene& scene, const ImagePlane& plane
     const int na = (d[a] + p - 1) / p, nb = (d[b] + p - 1) / p;
     const AdaptiveThresholds t = adaptiveThresholds(scene.spacing, plane, settings);
     std::vector<uint8_t> modes(size_t(d[trav.axis]) * nb * na);
+    const bool hasPrevious = previous && previous->size() == modes.size() && settings.hysteresis > 0.0;
     tbb::parallel_for(0, d[trav.axis], [&](int slice) {
         for (int pb = 0; pb < nb; ++pb)
             for (int pa = 0; pa < na; ++pa) {
@@ -135,15 +137,19 @@ std::vector<uint8_t> patchModes(const SplatScene& scene, const ImagePlane& plane
                 v[a] = uint32_t(pa * p);
                 v[b] = uint32_t(pb * p);
                 const uint32_t voxel = (v.z * uint32_t(d.y) + v.y) * uint32_t(d.x) + v.x;
-                modes[(size_t(slice) * nb + pb) * na + pa] =
-                    uint8_t(resolveFilter(scene, plane, settings, t, trav.axis, voxel));
+                const size_t i = (size_t(slice) * nb + pb) * na + pa;
+                modes[i] = settings.filter != FilterMode::Adaptive
+                               ? uint8_t(settings.filter)
+                               : uint8_t(classifyPatch(scene, plane, t, p, trav.axis, voxel,
+                                                       hasPrevious ? FilterMode((*previous)[i]) : FilterMode::Adaptive,
+                                                       settings.hysteresis));
             }
     });
     return modes;
 }
 
 Image renderReference(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
-                      SplatCounters* counters, Image* heatmap) {
+                      SplatCounters* counters, Image* heatmap, const std::vector<uint8_t>* previousPatchModes) {
     const Compositing mode = settings.compositing;
     const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
     const bool frontToBack = mode == Compositing::SheetFrontToBack;
@@ -153,8 +159,12 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
     const std::vector<uint32_t> order = drawOrder(scene, trav, frontToBack, settings.drawAllBuckets, &sliceStarts);
     const size_t n = order.size();
 
-    // 1. Geometry of every splat, in draw order.
-    const AdaptiveThresholds thresholds = adaptiveThresholds(scene.spacing, plane, settings);
+    // 1. Geometry of every splat, in draw order; adaptive filters come from one classification a patch.
+    const std::vector<uint8_t> modes = settings.filter == FilterMode::Adaptive
+                                           ? patchModes(scene, plane, settings, previousPatchModes)
+                                           : std::vector<uint8_t>{};
+    const int pa = (trav.axis + 1) % 3, pb = (trav.axis + 2) % 3, ps = std::max(settings.patchSize, 1);
+    const int patchColumns = (scene.dims[pa] + ps - 1) / ps, patchRows = (scene.dims[pb] + ps - 1) / ps;
     std::vector<Splat> splats(n);
     tbb::combinable<SplatCounters> perThread;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
@@ -167,7 +177,12 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
                 ++c.culledTransparent;
                 continue;
             }
-            const FilterMode m = resolveFilter(scene, plane, settings, thresholds, trav.axis, voxel);
+            FilterMode m = settings.filter;
+            if (m == FilterMode::Adaptive) {
+                const glm::uvec3 d(scene.dims);
+                const glm::ivec3 v(int(voxel % d.x), int(voxel / d.x % d.y), int(voxel / (d.x * d.y)));
+                m = FilterMode(modes[(size_t(v[trav.axis]) * patchRows + v[pb] / ps) * patchColumns + v[pa] / ps]);
+            }
             splats[k].geometry =
                 splatGeometry(scene, plane, settings, voxel, extinctionOf(scene, settings, cls), m, &c);
             splats[k].colour = glm::dvec3(scene.lut[cls]);

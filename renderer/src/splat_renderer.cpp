@@ -38,16 +38,25 @@ uniform int uAxis;            // traversal axis: slices and patches lie across i
 uniform int uPatchSize;
 uniform float uReconAbovePx, uLowPassBelowPx, uSigmaMin, uSigmaMax;
 
-int classifyDepth(float u2) {
+uniform float uHysteresis;
+
+// previous: last frame's filter (3: none), for hysteresis, as classifyDepth() on the CPU.
+int classifyDepth(float u2, int previous) {
     if (!uOrtho && !(u2 > uNear)) return 0;
     float pxPerUnit = uOrtho ? uFPx : uFPx / u2;
-    if (uSigmaMin * pxPerUnit > uReconAbovePx) return 0;
-    if (uSigmaMax * pxPerUnit < uLowPassBelowPx) return 1;
+    float reconAbove = uReconAbovePx, lowPassBelow = uLowPassBelowPx;
+    if (uHysteresis > 0.0 && previous != 3) {   // enter by 1 + h, leave by 1 / (1 + h)
+        float band = 1.0 + uHysteresis;
+        reconAbove = previous == 0 ? reconAbove / band : reconAbove * band;
+        lowPassBelow = previous == 1 ? lowPassBelow * band : lowPassBelow / band;
+    }
+    if (uSigmaMin * pxPerUnit > reconAbove) return 0;
+    if (uSigmaMax * pxPerUnit < lowPassBelow) return 1;
     return 2;
 }
 
 // The patch's filter from its four corner voxels, as classifyPatch() does on the CPU.
-int classifyPatch(ivec3 ijk) {
+int classifyPatch(ivec3 ijk, int previous) {
     int a = (uAxis + 1) % 3, b = (uAxis + 2) % 3;
     int a0 = ijk[a] / uPatchSize * uPatchSize, b0 = ijk[b] / uPatchSize * uPatchSize;
     int a1 = min(a0 + uPatchSize - 1, uDims[a] - 1), b1 = min(b0 + uPatchSize - 1, uDims[b] - 1);
@@ -56,14 +65,14 @@ int classifyPatch(ivec3 ijk) {
         ivec3 c = ijk;
         c[a] = (corner & 1) != 0 ? a1 : a0;
         c[b] = (corner & 2) != 0 ? b1 : b0;
-        int m = classifyDepth((uViewFromObject * (uSpacing * vec3(c)) + uTranslation).z);
+        int m = classifyDepth((uViewFromObject * (uSpacing * vec3(c)) + uTranslation).z, previous);
         if (corner == 0) mode = m;
         else if (m != mode) return 2;
     }
     return mode;
 }
 
-int resolveFilter(ivec3 ijk) { return uFilter == 3 ? classifyPatch(ijk) : uFilter; }
+int resolveFilter(ivec3 ijk, int previous) { return uFilter == 3 ? classifyPatch(ijk, previous) : uFilter; }
 )";
 
 const char* kSplatVertMain = R"(
@@ -324,8 +333,9 @@ void main() {
 
 const char* kPatchCompMain = R"(
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) writeonly buffer Modes { uint modes[]; };
+layout(std430, binding = 0) buffer Modes { uint modes[]; };   // last frame's in, this frame's out
 uniform int uNa, uNb, uSlices;
+uniform bool uHasPrevious;
 void main() {
     int i = int(gl_GlobalInvocationID.x);
     if (i >= uSlices * uNb * uNa) return;
@@ -333,7 +343,7 @@ void main() {
     ijk[uAxis] = i / (uNa * uNb);
     ijk[(uAxis + 1) % 3] = (i % uNa) * uPatchSize;
     ijk[(uAxis + 2) % 3] = (i / uNa) % uNb * uPatchSize;
-    modes[i] = uint(resolveFilter(ijk));
+    modes[i] = uint(resolveFilter(ijk, uHasPrevious ? int(modes[i]) : 3));
 }
 )";
 
@@ -428,6 +438,8 @@ struct SplatRenderer::Gl {
     GLuint lutBuffer = 0, counterBuffer = 0, patchBuffer = 0, gradientBuffer = 0;
     bool hasGradients = false;
     size_t patchBufferBytes = 0;
+    glm::ivec4 patchLayout{-1};   // axis, patch size, patches: patchBuffer holds an adaptive frame's
+                                  // modes for this layout (hysteresis reads them as last frame's)
     std::array<AxisBuffers, 3> axes;
     Lut lut;                             // CPU copy: which buckets are active, which slices are empty
     // Command arrays are rewritten when the LUT, the primitive or drawAllBuckets changes.
@@ -541,14 +553,18 @@ struct SplatRenderer::Gl {
             glCreateBuffers(1, &patchBuffer);
             glNamedBufferStorage(patchBuffer, GLsizeiptr(n * 4), nullptr, 0);
             patchBufferBytes = n * 4;
+            patchLayout = glm::ivec4(-1);
         }
         glUseProgram(patchProgram);
         setCommonUniforms(patchProgram, plane, settings, axis);
         glUniform1i(glGetUniformLocation(patchProgram, "uNa"), na);
         glUniform1i(glGetUniformLocation(patchProgram, "uNb"), nb);
         glUniform1i(glGetUniformLocation(patchProgram, "uSlices"), slices);
+        const glm::ivec4 layout(axis, ps, na * nb, slices);
+        glUniform1i(glGetUniformLocation(patchProgram, "uHasPrevious"), layout == patchLayout);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, patchBuffer);
         glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
+        patchLayout = settings.filter == FilterMode::Adaptive ? layout : glm::ivec4(-1);
         return n;
     }
 
@@ -574,6 +590,7 @@ struct SplatRenderer::Gl {
         glUniform1f(glGetUniformLocation(p, "uLowPassBelowPx"), float(t.lowPassBelowPx));
         glUniform1f(glGetUniformLocation(p, "uSigmaMin"), float(t.sigmaMin));
         glUniform1f(glGetUniformLocation(p, "uSigmaMax"), float(t.sigmaMax));
+        glUniform1f(glGetUniformLocation(p, "uHysteresis"), float(settings.hysteresis));
     }
 
     // Rewrites every axis's indirect commands for the current LUT (GPU only: nothing is uploaded).
@@ -787,6 +804,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         a.runCount = uint32_t(n);
     }
     g.dims = d;
+    g.patchLayout = glm::ivec4(-1);   // another scene: no last frame to keep filters from
     g.origin = scene.origin;
     g.spacing = scene.spacing;
     const uint64_t sceneUpload = m_stats.uploadBytes;

@@ -289,3 +289,40 @@ TEST_F(GlTest, SurfaceSplatsMatchCpuAndStayFiniteEdgeOn) {
         }
     }
 }
+
+TEST_F(GlTest, HysteresisKeepsPatchFiltersAcrossASmallCameraMoveLikeTheCpu) {
+    // Two frames a little apart. With hysteresis the GPU's patch modes of frame 2 equal the CPU's given
+    // frame 1's, fewer patches change filter than without, and the images agree.
+    Volume v = makeSphereShells(20, 5.0, 2.0);
+    v.spacing = {1.0, 1.0, 4.0};
+    const SplatScene scene = buildSplatScene(v, ramp());
+    const Camera first{.azimuthDeg = 20, .elevationDeg = 15, .distance = 1.15, .fovYDeg = 70};
+    Camera second = first;
+    second.distance = 1.4;
+    const ImagePlane a = makeImagePlane(first, scene.centre, scene.radius, 128, 128);
+    const ImagePlane b = makeImagePlane(second, scene.centre, scene.radius, 128, 128);
+    SplatSettings s;
+    s.filter = FilterMode::Adaptive;
+    s.patchSize = 4;
+    s.cMin = 0.6;
+    auto changed = [](const std::vector<uint8_t>& x, const std::vector<uint8_t>& y) {
+        size_t n = 0;
+        for (size_t i = 0; i < x.size(); ++i) n += x[i] != y[i];
+        return n;
+    };
+    const size_t withoutHysteresis = changed(patchModes(scene, a, s), patchModes(scene, b, s));
+    s.hysteresis = 0.25;
+    SplatRenderer r;
+    r.setScene(scene);
+    r.render(a, s);   // frame 1: no previous frame
+    const std::vector<uint8_t> cpuFirst = patchModes(scene, a, s);
+    r.render(b, s);   // frame 2 remembers frame 1
+    const Image gl = r.readback();
+    const std::vector<uint8_t> cpuSecond = patchModes(scene, b, s, &cpuFirst);
+    EXPECT_EQ(r.patchModes(b, s), patchModes(scene, b, s, &cpuSecond));   // a third classification
+    std::printf("[ patches  ] changed filter: %zu without hysteresis, %zu with h = 0.25 (of %zu)\n",
+                withoutHysteresis, changed(cpuFirst, cpuSecond), cpuFirst.size());
+    EXPECT_GT(withoutHysteresis, 0u);
+    EXPECT_LT(changed(cpuFirst, cpuSecond), withoutHysteresis);
+    EXPECT_IMAGES_CLOSE(gl, renderReference(scene, b, s, nullptr, nullptr, &cpuFirst), kGlVsCpu, "gl_hysteresis");
+}

@@ -103,6 +103,29 @@ TEST(Classifier, ThresholdsFollowCminAndCmaxInPixels) {
     EXPECT_EQ(classifyDepth(-5.0, plane, t), FilterMode::Reconstruction);   // behind the eye: never low-pass
 }
 
+TEST(Classifier, HysteresisKeepsLastFramesFilterInsideTheBand) {
+    // Thresholds as above: reconstruction below u2 = 105, low-pass beyond u2 = 350 cMax. With h = 0.1
+    // a kernel enters a shortcut only 10 % past its threshold and leaves it only 10 % past it back.
+    ImagePlane plane;
+    plane.fPx = 500.0;
+    plane.tanHalfFovY = std::tan(std::numbers::pi / 12);
+    plane.nearDepth = 0.01;
+    const AdaptiveThresholds t = adaptiveThresholds({1, 1, 1}, plane, SplatSettings{});
+    const double cMax = 2.0 * (1.0 + 2.0 * plane.tanHalfFovY * plane.tanHalfFovY), lowPassFrom = 350.0 * cMax;
+    using enum FilterMode;
+    const double h = 0.1;
+    EXPECT_EQ(classifyDepth(110.0, plane, t, Reconstruction, h), Reconstruction);   // stays
+    EXPECT_EQ(classifyDepth(117.0, plane, t, Reconstruction, h), Ewa);              // 105 x 1.1 passed
+    EXPECT_EQ(classifyDepth(100.0, plane, t, Ewa, h), Ewa);                         // not yet in
+    EXPECT_EQ(classifyDepth(100.0, plane, t), Reconstruction);                     // without hysteresis
+    EXPECT_EQ(classifyDepth(94.0, plane, t, Ewa, h), Reconstruction);               // 105 / 1.1 passed
+    EXPECT_EQ(classifyDepth(lowPassFrom * 0.95, plane, t, LowPass, h), LowPass);
+    EXPECT_EQ(classifyDepth(lowPassFrom * 0.90, plane, t, LowPass, h), Ewa);
+    EXPECT_EQ(classifyDepth(lowPassFrom * 1.05, plane, t, Ewa, h), Ewa);
+    EXPECT_EQ(classifyDepth(lowPassFrom * 1.12, plane, t, Ewa, h), LowPass);
+    EXPECT_EQ(classifyDepth(110.0, plane, t, Reconstruction, 0.0), Ewa);           // h = 0: no memory
+}
+
 TEST(Classifier, PatchesTakeAShortcutOnlyWhenAllCornersAgree) {
     // A long bar of voxels seen end-on from close by: near patches are magnified (u2 < 100 here), far
     // ones minified (u2 > 764), and patches that straddle a threshold take the full filter. Patches

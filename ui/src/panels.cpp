@@ -116,6 +116,8 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
         changes.settingsChanged |= sliderDouble("c_max", s.cMax, 0.0, 8.0, "%.2f");
         hint("Low-pass only where a kernel spans less than 1 px / c_max (0: the paper's 2 (1 + 2 tan^2(fov/2)))");
         changes.settingsChanged |= ImGui::SliderInt("Patch size", &s.patchSize, 1, 32);
+        changes.settingsChanged |= sliderDouble("Hysteresis", s.hysteresis, 0.0, 0.5, "%.2f");
+        hint("A patch changes filter only when a threshold is crossed by this factor (no flicker while orbiting)");
     }
     changes.settingsChanged |= enumCombo("Compositing", s.compositing,
                                          std::array{renderer::Compositing::SplatEverySample,

@@ -18,13 +18,18 @@ struct AdaptiveThresholds {
 };
 AdaptiveThresholds adaptiveThresholds(glm::dvec3 spacing, const ImagePlane& plane, const SplatSettings& s);
 
-// The filter of one kernel centred at camera depth u2.
-FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThresholds& t);
+// The filter of one kernel centred at camera depth u2. Hysteresis (optional): given last frame's
+// filter `previous` (Adaptive: none), a threshold is crossed only by the factor 1 + hysteresis, so
+// a kernel near a threshold keeps its filter while the camera moves a little (no flicker).
+FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThresholds& t,
+                         FilterMode previous = FilterMode::Adaptive, double hysteresis = 0.0);
 
 // The filter of the patch holding `voxel` in its slice along `axis` (settings.patchSize voxels a
 // side, clipped at the volume's faces), from the depths of the patch's four corner voxels.
+// `previous`/`hysteresis`: the patch's filter last frame, as for classifyDepth.
 FilterMode classifyPatch(const SplatScene& scene, const ImagePlane& plane, const AdaptiveThresholds& t,
-                         int patchSize, int axis, uint32_t voxel);
+                         int patchSize, int axis, uint32_t voxel, FilterMode previous = FilterMode::Adaptive,
+                         double hysteresis = 0.0);
 
 // The filter a splat uses under `settings` (a forced mode, or the patch's adaptive choice).
 FilterMode resolveFilter(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,

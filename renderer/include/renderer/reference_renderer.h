@@ -39,11 +39,15 @@ void requireGradients(const SplatScene& scene, const SplatSettings& settings);
 
 // heatmap (optional): the filter-mode heatmap, composited like the image: premultiplied RGBA with
 // r, g, b = the share of reconstruction-only, low-pass-only and full EWA splats in the pixel's alpha.
+// previousPatchModes (optional): last frame's patchModes(), for SplatSettings::hysteresis.
 Image renderReference(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
-                      SplatCounters* counters = nullptr, Image* heatmap = nullptr);
+                      SplatCounters* counters = nullptr, Image* heatmap = nullptr,
+                      const std::vector<uint8_t>* previousPatchModes = nullptr);
 
 // Per-patch filter of the frame (classifier.h) for the traversal axis: slice-major, then rows of
 // patches along the slice's second in-plane axis (index = (slice * nb + pb) * na + pa).
-std::vector<uint8_t> patchModes(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings);
+// With hysteresis, `previous` is last frame's result (ignored when its size does not match).
+std::vector<uint8_t> patchModes(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                                const std::vector<uint8_t>* previous = nullptr);
 
 } // namespace renderer

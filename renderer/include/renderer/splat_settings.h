@@ -31,6 +31,8 @@ struct SplatSettings {
     double cMin = 0.3;
     double cMax = 0.0;
     int patchSize = 8;                  // slice voxels per patch side; 1 classifies every voxel
+    double hysteresis = 0.0;            // > 0: a patch changes filter only when a threshold is crossed
+                                        // by this factor (needs last frame's patch modes)
 
     // Shading (needs the scene's gradients): headlight Phong per splat in the vertex stage, with the
     // splat centre's view direction, or per fragment, with each pixel's ray (000 sec. 4.4).
