@@ -310,7 +310,7 @@ int runEditor(const EditorOptions& options) {
             if (splats && doc.gradients) {   // shading and surface splats become available
                 guarded([&] {
                     renderer::addGradients(doc.scene, *doc.gradients);
-                    splats->setScene(doc.scene);
+                    splats->setGradients(doc.scene);   // the rest of the scene is on the GPU already
                     state.gradientsReady = true;
                 });
                 renderPending = true;

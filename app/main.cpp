@@ -235,7 +235,7 @@ Scene buildScene(const SceneArgs& a) {
     const TransferFunction tf = transferFunctionFromSpec(a.tf);
     const Volume volume = loadVolume(a.volume, rawOptions(a.raw));
     s.scene = buildSplatScene(volume, tf, windowFor(volume, parseWindow(a.window)));
-    if (s.settings.shading != SplatSettings::Shading::None || s.settings.surfaceFlatten > 1.0) {
+    if (needsGradients(s.settings)) {
         std::fprintf(stderr, "gradients\n");
         addGradients(s.scene, *computeGradients(volume, printProgress));
     }

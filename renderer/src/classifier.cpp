@@ -35,6 +35,16 @@ FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThres
     return FilterMode::Ewa;
 }
 
+PatchGrid patchGrid(glm::ivec3 dims, int axis, int patchSize) {
+    PatchGrid g;
+    g.axis = axis;
+    g.size = std::max(patchSize, 1);
+    g.columns = (dims[(axis + 1) % 3] + g.size - 1) / g.size;
+    g.rows = (dims[(axis + 2) % 3] + g.size - 1) / g.size;
+    g.slices = dims[axis];
+    return g;
+}
+
 FilterMode classifyPatch(const SplatScene& scene, const ImagePlane& plane, const AdaptiveThresholds& t,
                          int patchSize, int axis, uint32_t voxel, FilterMode previous, double hysteresis) {
     const glm::ivec3 d = scene.dims;
@@ -55,12 +65,6 @@ FilterMode classifyPatch(const SplatScene& scene, const ImagePlane& plane, const
         else if (m != mode) return FilterMode::Ewa;   // corners disagree: the full filter
     }
     return mode;
-}
-
-FilterMode resolveFilter(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
-                         const AdaptiveThresholds& t, int axis, uint32_t voxel) {
-    if (settings.filter != FilterMode::Adaptive) return settings.filter;
-    return classifyPatch(scene, plane, t, settings.patchSize, axis, voxel);
 }
 
 } // namespace renderer

@@ -111,33 +111,24 @@ inline void sheetColour(const double* q, double* c, double& a) {
 
 } // namespace
 
-void requireGradients(const SplatScene& scene, const SplatSettings& settings) {
-    const bool needs = settings.shading != SplatSettings::Shading::None || settings.surfaceFlatten > 1.0;
-    if (needs && scene.gradients.size() != scene.classes.size())
-        throw RenderError("scene '" + scene.name + "': shading and surface splats need gradients (addGradients)");
-    if (!(settings.surfaceFlatten >= 1.0))
-        throw RenderError("surface flatten must be >= 1 (1: off), got " + std::to_string(settings.surfaceFlatten));
-}
-
 std::vector<uint8_t> patchModes(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                                 const std::vector<uint8_t>* previous) {
     const Traversal trav = chooseTraversal(plane);
     const glm::ivec3 d = scene.dims;
-    const int a = (trav.axis + 1) % 3, b = (trav.axis + 2) % 3;
-    const int p = std::max(settings.patchSize, 1);
-    const int na = (d[a] + p - 1) / p, nb = (d[b] + p - 1) / p;
+    const PatchGrid grid = patchGrid(d, trav.axis, settings.patchSize);
+    const int a = (trav.axis + 1) % 3, b = (trav.axis + 2) % 3, p = grid.size;
     const AdaptiveThresholds t = adaptiveThresholds(scene.spacing, plane, settings);
-    std::vector<uint8_t> modes(size_t(d[trav.axis]) * nb * na);
+    std::vector<uint8_t> modes(grid.count());
     const bool hasPrevious = previous && previous->size() == modes.size() && settings.hysteresis > 0.0;
     tbb::parallel_for(0, d[trav.axis], [&](int slice) {
-        for (int pb = 0; pb < nb; ++pb)
-            for (int pa = 0; pa < na; ++pa) {
-                glm::uvec3 v;
-                v[trav.axis] = uint32_t(slice);
-                v[a] = uint32_t(pa * p);
-                v[b] = uint32_t(pb * p);
-                const uint32_t voxel = (v.z * uint32_t(d.y) + v.y) * uint32_t(d.x) + v.x;
-                const size_t i = (size_t(slice) * nb + pb) * na + pa;
+        for (int pb = 0; pb < grid.rows; ++pb)
+            for (int pa = 0; pa < grid.columns; ++pa) {
+                glm::ivec3 v;
+                v[trav.axis] = slice;
+                v[a] = pa * p;
+                v[b] = pb * p;
+                const uint32_t voxel = uint32_t((v.z * d.y + v.y) * d.x + v.x);
+                const size_t i = grid.indexOf(v);
                 modes[i] = settings.filter != FilterMode::Adaptive
                                ? uint8_t(settings.filter)
                                : uint8_t(classifyPatch(scene, plane, t, p, trav.axis, voxel,
@@ -154,7 +145,7 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
     const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
     const bool frontToBack = mode == Compositing::SheetFrontToBack;
     const Traversal trav = chooseTraversal(plane);
-    requireGradients(scene, settings);
+    requireGradients(settings, scene.gradients.size() == scene.classes.size(), scene.name);
     std::vector<uint32_t> sliceStarts;
     const std::vector<uint32_t> order = drawOrder(scene, trav, frontToBack, settings.drawAllBuckets, &sliceStarts);
     const size_t n = order.size();
@@ -163,8 +154,7 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
     const std::vector<uint8_t> modes = settings.filter == FilterMode::Adaptive
                                            ? patchModes(scene, plane, settings, previousPatchModes)
                                            : std::vector<uint8_t>{};
-    const int pa = (trav.axis + 1) % 3, pb = (trav.axis + 2) % 3, ps = std::max(settings.patchSize, 1);
-    const int patchColumns = (scene.dims[pa] + ps - 1) / ps, patchRows = (scene.dims[pb] + ps - 1) / ps;
+    const PatchGrid grid = patchGrid(scene.dims, trav.axis, settings.patchSize);
     std::vector<Splat> splats(n);
     tbb::combinable<SplatCounters> perThread;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
@@ -181,7 +171,7 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
             if (m == FilterMode::Adaptive) {
                 const glm::uvec3 d(scene.dims);
                 const glm::ivec3 v(int(voxel % d.x), int(voxel / d.x % d.y), int(voxel / (d.x * d.y)));
-                m = FilterMode(modes[(size_t(v[trav.axis]) * patchRows + v[pb] / ps) * patchColumns + v[pa] / ps]);
+                m = FilterMode(modes[grid.indexOf(v)]);
             }
             splats[k].geometry =
                 splatGeometry(scene, plane, settings, voxel, extinctionOf(scene, settings, cls), m, &c);

@@ -437,9 +437,11 @@ struct SplatRenderer::Gl {
     GLuint classTexture = 0;
     GLuint lutBuffer = 0, counterBuffer = 0, patchBuffer = 0, gradientBuffer = 0;
     bool hasGradients = false;
+    uint64_t gradientBytes = 0;   // of gradientBuffer, inside sceneBytes
+    std::string sceneName;   // for messages
     size_t patchBufferBytes = 0;
-    glm::ivec4 patchLayout{-1};   // axis, patch size, patches: patchBuffer holds an adaptive frame's
-                                  // modes for this layout (hysteresis reads them as last frame's)
+    std::optional<PatchGrid> patchLayout;   // patchBuffer holds an adaptive frame's modes on this
+                                            // grid (hysteresis reads them as last frame's)
     std::array<AxisBuffers, 3> axes;
     Lut lut;                             // CPU copy: which buckets are active, which slices are empty
     // Command arrays are rewritten when the LUT, the primitive or drawAllBuckets changes.
@@ -544,27 +546,24 @@ struct SplatRenderer::Gl {
 
     // The adaptive classifier once per patch (compute) into patchBuffer; returns the patch count.
     size_t classifyPatches(const ImagePlane& plane, const SplatSettings& settings, int axis) {
-        const int a = (axis + 1) % 3, b = (axis + 2) % 3;
-        const int ps = std::max(settings.patchSize, 1);
-        const int na = (dims[a] + ps - 1) / ps, nb = (dims[b] + ps - 1) / ps, slices = dims[axis];
-        const size_t n = size_t(na) * nb * slices;
+        const PatchGrid grid = patchGrid(dims, axis, settings.patchSize);
+        const size_t n = grid.count();
         if (patchBufferBytes < n * 4) {
             glDeleteBuffers(1, &patchBuffer);
             glCreateBuffers(1, &patchBuffer);
             glNamedBufferStorage(patchBuffer, GLsizeiptr(n * 4), nullptr, 0);
             patchBufferBytes = n * 4;
-            patchLayout = glm::ivec4(-1);
+            patchLayout.reset();
         }
         glUseProgram(patchProgram);
         setCommonUniforms(patchProgram, plane, settings, axis);
-        glUniform1i(glGetUniformLocation(patchProgram, "uNa"), na);
-        glUniform1i(glGetUniformLocation(patchProgram, "uNb"), nb);
-        glUniform1i(glGetUniformLocation(patchProgram, "uSlices"), slices);
-        const glm::ivec4 layout(axis, ps, na * nb, slices);
-        glUniform1i(glGetUniformLocation(patchProgram, "uHasPrevious"), layout == patchLayout);
+        glUniform1i(glGetUniformLocation(patchProgram, "uNa"), grid.columns);
+        glUniform1i(glGetUniformLocation(patchProgram, "uNb"), grid.rows);
+        glUniform1i(glGetUniformLocation(patchProgram, "uSlices"), grid.slices);
+        glUniform1i(glGetUniformLocation(patchProgram, "uHasPrevious"), patchLayout == grid);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, patchBuffer);
         glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
-        patchLayout = settings.filter == FilterMode::Adaptive ? layout : glm::ivec4(-1);
+        patchLayout = settings.filter == FilterMode::Adaptive ? std::optional(grid) : std::nullopt;
         return n;
     }
 
@@ -758,12 +757,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         if (data) m_stats.uploadBytes += bytes;
         g.sceneBytes += bytes;
     };
-    // Packed gradients, 4 bytes a voxel, when the scene has them (one word otherwise: a valid binding).
-    glDeleteBuffers(1, &g.gradientBuffer);
-    const uint32_t noGradient = 0;
-    makeBuffer(g.gradientBuffer, std::max<size_t>(scene.gradients.size(), 1) * 4,
-               scene.gradients.empty() ? &noGradient : scene.gradients.data(), "gradients");
-    g.hasGradients = scene.gradients.size() == scene.classes.size();
+    g.sceneName = scene.name;
     for (int axis = 0; axis < 3; ++axis) {
         const AxisLists& lists = scene.lists[size_t(axis)];
         AxisBuffers& a = g.axes[size_t(axis)];
@@ -804,13 +798,34 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         a.runCount = uint32_t(n);
     }
     g.dims = d;
-    g.patchLayout = glm::ivec4(-1);   // another scene: no last frame to keep filters from
+    g.patchLayout.reset();   // another scene: no last frame to keep filters from
     g.origin = scene.origin;
     g.spacing = scene.spacing;
     const uint64_t sceneUpload = m_stats.uploadBytes;
+    g.gradientBytes = 0;   // counted afresh in sceneBytes by setGradients
+    setGradients(scene);
+    const uint64_t gradientUpload = m_stats.uploadBytes;
     setLut(scene.lut);
-    m_stats.uploadBytes += sceneUpload;
+    m_stats.uploadBytes += sceneUpload + gradientUpload;
     checkGlErrors("SplatRenderer::setScene");
+}
+
+void SplatRenderer::setGradients(const SplatScene& scene) {
+    Gl& g = *m_gl;
+    if (!g.classTexture || scene.dims != g.dims)
+        throw RenderError("SplatRenderer::setGradients: call setScene with scene '" + scene.name + "' first");
+    // Packed gradients, 4 bytes a voxel, when the scene has them (one word otherwise: a valid binding).
+    const uint32_t noGradient = 0;
+    const size_t bytes = std::max<size_t>(scene.gradients.size(), 1) * 4;
+    glDeleteBuffers(1, &g.gradientBuffer);
+    glCreateBuffers(1, &g.gradientBuffer);
+    glNamedBufferStorage(g.gradientBuffer, GLsizeiptr(bytes),
+                         scene.gradients.empty() ? &noGradient : scene.gradients.data(), 0);
+    checkAllocation("gradients", scene.name, bytes, freeGpuMemoryBytes());
+    g.sceneBytes += bytes - g.gradientBytes;
+    g.gradientBytes = bytes;
+    g.hasGradients = scene.gradients.size() == scene.classes.size();
+    m_stats.uploadBytes = bytes;
 }
 
 void SplatRenderer::setLut(const Lut& lut) {
@@ -831,11 +846,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         throw RenderError("image size " + std::to_string(plane.width) + "x" + std::to_string(plane.height) +
                           " out of range (1..16384)");
     if (!g.classTexture) throw RenderError("SplatRenderer::render called before setScene");
-    const bool needsGradients = settings.shading != SplatSettings::Shading::None || settings.surfaceFlatten > 1.0;
-    if (needsGradients && !g.hasGradients)
-        throw RenderError("shading and surface splats need the scene's gradients (addGradients before setScene)");
-    if (!(settings.surfaceFlatten >= 1.0))
-        throw RenderError("surface flatten must be >= 1 (1: off), got " + std::to_string(settings.surfaceFlatten));
+    requireGradients(settings, g.hasGradients, g.sceneName);
     g.ensureTargets(plane.width, plane.height);
 
     collectTimers();
@@ -889,9 +900,9 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     const GLuint p = g.splatProgram(variant);
     glUseProgram(p);
     {
-        const int ps = std::max(settings.patchSize, 1);
-        glUniform1i(glGetUniformLocation(p, "uPatchColumns"), (g.dims[(trav.axis + 1) % 3] + ps - 1) / ps);
-        glUniform1i(glGetUniformLocation(p, "uPatchRows"), (g.dims[(trav.axis + 2) % 3] + ps - 1) / ps);
+        const PatchGrid grid = patchGrid(g.dims, trav.axis, settings.patchSize);
+        glUniform1i(glGetUniformLocation(p, "uPatchColumns"), grid.columns);
+        glUniform1i(glGetUniformLocation(p, "uPatchRows"), grid.rows);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.patchBuffer ? g.patchBuffer : g.counterBuffer);
     }
     g.setCommonUniforms(p, plane, settings, trav.axis);

@@ -23,4 +23,15 @@ Compositing compositingFromName(const std::string& name) {
                       "' (known: splat-every-sample, xray, sheet-back-to-front, sheet-front-to-back)");
 }
 
+bool needsGradients(const SplatSettings& s) {
+    return s.shading != SplatSettings::Shading::None || s.surfaceFlatten > 1.0;
+}
+
+void requireGradients(const SplatSettings& s, bool sceneHasGradients, const std::string& sceneName) {
+    if (!(s.surfaceFlatten >= 1.0))
+        throw RenderError("surface flatten must be >= 1 (1: off), got " + std::to_string(s.surfaceFlatten));
+    if (needsGradients(s) && !sceneHasGradients)
+        throw RenderError("scene '" + sceneName + "': shading and surface splats need gradients (addGradients)");
+}
+
 } // namespace renderer

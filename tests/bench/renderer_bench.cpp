@@ -63,7 +63,7 @@ const SplatScene& sceneOf(const Dataset& d, bool gradients = false) {
 // Times whole frames (render + glFinish) of one configuration; one more frame with GPU counters on
 // reports what was drawn per filter.
 void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Camera camera = {}) {
-    const SplatScene& scene = sceneOf(d, s.shading != SplatSettings::Shading::None || s.surfaceFlatten > 1.0);
+    const SplatScene& scene = sceneOf(d, needsGradients(s));
     SplatRenderer r;
     r.setScene(scene);
     const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, 512, 512);

@@ -40,24 +40,31 @@ ui::Rect shrink(const ui::Rect& r, float top, float fraction) {
             body.h * (1 - 2 * fraction)};
 }
 
+// Runs the editor on the bundled headsq under Xvfb with `flags`, writes a 1280x800 screenshot to
+// test_out/<name> and returns it. Leak checking is off for the child only: Mesa and libX11 leak from
+// a driver module they have already unloaded, which no suppression can name (a bare GLFW window
+// leaks 5 KB the same way).
+renderer::Image editorScreenshot(const std::string& flags, const std::string& name) {
+    const std::filesystem::path volume = testing_support::assetDir() / "volumes" / "headsq.nhdr";
+    EXPECT_TRUE(std::filesystem::exists(volume)) << volume << " is missing from the bundled assets";
+    const std::filesystem::path shot = testing_support::testOutputDir() / name;
+    std::filesystem::remove(shot);
+    const std::string command = "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" "
+                                "xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor \"" +
+                                volume.string() + "\" " + flags + " --screenshot \"" + shot.string() +
+                                "\" --frames 5 --size 1280x800";
+    EXPECT_EQ(std::system(command.c_str()), 0) << command;
+    return renderer::readImage(shot);
+}
+
 } // namespace
 
 TEST(EditorScreenshot, ViewportShowsTheVolumeAndPanelsDifferFromIt) {
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
-    const std::filesystem::path volume = testing_support::assetDir() / "volumes" / "headsq.nhdr";
-    ASSERT_TRUE(std::filesystem::exists(volume)) << volume << " is missing from the bundled assets";
-    const std::filesystem::path shot = testing_support::testOutputDir() / "editor.png";
-    std::filesystem::remove(shot);
-
-    // Leak checking is off for the child only: Mesa and libX11 leak from a driver module they have
-    // already unloaded, which no suppression can name (a bare GLFW window leaks 5 KB the same way).
-    const std::string command = "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" "
-                                "xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor \"" +
-                                volume.string() + "\" --screenshot \"" + shot.string() +
-                                "\" --frames 5 --size 1280x800";
-    ASSERT_EQ(std::system(command.c_str()), 0) << command;
-    const renderer::Image image = renderer::readImage(shot);
+    const std::string shot = "editor.png";
+    const renderer::Image image = editorScreenshot("", shot);
+    ASSERT_FALSE(::testing::Test::HasFailure());
     ASSERT_EQ(image.width, 1280);
     ASSERT_EQ(image.height, 800);
 
@@ -84,16 +91,10 @@ TEST(EditorScreenshot, ViewportShowsTheVolumeAndPanelsDifferFromIt) {
 TEST(EditorScreenshot, HeatmapViewShowsFilterColoursInsteadOfTheVolume) {
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
-    const std::filesystem::path volume = testing_support::assetDir() / "volumes" / "headsq.nhdr";
-    const std::filesystem::path shot = testing_support::testOutputDir() / "editor_heatmap.png";
-    std::filesystem::remove(shot);
     // Full EWA everywhere: the heatmap is pure blue where the volume is (no red, no green).
-    const std::string command = "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" "
-                                "xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor \"" +
-                                volume.string() + "\" --filter ewa --heatmap --screenshot \"" + shot.string() +
-                                "\" --frames 5 --size 1280x800";
-    ASSERT_EQ(std::system(command.c_str()), 0) << command;
-    const renderer::Image image = renderer::readImage(shot);
+    const std::string shot = "editor_heatmap.png";
+    const renderer::Image image = editorScreenshot("--filter ewa --heatmap", shot);
+    ASSERT_FALSE(::testing::Test::HasFailure());
     const ui::DockLayout layout = ui::makeEditorLayout();
     const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
     const ui::Rect centre = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.25f);

@@ -26,13 +26,22 @@ FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThres
 
 // The filter of the patch holding `voxel` in its slice along `axis` (settings.patchSize voxels a
 // side, clipped at the volume's faces), from the depths of the patch's four corner voxels.
+// The patches of the slices across `axis`: `columns` along axis a1 = (axis+1)%3, `rows` along
+// a2 = (axis+2)%3, slice-major. The one layout of the CPU's and the GPU's per-patch filters.
+struct PatchGrid {
+    int axis = 2, size = 8, columns = 0, rows = 0, slices = 0;
+    size_t count() const { return size_t(columns) * size_t(rows) * size_t(slices); }
+    size_t indexOf(glm::ivec3 voxel) const {
+        return (size_t(voxel[axis]) * size_t(rows) + size_t(voxel[(axis + 2) % 3] / size)) * size_t(columns) +
+               size_t(voxel[(axis + 1) % 3] / size);
+    }
+    bool operator==(const PatchGrid&) const = default;
+};
+PatchGrid patchGrid(glm::ivec3 dims, int axis, int patchSize);
+
 // `previous`/`hysteresis`: the patch's filter last frame, as for classifyDepth.
 FilterMode classifyPatch(const SplatScene& scene, const ImagePlane& plane, const AdaptiveThresholds& t,
                          int patchSize, int axis, uint32_t voxel, FilterMode previous = FilterMode::Adaptive,
                          double hysteresis = 0.0);
-
-// The filter a splat uses under `settings` (a forced mode, or the patch's adaptive choice).
-FilterMode resolveFilter(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
-                         const AdaptiveThresholds& t, int axis, uint32_t voxel);
 
 } // namespace renderer

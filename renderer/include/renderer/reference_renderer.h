@@ -33,10 +33,6 @@ SplatGeometry splatGeometry(const SplatScene& scene, const ImagePlane& plane, co
 // Extinction per object unit of a voxel of the given class (TF opacity x density / mean spacing).
 double extinctionOf(const SplatScene& scene, const SplatSettings& settings, uint16_t cls);
 
-// Throws RenderError when settings ask for shading or surface splats and the scene has no gradients,
-// or for a surface flatten below 1. Both renderers call it.
-void requireGradients(const SplatScene& scene, const SplatSettings& settings);
-
 // heatmap (optional): the filter-mode heatmap, composited like the image: premultiplied RGBA with
 // r, g, b = the share of reconstruction-only, low-pass-only and full EWA splats in the pixel's alpha.
 // previousPatchModes (optional): last frame's patchModes(), for SplatSettings::hysteresis.

@@ -57,4 +57,10 @@ struct SplatSettings {
     bool counters = false;              // count splats per mode and per guard on the GPU (atomics)
 };
 
+// Shading and surface splats read the scene's gradients.
+bool needsGradients(const SplatSettings& s);
+// Throws RenderError naming the scene when `s` needs gradients the scene lacks, or for a surface
+// flatten below 1. Both renderers call it before a frame.
+void requireGradients(const SplatSettings& s, bool sceneHasGradients, const std::string& sceneName);
+
 } // namespace renderer
