@@ -254,15 +254,16 @@ struct RenderArgs {
     std::string heatmap, primitive = "auto";
     double opaqueAlpha = SplatSettings{}.opaqueAlpha, cMin = SplatSettings{}.cMin, cMax = SplatSettings{}.cMax;
     int patchSize = SplatSettings{}.patchSize;
+    int opaqueRefresh = SplatSettings{}.opaqueRefreshSlices;
 };
 
 void printCounters(const SplatCounters& c) {
     std::printf("  drawn %llu (reconstruction %llu, low-pass %llu, ewa %llu); culled transparent %llu, near %llu, "
-                "offscreen %llu, huge %llu, degenerate %llu\n",
+                "offscreen %llu, huge %llu, degenerate %llu, hidden behind opaque %llu\n",
                 (unsigned long long)c.drawn, (unsigned long long)c.drawnPerMode[0], (unsigned long long)c.drawnPerMode[1],
                 (unsigned long long)c.drawnPerMode[2], (unsigned long long)c.culledTransparent,
                 (unsigned long long)c.culledNear, (unsigned long long)c.culledOffscreen, (unsigned long long)c.culledHuge,
-                (unsigned long long)c.culledDegenerate);
+                (unsigned long long)c.culledDegenerate, (unsigned long long)c.culledOccluded);
 }
 
 int runRender(const SceneArgs& a, const RenderArgs& ra) {
@@ -273,8 +274,11 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     if (!(ra.cMin > 0.0)) throw CLI::ValidationError("--c-min", "must be > 0");
     if (!(ra.cMax >= 0.0)) throw CLI::ValidationError("--c-max", "must be >= 0 (0: 2 (1 + 2 tan^2(fov/2)))");
     if (ra.patchSize < 1 || ra.patchSize > 256) throw CLI::ValidationError("--patch-size", "must be 1..256");
+    if (ra.opaqueRefresh < 1 || ra.opaqueRefresh > 65535)
+        throw CLI::ValidationError("--opaque-refresh", "must be 1..65535 slices");
     Scene s = buildScene(a);
     s.settings.opaqueAlpha = ra.opaqueAlpha;
+    s.settings.opaqueRefreshSlices = ra.opaqueRefresh;
     s.settings.cMin = ra.cMin;
     s.settings.cMax = ra.cMax;
     s.settings.patchSize = ra.patchSize;
@@ -386,7 +390,10 @@ int main(int argc, char** argv) {
                                            "2 (1 + 2 tan^2(fov/2)))")->capture_default_str();
     render->add_option("--patch-size", ra.patchSize, "Adaptive: slice voxels per patch side")->capture_default_str();
     render->add_option("--opaque-alpha", ra.opaqueAlpha,
-                       "Front-to-back sheets stop at pixels this opaque (1: never)")->capture_default_str();
+                       "Front to back, pixels this opaque take no more splats (1: never; splat-every-sample "
+                       "then runs back to front)")->capture_default_str();
+    render->add_option("--opaque-refresh", ra.opaqueRefresh,
+                       "Slices between refreshes of the opaque pixels (occlusion culling)")->capture_default_str();
     render->add_option("--primitive", ra.primitive, "GL splat primitive: auto, points, quads")->capture_default_str();
     render->add_option("--heatmap", ra.heatmap, "Also write the filter-mode heatmap (red reconstruction, green "
                                                 "low-pass, blue EWA, weighted by opacity)");

@@ -93,6 +93,7 @@ void addCounters(SplatCounters& a, const SplatCounters& b) {
     a.culledOffscreen += b.culledOffscreen;
     a.culledHuge += b.culledHuge;
     a.culledDegenerate += b.culledDegenerate;
+    a.culledOccluded += b.culledOccluded;
     for (int m = 0; m < 3; ++m) a.drawnPerMode[m] += b.drawnPerMode[m];
 }
 
@@ -143,12 +144,20 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
                       SplatCounters* counters, Image* heatmap, const std::vector<uint8_t>* previousPatchModes) {
     const Compositing mode = settings.compositing;
     const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
-    const bool frontToBack = mode == Compositing::SheetFrontToBack;
+    const bool ftb = frontToBack(settings);
+    const bool earlyTermination = ftb && settings.opaqueAlpha < 1.0;
     const Traversal trav = chooseTraversal(plane);
     requireGradients(settings, scene.gradients.size() == scene.classes.size(), scene.name);
     std::vector<uint32_t> sliceStarts;
-    const std::vector<uint32_t> order = drawOrder(scene, trav, frontToBack, settings.drawAllBuckets, &sliceStarts);
+    std::vector<uint32_t> order = drawOrder(scene, trav, ftb && sheets, settings.drawAllBuckets, &sliceStarts);
     const size_t n = order.size();
+    const size_t slices = sliceStarts.size() - 1;
+    if (ftb && !sheets) {   // splat-every-sample front to back: the exact reverse of back to front
+        std::reverse(order.begin(), order.end());
+        std::vector<uint32_t> starts(slices + 1);
+        for (size_t j = 0; j <= slices; ++j) starts[j] = uint32_t(n - sliceStarts[slices - j]);
+        sliceStarts = std::move(starts);
+    }
 
     // 1. Geometry of every splat, in draw order; adaptive filters come from one classification a patch.
     const std::vector<uint8_t> modes = settings.filter == FilterMode::Adaptive
@@ -198,13 +207,28 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
     const size_t layerSize = size_t(w) * h * 4;
     const double cut2 = settings.cutoffSigmas * settings.cutoffSigmas;
     const bool perFragment = settings.shading == SplatSettings::Shading::PerFragment;
-    constexpr int kBand = 8;
+    // Early termination: which pixels are opaque is refreshed every `refresh` slices; a band of rows
+    // is one row of opaque tiles, whose state at each refresh the occlusion count reads afterwards.
+    constexpr int kBand = kOpaqueTilePx;
+    const size_t refresh = size_t(opaqueRefreshSlices(settings));
+    const int tilesX = (w + kOpaqueTilePx - 1) / kOpaqueTilePx, tilesY = (h + kBand - 1) / kBand;
+    std::vector<uint8_t> tileSnapshots(earlyTermination ? (slices / refresh + 1) * tilesX * tilesY : 0, 0);
     tbb::parallel_for(0, (h + kBand - 1) / kBand, [&](int band) {
         const int y0 = band * kBand, y1 = std::min(h, y0 + kBand);
         const size_t bandSize = size_t(y1 - y0) * w * 4;
         // Sheet buffer of this band, per layer: (sum c tau, sum tau) of the current slice.
         std::vector<double> sheet(sheets ? layers * bandSize : 0, 0.0);
-        std::vector<char> opaque(frontToBack ? size_t(y1 - y0) * w : 0, 0);   // early termination
+        std::vector<char> opaque(earlyTermination ? size_t(y1 - y0) * w : 0, 0);
+        auto refreshOpaque = [&](size_t group) {
+            uint8_t* tiles = &tileSnapshots[(group * tilesY + band) * tilesX];
+            std::fill_n(tiles, tilesX, uint8_t(1));
+            for (int y = y0; y < y1; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const bool o = acc[(size_t(y) * w + x) * 4 + 3] >= settings.opaqueAlpha;
+                    opaque[size_t(y - y0) * w + x] = o;
+                    if (!o) tiles[x / kOpaqueTilePx] = 0;
+                }
+        };
         auto flushSheet = [&] {
             for (int y = y0; y < y1; ++y)
                 for (int x = 0; x < w; ++x) {
@@ -215,24 +239,24 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
                             double c[3], a;
                             sheetColour(q + l * bandSize, c, a);
                             double* p = &acc[l * layerSize + (size_t(y) * w + x) * 4];
-                            if (frontToBack) {   // "under": what is in front is already in p
+                            if (ftb) {   // "under": what is in front is already in p
                                 for (int k = 0; k < 3; ++k) p[k] += (1.0 - p[3]) * c[k];
                                 p[3] += (1.0 - p[3]) * a;
                             } else {
                                 over(p, c, a);
                             }
                         }
-                        if (frontToBack && acc[(size_t(y) * w + x) * 4 + 3] >= settings.opaqueAlpha)
-                            opaque[local] = 1;
                     }
                     for (int l = 0; l < layers; ++l) std::fill_n(q + l * bandSize, 4, 0.0);
                 }
         };
-        size_t slice = 0;
+        size_t slice = 0;   // in draw order
         for (size_t k = 0; k < n; ++k) {
-            if (sheets && k == sliceStarts[slice + 1]) {
-                flushSheet();
+            if (k == sliceStarts[slice + 1]) {
+                if (sheets) flushSheet();
+                const size_t before = slice;
                 while (k == sliceStarts[slice + 1]) ++slice;
+                if (earlyTermination && slice / refresh != before / refresh) refreshOpaque(slice / refresh);
             }
             const Splat& s = splats[k];
             const SplatGeometry& g = s.geometry;
@@ -249,7 +273,7 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
                     const glm::dvec2 d = glm::dvec2(x + 0.5, y + 0.5) - g.centrePx;
                     const double e = glm::dot(d, g.conic * d);
                     if (e > cut2) continue;
-                    if (frontToBack && opaque[size_t(y - y0) * w + x]) continue;
+                    if (earlyTermination && opaque[size_t(y - y0) * w + x]) continue;
                     const double tau = g.amplitude * std::exp(-0.5 * e);
                     glm::dvec3 shaded = s.colour;
                     if (perFragment) {   // towards the eye along this pixel's ray
@@ -267,14 +291,43 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
                             p[3] += tau;
                         } else {
                             const double a = -std::expm1(-tau);
-                            const double c[3] = {colour[0] * a, colour[1] * a, colour[2] * a};
-                            over(p, c, a);   // back to front, premultiplied
+                            if (ftb) {   // "under", front to back
+                                for (int c = 0; c < 3; ++c) p[c] += (1.0 - p[3]) * colour[c] * a;
+                                p[3] += (1.0 - p[3]) * a;
+                            } else {
+                                const double c[3] = {colour[0] * a, colour[1] * a, colour[2] * a};
+                                over(p, c, a);   // back to front, premultiplied
+                            }
                         }
                     }
                 }
         }
         if (sheets) flushSheet();
     });
+
+    // Occlusion culling as the GPU's vertex stage does it: a splat is culled when every tile under
+    // its pixel box (at most 4 x 4) was opaque at its group's refresh. Its fragments were all rejected
+    // above, so only the counters change.
+    if (earlyTermination && counters) {
+        for (size_t j = refresh; j < slices; ++j)
+            for (size_t k = sliceStarts[j]; k < sliceStarts[j + 1]; ++k) {
+                const SplatGeometry& g = splats[k].geometry;
+                if (g.culled) continue;
+                const glm::dvec2 lo = glm::ceil(g.centrePx - g.halfExtentPx - 0.5);
+                const glm::dvec2 hi = glm::floor(g.centrePx + g.halfExtentPx - 0.5);
+                const int ta = std::clamp(int(lo.x), 0, w - 1) / kOpaqueTilePx, tb = std::clamp(int(hi.x), 0, w - 1) / kOpaqueTilePx;
+                const int sa = std::clamp(int(lo.y), 0, h - 1) / kOpaqueTilePx, sb = std::clamp(int(hi.y), 0, h - 1) / kOpaqueTilePx;
+                if (tb - ta >= 4 || sb - sa >= 4) continue;
+                const uint8_t* tiles = &tileSnapshots[j / refresh * tilesX * tilesY];
+                bool hidden = true;
+                for (int ty = sa; ty <= sb; ++ty)
+                    for (int tx = ta; tx <= tb; ++tx) hidden = hidden && tiles[ty * tilesX + tx];
+                if (!hidden) continue;
+                ++counters->culledOccluded;
+                --counters->drawn;
+                --counters->drawnPerMode[splats[k].mode];
+            }
+    }
 
     // X-ray shows 1 - exp(-sum); its heatmap splits that alpha by each mode's share of the sum.
     const bool xray = mode == Compositing::XRay;

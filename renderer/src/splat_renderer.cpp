@@ -24,6 +24,11 @@ namespace renderer {
 
 namespace {
 
+// GLSL header of the programs that share the opaque-tile size.
+std::string opaqueTileHeader() {
+    return "#version 450 core\n#define OPAQUE_TILE " + std::to_string(kOpaqueTilePx) + "\n";
+}
+
 // Uniforms and the adaptive classifier, shared by the splat vertex stage and the patch-mode pass.
 const char* kSplatCommon = R"(
 uniform ivec3 uDims;
@@ -76,13 +81,17 @@ int resolveFilter(ivec3 ijk, int previous) { return uFilter == 3 ? classifyPatch
 )";
 
 const char* kSplatVertMain = R"(
-layout(location = 0) in uvec4 aRun;  // per draw (baseInstance): slice, tile base, bucket | dense << 16, count
+layout(location = 0) in uvec4 aRun;  // per draw (baseInstance): first entry, tile base,
+                                     // slice | bucket << 16 | dense << 31, count
 layout(std430, binding = 0) readonly buffer Entries { uint entries[]; };   // 16-bit offsets, two a word
 layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
 layout(std430, binding = 2) buffer Counters { uint counters[]; };
 layout(std430, binding = 3) readonly buffer Gradients { uint gradients[]; };   // packed (shading.h)
 layout(std430, binding = 4) readonly buffer PatchModes { uint patchModes[]; };
+layout(std430, binding = 5) readonly buffer OpaqueTiles { uint opaqueTiles[]; };
 uniform int uPatchColumns, uPatchRows;   // patches along the slice's axes a1 and a2
+uniform bool uReverse;        // front-to-back splat-every-sample: each run read backwards
+uniform int uTilesX;          // OCCLUSION: columns of the opaque-tile map
 layout(binding = 0) uniform usampler3D classes;      // per-voxel LUT class (R16UI)
 
 uniform ShadingParams uShadingParams;
@@ -117,16 +126,19 @@ const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, 
 void main() {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);   // culled unless a footprint is emitted below
     gl_PointSize = 1.0;
-    uint k = uint(gl_VertexID) / uint(uVertsPerSplat);
-    bool dense = (aRun.z >> 16) != 0u;
-    uint pos = aRun.y + (dense ? k : (entries[k >> 1] >> ((k & 1u) * 16u)) & 0xffffu);
+    bool dense = (aRun.z >> 31) != 0u;
+    // Listed runs: gl_VertexID starts at the run's first entry; dense runs walk their tile from 0.
+    uint k = uint(gl_VertexID) / uint(uVertsPerSplat) - (dense ? 0u : aRun.x);
+    if (uReverse) k = aRun.w - 1u - k;
+    uint e = aRun.x + k;
+    uint pos = aRun.y + (dense ? k : (entries[e >> 1] >> ((e & 1u) * 16u)) & 0xffffu);
     int a1 = (uAxis + 1) % 3, a2 = (uAxis + 2) % 3;
     ivec3 ijk;
-    ijk[uAxis] = int(aRun.x);
+    ijk[uAxis] = int(aRun.z & 0xffffu);
     ijk[a1] = int(pos % uint(uDims[a1]));
     ijk[a2] = int(pos / uint(uDims[a1]));
     uint cls = texelFetch(classes, ijk, 0).r;
-    if (dense && (cls >> 6) != (aRun.z & 0xffffu)) return;   // another bucket's voxel
+    if (dense && (cls >> 6) != ((aRun.z >> 16) & 0xffu)) return;   // another bucket's voxel
     count(0);
     vec4 tf = lut[cls];
     if (!(tf.a > 0.0)) { count(1); return; }
@@ -171,6 +183,19 @@ void main() {
     vec2 centre = uCentrePx + uFPx * (uOrtho ? u.xy : u.xy * iz);
     if (centre.x + halfExtent.x < 0.0 || centre.x - halfExtent.x > uViewport.x ||
         centre.y + halfExtent.y < 0.0 || centre.y - halfExtent.y > uViewport.y) { count(5); return; }
+#ifdef OCCLUSION
+    // Pixels the footprint can touch (as the CPU's box); culled when every tile under them was opaque
+    // at the last refresh: early termination would reject each of its fragments anyway.
+    ivec2 boxLo = clamp(ivec2(ceil(centre - halfExtent - 0.5)), ivec2(0), ivec2(uViewport) - 1);
+    ivec2 boxHi = clamp(ivec2(floor(centre + halfExtent - 0.5)), ivec2(0), ivec2(uViewport) - 1);
+    ivec2 ta = boxLo / OPAQUE_TILE, tb = boxHi / OPAQUE_TILE;
+    if (tb.x - ta.x < 4 && tb.y - ta.y < 4) {
+        bool hidden = true;
+        for (int ty = ta.y; ty <= tb.y; ++ty)
+            for (int tx = ta.x; tx <= tb.x; ++tx) hidden = hidden && opaqueTiles[ty * uTilesX + tx] != 0u;
+        if (hidden) { count(10); return; }
+    }
+#endif
     count(6);
     count(7 + mode);
 
@@ -276,6 +301,26 @@ void main() {
 }
 )";
 
+// The opaque-tile map occlusion culling reads: 1 where every pixel of the tile (rows top down, as
+// the splats' pixel coordinates) reached uOpaqueAlpha; pixels past the image's edge count as opaque.
+const char* kOpaqueTilesComp = R"(
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 2) uniform sampler2D image;
+layout(std430, binding = 5) writeonly buffer OpaqueTiles { uint opaqueTiles[]; };
+uniform float uOpaqueAlpha;
+uniform ivec2 uTiles;
+void main() {
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (t.x >= uTiles.x || t.y >= uTiles.y) return;
+    ivec2 size = textureSize(image, 0);
+    bool opaque = true;
+    for (int y = t.y * OPAQUE_TILE; y < min((t.y + 1) * OPAQUE_TILE, size.y); ++y)
+        for (int x = t.x * OPAQUE_TILE; x < min((t.x + 1) * OPAQUE_TILE, size.x); ++x)
+            opaque = opaque && texelFetch(image, ivec2(x, size.y - 1 - y), 0).a >= uOpaqueAlpha;
+    opaqueTiles[t.y * uTiles.x + t.x] = opaque ? 1u : 0u;
+}
+)";
+
 // X-ray resolve, in place: the accumulated sums become 1 - exp(-sum), like the CPU oracle; the
 // heatmap splits that alpha by each mode's share of the sum.
 const char* kResolveFrag = R"(#version 450 core
@@ -313,6 +358,8 @@ layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
 layout(std430, binding = 2) readonly buffer Places { uvec2 places[]; }; // first entry, descending slot
 layout(std430, binding = 3) writeonly buffer Ascending { uvec4 ascending[]; };
 layout(std430, binding = 4) writeonly buffer Descending { uvec4 descending[]; };
+layout(std430, binding = 5) writeonly buffer ReversedAscending { uvec4 reversedAscending[]; };
+layout(std430, binding = 6) writeonly buffer ReversedDescending { uvec4 reversedDescending[]; };
 uniform uint uRuns;
 uniform uint uVertsPerSplat;
 uniform bool uAllBuckets;
@@ -320,14 +367,17 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= uRuns) return;
     uvec4 run = runs[i];
-    uint bucket = run.z & 0xffffu;
+    uint bucket = (run.z >> 16) & 0xffu;
     bool selected = uAllBuckets;
     for (uint c = bucket << 6; c < ((bucket + 1u) << 6) && !selected; ++c) selected = lut[c].a > 0.0;
-    bool dense = (run.z >> 16) != 0u;
+    bool dense = (run.z >> 31) != 0u;
     // DrawArraysIndirectCommand: count, instanceCount, first, baseInstance (selects this run's aRun).
     uvec4 command = uvec4(selected ? run.w * uVertsPerSplat : 0u, 1u, dense ? 0u : places[i].x * uVertsPerSplat, i);
     ascending[i] = command;
     descending[places[i].y] = command;
+    // The exact reverses (front-to-back splat-every-sample; the vertex stage reverses each run).
+    reversedAscending[uRuns - 1u - i] = command;
+    reversedDescending[uRuns - 1u - places[i].y] = command;
 }
 )";
 
@@ -402,13 +452,15 @@ void checkAllocation(const char* what, const std::string& name, uint64_t needed,
 }
 
 // Counter slots of the vertex stage's count(): the SplatCounters fields in this order.
-enum CounterSlot { kVisible, kTransparent, kNear, kDegenerate, kHuge, kOffscreen, kDrawn, kMode0, kCounterSlots = kMode0 + 3 };
+enum CounterSlot { kVisible, kTransparent, kNear, kDegenerate, kHuge, kOffscreen, kDrawn, kMode0, kOccluded = kMode0 + 3,
+                   kCounterSlots };
 
 // One traversal axis on the GPU: the 16-bit entries, the runs (the vertex stage's per-draw attribute),
-// where each run's entries start and its slot in descending order, and the two indirect command
-// arrays the command pass writes. The CPU keeps the run buckets and slice ranges to skip empty slices.
+// where each run's entries start and its slot in descending order, and the indirect command arrays
+// the command pass writes (slices ascending, descending, and the exact reverse of each). The CPU keeps the run buckets and slice ranges to skip empty slices.
 struct AxisBuffers {
     GLuint entries = 0, runs = 0, places = 0, ascending = 0, descending = 0;
+    GLuint reversedAscending = 0, reversedDescending = 0;
     uint32_t runCount = 0;
     std::vector<uint32_t> sliceRuns;   // as AxisLists::sliceRuns
     std::vector<uint16_t> buckets;     // per run
@@ -417,22 +469,23 @@ struct AxisBuffers {
     std::vector<uint32_t> descendingSlot;
 
     void release() {
-        const GLuint b[] = {entries, runs, places, ascending, descending};
-        glDeleteBuffers(5, b);
-        entries = runs = places = ascending = descending = 0;
+        const GLuint b[] = {entries, runs, places, ascending, descending, reversedAscending, reversedDescending};
+        glDeleteBuffers(7, b);
+        entries = runs = places = ascending = descending = reversedAscending = reversedDescending = 0;
     }
 };
 
 } // namespace
 
 // Feature bits of a splat program variant (the #defines above).
-enum SplatVariant { kCounters = 1, kSurface = 2, kSplatShading = 4, kFragmentShading = 8, kHeatmap = 16, kAdaptive = 32 };
+enum SplatVariant { kCounters = 1, kSurface = 2, kSplatShading = 4, kFragmentShading = 8, kHeatmap = 16, kAdaptive = 32,
+                    kOcclusion = 64 };
 
 struct SplatRenderer::Gl {
     std::map<int, GLuint> splatPrograms;   // by SplatVariant bits, built on first use
     std::array<GLuint, 2> compositePrograms{};   // without and with the heatmap
     GLuint opaqueMaskProgram = 0, resolveProgram = 0, displayProgram = 0;
-    GLuint commandsProgram = 0, patchProgram = 0;
+    GLuint commandsProgram = 0, patchProgram = 0, opaqueTilesProgram = 0;
     GLuint splatVao = 0, emptyVao = 0;
     GLuint classTexture = 0;
     GLuint lutBuffer = 0, counterBuffer = 0, patchBuffer = 0, gradientBuffer = 0;
@@ -451,7 +504,9 @@ struct SplatRenderer::Gl {
     // Targets: the frame's image and heatmap, the slice sheets, and a depth buffer both FBOs share
     // (front-to-back early termination).
     GLuint image = 0, heat = 0, sheet = 0, sheetHeat = 0, depth = 0, displayTex = 0;
-    GLuint frameFbo = 0, sheetFbo = 0, displayFbo = 0;
+    GLuint frameFbo = 0, sheetFbo = 0, displayFbo = 0, depthFbo = 0;
+    GLuint opaqueTiles = 0;   // one word per kOpaqueTilePx tile: 1 once all its pixels are opaque
+    glm::ivec2 tiles{0};
     int width = 0, height = 0;
     std::array<GLuint, kTimerRing> timers{};
     std::array<bool, kTimerRing> timerPending{};
@@ -469,7 +524,7 @@ struct SplatRenderer::Gl {
     ~Gl() {
         for (auto [bits, p] : splatPrograms) glDeleteProgram(p);
         for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
-                         commandsProgram, patchProgram})
+                         commandsProgram, patchProgram, opaqueTilesProgram})
             glDeleteProgram(p);
         const GLuint vaos[] = {splatVao, emptyVao};
         glDeleteVertexArrays(2, vaos);
@@ -484,10 +539,12 @@ struct SplatRenderer::Gl {
 
     void releaseTargets() {
         const GLuint textures[] = {image, heat, sheet, sheetHeat, depth, displayTex};
-        const GLuint fbos[] = {frameFbo, sheetFbo, displayFbo};
+        const GLuint fbos[] = {frameFbo, sheetFbo, displayFbo, depthFbo};
         glDeleteTextures(6, textures);
-        glDeleteFramebuffers(3, fbos);
-        image = heat = sheet = sheetHeat = depth = displayTex = frameFbo = sheetFbo = displayFbo = 0;
+        glDeleteFramebuffers(4, fbos);
+        glDeleteBuffers(1, &opaqueTiles);
+        image = heat = sheet = sheetHeat = depth = displayTex = frameFbo = sheetFbo = displayFbo = depthFbo = 0;
+        opaqueTiles = 0;
     }
 
     static GLuint makeTexture(GLenum format, int w, int h) {
@@ -505,6 +562,7 @@ struct SplatRenderer::Gl {
         GLenum attachment = GL_COLOR_ATTACHMENT0;
         for (GLuint c : colours) glNamedFramebufferTexture(fbo, attachment++, c, 0);
         if (depthTexture) glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, depthTexture, 0);
+        if (colours.size() == 0) glNamedFramebufferDrawBuffer(fbo, GL_NONE);
         if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
             throw GlError("render target", "framebuffer incomplete");
         return fbo;
@@ -524,6 +582,10 @@ struct SplatRenderer::Gl {
         frameFbo = makeFbo({image, heat}, depth);
         sheetFbo = makeFbo({sheet, sheetHeat}, depth);
         displayFbo = makeFbo({displayTex}, 0);
+        depthFbo = makeFbo({}, depth);   // the opaque mask of splat-every-sample: reads the image
+        tiles = glm::ivec2((w + kOpaqueTilePx - 1) / kOpaqueTilePx, (h + kOpaqueTilePx - 1) / kOpaqueTilePx);
+        glCreateBuffers(1, &opaqueTiles);
+        glNamedBufferStorage(opaqueTiles, GLsizeiptr(size_t(tiles.x) * size_t(tiles.y) * 4), nullptr, 0);
         width = w;
         height = h;
     }
@@ -531,11 +593,11 @@ struct SplatRenderer::Gl {
     GLuint splatProgram(int bits) {
         auto it = splatPrograms.find(bits);
         if (it != splatPrograms.end()) return it->second;
-        std::string header = "#version 450 core\n";
+        std::string header = opaqueTileHeader();
         const std::pair<int, const char*> defines[] = {{kCounters, "COUNTERS"}, {kSurface, "SURFACE"},
                                                        {kSplatShading, "SPLAT_SHADING"},
                                                        {kFragmentShading, "FRAGMENT_SHADING"}, {kHeatmap, "HEATMAP"},
-                                                       {kAdaptive, "ADAPTIVE"}};
+                                                       {kAdaptive, "ADAPTIVE"}, {kOcclusion, "OCCLUSION"}};
         for (auto [bit, name] : defines)
             if (bits & bit) header += std::string("#define ") + name + "\n";
         const GLuint p = gl::buildProgram("splat", (header + shadingGlsl() + kSplatCommon + kSplatVertMain).c_str(),
@@ -607,6 +669,8 @@ struct SplatRenderer::Gl {
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, a.places);
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, a.ascending);
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, a.descending);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, a.reversedAscending);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, a.reversedDescending);
             glDispatchCompute((a.runCount + 63) / 64, 1, 1);
         }
         glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
@@ -689,6 +753,7 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     g.displayProgram = gl::buildProgram("display", kFullscreenVert, kDisplayFrag);
     g.commandsProgram = gl::buildComputeProgram("bucket_commands", kCommandsComp);
     g.patchProgram = gl::buildComputeProgram("patch_modes", (std::string("#version 450 core\n") + kSplatCommon + kPatchCompMain).c_str());
+    g.opaqueTilesProgram = gl::buildComputeProgram("opaque_tiles", (opaqueTileHeader() + kOpaqueTilesComp).c_str());
     glCreateVertexArrays(1, &g.splatVao);
     glCreateVertexArrays(1, &g.emptyVao);
     // Attribute 0: the run record, one per draw (divisor 1 reads element baseInstance).
@@ -784,7 +849,8 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         }
         for (size_t r = 0; r < n; ++r) {
             const SliceRun& run = lists.runs[r];
-            runs[r] = glm::uvec4(run.slice, run.tileBase, uint32_t(run.bucket) | (run.dense ? 1u << 16 : 0u), run.count);
+            runs[r] = glm::uvec4(run.dense ? 0u : run.first, run.tileBase,
+                                 run.slice | uint32_t(run.bucket) << 16 | (run.dense ? 1u << 31 : 0u), run.count);
             places[r] = glm::uvec2(run.first, a.descendingSlot[r]);
             a.buckets[r] = run.bucket;
             a.voxels[r] = run.voxels;
@@ -795,6 +861,8 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         makeBuffer(a.places, places.size() * sizeof(glm::uvec2), places.data(), "slice runs");
         makeBuffer(a.ascending, runs.size() * 16, nullptr, "draw commands");
         makeBuffer(a.descending, runs.size() * 16, nullptr, "draw commands");
+        makeBuffer(a.reversedAscending, runs.size() * 16, nullptr, "draw commands");
+        makeBuffer(a.reversedDescending, runs.size() * 16, nullptr, "draw commands");
         a.runCount = uint32_t(n);
     }
     g.dims = d;
@@ -871,8 +939,10 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     const Traversal trav = chooseTraversal(plane);
     const Compositing mode = settings.compositing;
     const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
-    const bool frontToBack = mode == Compositing::SheetFrontToBack;
-    const bool earlyTermination = frontToBack && settings.opaqueAlpha < 1.0;
+    const bool ftb = frontToBack(settings);
+    const bool earlyTermination = ftb && settings.opaqueAlpha < 1.0;
+    const bool reversed = ftb && !sheets;   // splat-every-sample, front to back: the exact reverse
+    const int refresh = opaqueRefreshSlices(settings);
     const bool xray = mode == Compositing::XRay;
     const AxisBuffers& axis = g.axes[size_t(trav.axis)];
 
@@ -892,7 +962,8 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     const int variant = (settings.counters ? kCounters : 0) | (settings.surfaceFlatten > 1.0 ? kSurface : 0) |
                         (settings.shading == Shading::PerSplat ? kSplatShading : 0) |
                         (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
-                        (settings.heatmap ? kHeatmap : 0) | (settings.filter == FilterMode::Adaptive ? kAdaptive : 0);
+                        (settings.heatmap ? kHeatmap : 0) | (settings.filter == FilterMode::Adaptive ? kAdaptive : 0) |
+                        (earlyTermination ? kOcclusion : 0);
     if (settings.filter == FilterMode::Adaptive) {
         g.classifyPatches(plane, settings, trav.axis);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -919,6 +990,13 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                 float(settings.density / meanSpacing * g.spacing.x * g.spacing.y * g.spacing.z));
     glUniform1f(glGetUniformLocation(p, "uMaxHalfExtent"), float(settings.maxFootprintFraction * diagonal));
     glUniform1i(glGetUniformLocation(p, "uAdditive"), sheets || xray);
+    glUniform1i(glGetUniformLocation(p, "uReverse"), reversed);
+    glUniform1i(glGetUniformLocation(p, "uTilesX"), g.tiles.x);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, g.opaqueTiles);
+    if (earlyTermination) {   // nothing is opaque yet
+        const GLuint zeroWord = 0;
+        glClearNamedBufferData(g.opaqueTiles, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zeroWord);
+    }
     const ShadingParams& sp = settings.shadingParams;
     glUniform1f(glGetUniformLocation(p, "uShadingParams.ambient"), float(sp.ambient));
     glUniform1f(glGetUniformLocation(p, "uShadingParams.diffuse"), float(sp.diffuse));
@@ -936,9 +1014,47 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.counterBuffer);
     glBindVertexArray(g.splatVao);
     glVertexArrayVertexBuffer(g.splatVao, 0, axis.runs, 0, sizeof(glm::uvec4));
-    // Slices walk back to front, except front-to-back sheets; both orders are a command array.
-    const bool descending = trav.descending != frontToBack;
-    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, descending ? axis.descending : axis.ascending);
+    // Slices walk back to front, except front to back; every order is a command array. Sheets only
+    // turn the slice order; splat-every-sample reverses everything (the vertex stage each run).
+    const bool descending = trav.descending != (ftb && sheets);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, reversed ? (descending ? axis.reversedDescending : axis.reversedAscending)
+                                                   : (descending ? axis.descending : axis.ascending));
+    // Where slice `slice`'s commands lie in the bound array, and how many there are.
+    const uint32_t runCount = axis.runCount;
+    auto sliceCommands = [&](uint32_t slice) {
+        const uint32_t r0 = axis.sliceRuns[slice], n = axis.sliceRuns[slice + 1] - r0;
+        const uint32_t first = n == 0 ? 0 : (descending ? axis.descendingSlot[r0] : r0);
+        return std::pair{reversed ? runCount - first - n : first, n};
+    };
+    // Front to back, every `refresh` slices: pixels whose alpha reached opaqueAlpha get depth 0.5,
+    // where splats (also at 0.5) fail GL_LESS, and the tile map the vertex stage culls with is redone.
+    auto refreshOpaque = [&](GLuint fbo) {
+        glDisable(GL_SCISSOR_TEST);
+        glDisable(GL_BLEND);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glViewport(0, 0, plane.width, plane.height);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_ALWAYS);
+        glDepthMask(GL_TRUE);
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glUseProgram(g.opaqueMaskProgram);
+        glUniform1f(glGetUniformLocation(g.opaqueMaskProgram, "uOpaqueAlpha"), float(settings.opaqueAlpha));
+        glBindTextureUnit(2, g.image);
+        glBindVertexArray(g.emptyVao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glUseProgram(g.opaqueTilesProgram);
+        glUniform1f(glGetUniformLocation(g.opaqueTilesProgram, "uOpaqueAlpha"), float(settings.opaqueAlpha));
+        glUniform2i(glGetUniformLocation(g.opaqueTilesProgram, "uTiles"), g.tiles.x, g.tiles.y);
+        glDispatchCompute(GLuint((g.tiles.x + 7) / 8), GLuint((g.tiles.y + 7) / 8), 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        // Back to splatting: at depth 0.5 against the mask, blending, the splat program.
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_FALSE);
+        glEnable(GL_BLEND);
+        glUseProgram(p);
+        glBindVertexArray(g.splatVao);
+    };
     if (points) glEnable(GL_PROGRAM_POINT_SIZE);
     const GLenum primitive = points ? GL_POINTS : GL_TRIANGLES;
     const int guardInt = int(guard);
@@ -952,7 +1068,30 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     for (uint32_t r = 0; r < axis.runCount; ++r) submitted += active[axis.buckets[r]] ? axis.voxels[r] : 0;
     m_stats.slicesDrawn = 0;
 
-    if (!sheets) {
+    const uint32_t slices = uint32_t(g.dims[trav.axis]);
+    if (reversed) {
+        // Front to back "under" (src (1 - dst.a) + dst), in groups of `refresh` slices.
+        glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_FALSE);
+        for (uint32_t k0 = 0; k0 < slices; k0 += uint32_t(refresh)) {
+            uint32_t first = runCount, last = 0;
+            for (uint32_t k = k0; k < std::min(slices, k0 + uint32_t(refresh)); ++k) {
+                const auto [f, n] = sliceCommands(descending ? k : slices - 1 - k);   // BTF's reverse
+                if (n > 0) first = std::min(first, f), last = std::max(last, f + n);
+            }
+            if (first >= last) continue;
+            if (k0 > 0) refreshOpaque(g.depthFbo);
+            glBindFramebuffer(GL_FRAMEBUFFER, g.frameFbo);
+            glViewport(-guardInt, -guardInt, plane.width + 2 * guardInt, plane.height + 2 * guardInt);
+            glMultiDrawArraysIndirect(primitive, reinterpret_cast<const void*>(size_t(first) * 16),
+                                      GLsizei(last - first), 0);
+        }
+        glDisable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_TRUE);
+    } else if (!sheets) {
         glBindFramebuffer(GL_FRAMEBUFFER, g.frameFbo);
         glDisable(GL_DEPTH_TEST);
         if (xray) glBlendFunc(GL_ONE, GL_ONE);                 // order-free sums
@@ -972,17 +1111,14 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         // Per slice: clear the sheet, add the slice's splats into it, composite it into the image.
         // Everything is scissored to the slice's reach; slices without an active bucket are skipped.
         const double margin = std::min(bound, settings.maxFootprintFraction * diagonal);
-        const uint32_t slices = uint32_t(g.dims[trav.axis]);
-        glEnable(GL_SCISSOR_TEST);
         const GLuint composite = g.compositePrograms[settings.heatmap ? 1 : 0];
-        glUseProgram(g.opaqueMaskProgram);
-        glUniform1f(glGetUniformLocation(g.opaqueMaskProgram, "uOpaqueAlpha"), float(settings.opaqueAlpha));
         glBindTextureUnit(0, g.sheet);
         glBindTextureUnit(1, g.sheetHeat);
         glBindTextureUnit(2, g.image);
-        bool first = true;
+        bool stale = false;   // a refresh is due before the next drawn slice
         for (uint32_t k = 0; k < slices; ++k) {
             const uint32_t slice = descending ? slices - 1 - k : k;
+            stale = stale || (earlyTermination && k > 0 && k % uint32_t(refresh) == 0);
             const uint32_t r0 = axis.sliceRuns[slice], r1 = axis.sliceRuns[slice + 1];
             // The sheet covers only the active runs' voxels: their in-slice box, projected.
             glm::u16vec2 lo(UINT16_MAX), hi(0);
@@ -992,24 +1128,14 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             ++m_stats.slicesDrawn;
             const Rect rect = sliceRect(g.origin, g.spacing, plane, trav.axis, int(slice), lo, hi, margin);
             if (rect.x0 >= rect.x1 || rect.y0 >= rect.y1) continue;
+            if (stale) refreshOpaque(g.sheetFbo);   // mark what earlier slices made opaque
+            stale = false;
             // GL's rows run bottom up.
+            glEnable(GL_SCISSOR_TEST);
             glScissor(rect.x0, plane.height - rect.y1, rect.x1 - rect.x0, rect.y1 - rect.y0);
             glClearNamedFramebufferfv(g.sheetFbo, GL_COLOR, 0, zero);
             if (settings.heatmap) glClearNamedFramebufferfv(g.sheetFbo, GL_COLOR, 1, zero);
             glBindFramebuffer(GL_FRAMEBUFFER, g.sheetFbo);
-            glDisable(GL_BLEND);
-            if (earlyTermination && !first) {   // mark what earlier slices made opaque
-                glViewport(0, 0, plane.width, plane.height);
-                glEnable(GL_DEPTH_TEST);
-                glDepthFunc(GL_ALWAYS);
-                glDepthMask(GL_TRUE);
-                glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-                glUseProgram(g.opaqueMaskProgram);
-                glBindVertexArray(g.emptyVao);
-                glDrawArrays(GL_TRIANGLES, 0, 3);
-                glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-            }
-            first = false;
 
             glViewport(-guardInt, -guardInt, plane.width + 2 * guardInt, plane.height + 2 * guardInt);
             glUseProgram(p);
@@ -1023,14 +1149,14 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             } else {
                 glDisable(GL_DEPTH_TEST);
             }
-            const uint32_t firstCommand = descending ? axis.descendingSlot[r0] : r0;
+            const auto [firstCommand, commands] = sliceCommands(slice);
             glMultiDrawArraysIndirect(primitive, reinterpret_cast<const void*>(size_t(firstCommand) * 16),
-                                      GLsizei(r1 - r0), 0);
+                                      GLsizei(commands), 0);
 
             glBindFramebuffer(GL_FRAMEBUFFER, g.frameFbo);
             glViewport(0, 0, plane.width, plane.height);
             glDisable(GL_DEPTH_TEST);
-            if (frontToBack) glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);   // "under": src (1 - dst.a) + dst
+            if (ftb) glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);   // "under": src (1 - dst.a) + dst
             else glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);                // "over"
             glUseProgram(composite);
             glBindVertexArray(g.emptyVao);
@@ -1073,6 +1199,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         out.culledHuge = c[kHuge];
         out.culledOffscreen = c[kOffscreen];
         out.drawn = c[kDrawn];
+        out.culledOccluded = c[kOccluded];
         for (int m = 0; m < 3; ++m) out.drawnPerMode[m] = c[size_t(kMode0 + m)];
     }
     m_stats.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();

@@ -23,6 +23,11 @@ Compositing compositingFromName(const std::string& name) {
                       "' (known: splat-every-sample, xray, sheet-back-to-front, sheet-front-to-back)");
 }
 
+bool frontToBack(const SplatSettings& s) {
+    return s.compositing == Compositing::SheetFrontToBack ||
+           (s.compositing == Compositing::SplatEverySample && s.opaqueAlpha < 1.0);
+}
+
 bool needsGradients(const SplatSettings& s) {
     return s.shading != SplatSettings::Shading::None || s.surfaceFlatten > 1.0;
 }

@@ -1,5 +1,6 @@
-// Frame time of the GL splatting path on real scans at 512x512, per filter and compositing mode, the
-// gain of each culling step and of point sprites, and TF-edit latency against a scene rebuild.
+// Frame time of the GL splatting path on real scans at 512x512 (or --resolution WxH), per filter and
+// compositing mode, the gain of each culling step and of point sprites, and TF-edit latency against a
+// scene rebuild.
 // Datasets: the bundled headsq always; bonsai and engine from SPLATLAB_DATA_DIR when it is set.
 // Each benchmark times whole frames (render + glFinish) and reports splats/s; the context line names
 // GL_RENDERER. On llvmpipe compare modes only as ratios measured in one run.
@@ -15,6 +16,7 @@
 #include <epoxy/gl.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
@@ -42,6 +44,9 @@ std::vector<Dataset> datasets() {
     return d;
 }
 
+// Image size of every benchmark; --resolution WxH changes it (e.g. 1920x1080 on a GPU).
+int gWidth = 512, gHeight = 512;
+
 std::map<std::string, SplatScene>& scenes() {
     static std::map<std::string, SplatScene> cache;
     return cache;
@@ -66,7 +71,7 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
     const SplatScene& scene = sceneOf(d, needsGradients(s));
     SplatRenderer r;
     r.setScene(scene);
-    const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, 512, 512);
+    const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, gWidth, gHeight);
     r.render(plane, s);   // warm-up
     glFinish();
     for (auto _ : state) {
@@ -88,6 +93,7 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
     state.counters["points"] = points;
     state.counters["bytes_per_voxel"] = double(r.sceneBytes()) / double(scene.classes.size());
     state.counters["fragments"] = double(r.stats().fragments);
+    state.counters["occluded"] = double(c.culledOccluded);
 }
 
 // TF edit to finished frame: bucket selection (upload the LUT, render) against rebuilding the scene
@@ -97,7 +103,7 @@ void tfEdit(benchmark::State& state, const Dataset& d, bool rebuild) {
     SplatScene scene = buildSplatScene(volume, transferFunctionFromSpec(d.preset));
     SplatRenderer r;
     r.setScene(scene);
-    const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, 512, 512);
+    const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, gWidth, gHeight);
     const TransferFunction tfs[2] = {builtinPreset("ct-bone"), transferFunctionFromSpec(d.preset)};
     int k = 0;
     for (auto _ : state) {
@@ -127,8 +133,32 @@ void add(const std::string& name, std::function<void(benchmark::State&)> fn, int
 
 } // namespace
 
+// Takes --resolution WxH out of argv (Google Benchmark rejects flags it does not know).
+bool parseResolution(int& argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        std::string value;
+        if (a.rfind("--resolution=", 0) == 0) value = a.substr(13);
+        else if (a == "--resolution" && i + 1 < argc) value = argv[i + 1];
+        else continue;
+        if (std::sscanf(value.c_str(), "%dx%d", &gWidth, &gHeight) != 2 || gWidth < 1 || gHeight < 1 ||
+            gWidth > 16384 || gHeight > 16384) {
+            std::fprintf(stderr, "renderer_bench: --resolution expects WxH (1 to 16384 each), got '%s'\n",
+                         value.c_str());
+            return false;
+        }
+        const int used = a == "--resolution" ? 2 : 1;
+        for (int j = i; j + used < argc; ++j) argv[j] = argv[j + used];
+        argc -= used;
+        return true;
+    }
+    return true;
+}
+
 int main(int argc, char** argv) {
+    if (!parseResolution(argc, argv)) return 2;
     auto gl = HeadlessGl::create();
+    benchmark::AddCustomContext("resolution", std::to_string(gWidth) + "x" + std::to_string(gHeight));
     benchmark::AddCustomContext("GL_RENDERER", glRendererName());
     benchmark::AddCustomContext("GL_VERSION", glVersionString());
     for (const Dataset& d : datasets()) {
@@ -149,10 +179,21 @@ int main(int argc, char** argv) {
         s = {};
         s.drawAllBuckets = true;
         add(n + "/ewa/splat-every-sample/all-buckets", [=](benchmark::State& st) { renderFrames(st, d, s); });
-        s = {};
-        s.compositing = Compositing::SheetFrontToBack;
-        s.opaqueAlpha = 1.0;
-        add(n + "/ewa/sheet-front-to-back/no-early-termination", [=](benchmark::State& st) { renderFrames(st, d, s); });
+        // Early termination and occlusion culling (front to back) against none (splat-every-sample then
+        // runs back to front), and how often the opaque pixels are refreshed.
+        for (auto comp : {Compositing::SplatEverySample, Compositing::SheetFrontToBack}) {
+            s = {};
+            s.compositing = comp;
+            s.opaqueAlpha = 1.0;
+            add(n + "/ewa/" + compositingName(comp) + "/no-early-termination",
+                [=](benchmark::State& st) { renderFrames(st, d, s); });
+        }
+        for (int refresh : {2, 4, 16, 32}) {
+            s = {};
+            s.opaqueRefreshSlices = refresh;
+            add(n + "/ewa/splat-every-sample/refresh-" + std::to_string(refresh),
+                [=](benchmark::State& st) { renderFrames(st, d, s); });
+        }
         // Adaptive against full EWA where it can choose: close up (magnified) and far away (minified).
         for (auto [view, distance] : {std::pair{"near", 1.2}, std::pair{"far", 8.0}})
             for (auto filter : {FilterMode::Ewa, FilterMode::Adaptive}) {

@@ -38,6 +38,7 @@ void expectCountersEqual(const SplatCounters& gpu, const SplatCounters& cpu) {
     EXPECT_EQ(gpu.culledDegenerate, cpu.culledDegenerate);
     EXPECT_EQ(gpu.culledHuge, cpu.culledHuge);
     EXPECT_EQ(gpu.culledOffscreen, cpu.culledOffscreen);
+    EXPECT_EQ(gpu.culledOccluded, cpu.culledOccluded);
     EXPECT_EQ(gpu.drawn, cpu.drawn);
     for (int m = 0; m < 3; ++m) EXPECT_EQ(gpu.drawnPerMode[m], cpu.drawnPerMode[m]) << filterModeName(FilterMode(m));
 }
@@ -101,6 +102,46 @@ TEST_F(GlTest, EarlyTerminationChangesAPixelByLessThanWhatItSkips) {
     EXPECT_LE(worst, 0.05 + 1e-5);
 }
 
+TEST_F(GlTest, FrontToBackSplattingCullsHiddenSplatsLikeTheCpu) {
+    // Splat-every-sample with early termination runs front to back, the exact reverse of its back-to-
+    // front order; splats whose every tile was opaque at the last refresh are culled in the vertex
+    // stage. Only early termination may change a pixel (by at most 1 - opaqueAlpha), and the GPU culls
+    // exactly the splats the CPU oracle counts as hidden.
+    const Frame f = frame(makeSphereShells(24, 8.0, 3.0), ramp(1.0), Camera{.azimuthDeg = 25, .elevationDeg = 10}, 64, 64);
+    SplatRenderer r;
+    r.setScene(f.scene);
+    for (auto mode : {Compositing::SplatEverySample, Compositing::SheetFrontToBack}) {
+        SCOPED_TRACE(compositingName(mode));
+        SplatSettings s;
+        s.compositing = mode;
+        s.density = 8.0;
+        s.counters = true;
+        s.opaqueAlpha = 1.0;   // splat-every-sample: back to front
+        r.render(f.plane, s);
+        const Image full = r.readback();
+        const uint64_t fullFragments = r.stats().fragments;
+
+        s.opaqueAlpha = 0.95;
+        s.opaqueRefreshSlices = 1000;   // never refreshed: nothing terminates, nothing is culled
+        r.render(f.plane, s);
+        EXPECT_EQ(r.stats().counters.culledOccluded, 0u);
+        EXPECT_LT(compareImages(r.readback(), full).maxAbs, 1e-5);
+
+        s.opaqueRefreshSlices = 3;
+        r.render(f.plane, s);
+        const Image early = r.readback();
+        SplatCounters cpu;
+        const Image cpuImage = renderReference(f.scene, f.plane, s, &cpu);
+        expectCountersEqual(r.stats().counters, cpu);
+        EXPECT_GT(cpu.culledOccluded, (cpu.drawn + cpu.culledOccluded) / 5) << "too few hidden splats to test";
+        EXPECT_LT(r.stats().fragments, fullFragments / 2);
+        EXPECT_IMAGES_CLOSE(early, cpuImage, kGlVsCpu, std::string("gl_vs_cpu_occlusion_") + compositingName(mode));
+        const ImageError e = compareImages(early, full);
+        EXPECT_GT(e.maxAbs, 1e-5);
+        EXPECT_LE(e.maxAbs, 0.05 + 1e-5);
+    }
+}
+
 TEST_F(GlTest, HeatmapCountersAndPatchModesMatchCpu) {
     // A close, wide view of a deep volume: all three modes appear under the adaptive classifier.
     Volume v = makeSphereShells(20, 5.0, 2.0);
@@ -146,10 +187,11 @@ TEST_F(GlTest, TfEditUploadsOnlyTheLutAndSelectsBuckets) {
     EXPECT_GT(r.stats().uploadBytes, scene.classes.size() * 2);
     r.render(plane, SplatSettings{});
     EXPECT_EQ(r.stats().uploadBytes, 0u);   // a frame uploads uniforms only
-    // GPU bytes: classes 2 a voxel, the LUT, per axis 2 per listed voxel (whole words) and 56 per run,
-    // and one word standing in for the gradients (4 bytes a voxel once the scene has them).
+    // GPU bytes: classes 2 a voxel, the LUT, per axis 2 per listed voxel (whole words) and 88 per run
+    // (the run 16, where it lies 8, four command arrays 64), and one word standing in for the
+    // gradients (4 bytes a voxel once the scene has them).
     uint64_t expected = scene.classes.size() * 2 + kLutSize * 16 + 4;
-    for (const auto& l : scene.lists) expected += (l.entries.size() + 1) / 2 * 4 + l.runs.size() * 56;
+    for (const auto& l : scene.lists) expected += (l.entries.size() + 1) / 2 * 4 + l.runs.size() * 88;
     EXPECT_EQ(r.sceneBytes(), expected);
 
     for (const char* preset : {"ct-bone", "grey-ramp", "fire"}) {

@@ -178,6 +178,26 @@ TEST(SheetBuffer, FrontToBackEqualsBackToFront) {
     EXPECT_LE(early.maxAbs, 0.01 + 1e-6);
 }
 
+TEST(SplatEverySample, FrontToBackIsTheExactReverseOfBackToFront) {
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(14), ramp());
+    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 40}, scene.centre, scene.radius, 48, 40);
+    SplatSettings s;
+    s.density = 6.0;
+    s.opaqueAlpha = 1.0;   // back to front
+    const Image btf = renderReference(scene, plane, s);
+    s.opaqueAlpha = 0.99;
+    s.opaqueRefreshSlices = 1000;   // front to back, but no pixel is ever marked opaque
+    EXPECT_LT(compareImages(renderReference(scene, plane, s), btf).maxAbs, 1e-6);
+    EXPECT_GT(imageStats(btf).meanAlpha, 0.2);
+    // Refreshed every slice or every 4: a pixel misses at most 1 - opaqueAlpha of what lies behind.
+    for (int refresh : {1, 4}) {
+        s.opaqueRefreshSlices = refresh;
+        const ImageError early = compareImages(renderReference(scene, plane, s), btf);
+        EXPECT_GT(early.maxAbs, 1e-6) << refresh;
+        EXPECT_LE(early.maxAbs, 0.01 + 1e-6) << refresh;
+    }
+}
+
 // == Ground truth
 
 TEST(GroundTruth, OneKernelMatchesABruteForceLineIntegral) {

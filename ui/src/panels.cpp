@@ -125,11 +125,15 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
                                                     renderer::Compositing::SheetFrontToBack,
                                                     renderer::Compositing::XRay},
                                          &renderer::compositingName);
-    hint("splat-every-sample: back-to-front 'over' in slice order\nsheets: a slice sums into a float "
-         "sheet, sheets composite in order\nxray: additive, order-free");
-    if (s.compositing == renderer::Compositing::SheetFrontToBack) {
+    hint("splat-every-sample: 'over' in slice order (run front to back, reversed, while 'Opaque at' < 1)\n"
+         "sheets: a slice sums into a float sheet, sheets composite in order\nxray: additive, order-free");
+    if (s.compositing == renderer::Compositing::SheetFrontToBack ||
+        s.compositing == renderer::Compositing::SplatEverySample) {
         changes.settingsChanged |= sliderDouble("Opaque at", s.opaqueAlpha, 0.9, 1.0, "%.3f");
         hint("Early termination: pixels this opaque take no more splats (1: never)");
+        changes.settingsChanged |= ImGui::SliderInt("Refresh every", &s.opaqueRefreshSlices, 1, 64, "%d slices");
+        hint("How often the opaque pixels are found again; between refreshes splats over opaque tiles "
+             "are culled before rasterisation");
     }
 
     sectionTitle("Shading and surfaces");
@@ -273,6 +277,7 @@ void drawStatsPanel(const StatsView& stats) {
         ImGui::Text("culled  transparent %llu  near %llu  offscreen %llu  huge %llu",
                     (unsigned long long)c.culledTransparent, (unsigned long long)c.culledNear,
                     (unsigned long long)c.culledOffscreen, (unsigned long long)c.culledHuge);
+        ImGui::Text("hidden  behind opaque tiles %llu", (unsigned long long)c.culledOccluded);
         ImGui::Text("fragments %llu (all passes)", (unsigned long long)f.fragments);
     }
     if (!stats.frameMsHistory.empty()) {

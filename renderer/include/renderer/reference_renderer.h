@@ -15,6 +15,8 @@ struct SplatCounters {
     uint64_t culledOffscreen = 0;  // cutoff ellipse misses the image
     uint64_t culledHuge = 0;       // cutoff radius beyond SplatSettings::maxFootprintFraction
     uint64_t culledDegenerate = 0; // footprint variance not positive definite (det <= 1e-12 px^4)
+    uint64_t culledOccluded = 0;   // front to back: every opaque tile under the footprint was opaque
+                                   // at the last refresh (not in `drawn`; changes no pixel)
     uint64_t drawnPerMode[3] = {}; // drawn splats by filter: reconstruction, low-pass, EWA
 };
 

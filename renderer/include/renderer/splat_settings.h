@@ -44,9 +44,14 @@ struct SplatSettings {
     double surfaceFlatten = 1.0;        // 1: volume kernels everywhere
     double surfaceGradient = 0.1;
 
-    // Compute only what the scene needs. Front-to-back sheets stop adding to a pixel once its alpha
-    // reaches opaqueAlpha (>= 1: never); what is lost there is at most 1 - opaqueAlpha of the pixel.
+    // Compute only what the scene needs. With opaqueAlpha < 1 splat-every-sample runs front to back
+    // (the exact reverse of its back-to-front order: the same image) and, like front-to-back sheets,
+    // stops adding to a pixel once its alpha reached opaqueAlpha; >= 1: never, and splat-every-sample
+    // runs back to front. What is lost is at most 1 - opaqueAlpha of the pixel. Which pixels are opaque
+    // is refreshed every opaqueRefreshSlices slices (in draw order); in between, splats whose every
+    // kOpaqueTilePx tile is opaque are culled before they reach the rasteriser.
     double opaqueAlpha = 0.998;
+    int opaqueRefreshSlices = 8;
     bool drawAllBuckets = false;        // baseline for measurements: every voxel reaches the vertex
                                         // stage, transparent ones are culled there
 
@@ -56,6 +61,14 @@ struct SplatSettings {
     bool heatmap = false;               // also render the filter-mode heatmap (renderers' readback)
     bool counters = false;              // count splats per mode and per guard on the GPU (atomics)
 };
+
+// Side of the square pixel tiles of the opaque-tile map behind occlusion culling.
+constexpr int kOpaqueTilePx = 8;
+
+// True when the frame is composited front to back (early termination applies).
+bool frontToBack(const SplatSettings& settings);
+// Slices between refreshes of the opaque pixels (at least 1).
+inline int opaqueRefreshSlices(const SplatSettings& s) { return s.opaqueRefreshSlices > 1 ? s.opaqueRefreshSlices : 1; }
 
 // Shading and surface splats read the scene's gradients.
 bool needsGradients(const SplatSettings& s);
