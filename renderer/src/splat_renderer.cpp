@@ -917,12 +917,6 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     requireGradients(settings, g.hasGradients, g.sceneName);
     g.ensureTargets(plane.width, plane.height);
 
-    collectTimers();
-    const size_t slot = size_t(g.timerNext);
-    const bool timed = !g.timerPending[slot];   // ring full of unfinished frames: skip, never stall
-    if (timed) glBeginQuery(GL_TIME_ELAPSED, g.timers[slot]);
-    if (settings.counters) glBeginQuery(GL_SAMPLES_PASSED, g.fragmentQuery);
-
     // Points cost one vertex and one primitive a splat instead of six and two; they need every
     // footprint to fit the largest point size, and a guard band, since a point is clipped by its centre.
     const double bound = maxHalfExtentBound(g.dims, g.origin, g.spacing, plane, settings);
@@ -932,6 +926,14 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     if (points && !(bound <= pointFits) && settings.primitive == SplatSettings::Primitive::Points)
         throw RenderError("point sprites cannot hold this view's footprints (up to " + std::to_string(bound) +
                           " px half extent, the driver's points reach " + std::to_string(pointFits) + ")");
+
+    // Nothing below throws before the queries end: a query left active would break the next frame
+    // (NVIDIA keeps a deleted active query running).
+    collectTimers();
+    const size_t slot = size_t(g.timerNext);
+    const bool timed = !g.timerPending[slot];   // ring full of unfinished frames: skip, never stall
+    if (timed) glBeginQuery(GL_TIME_ELAPSED, g.timers[slot]);
+    if (settings.counters) glBeginQuery(GL_SAMPLES_PASSED, g.fragmentQuery);
     const int verts = points ? 1 : 6;
     const float guard = points ? float(std::ceil(0.5 * g.maxPointSize) + 1.0) : 0.0f;
     g.updateCommands(verts, settings.drawAllBuckets);
