@@ -274,7 +274,7 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     if (!(ra.cMin > 0.0)) throw CLI::ValidationError("--c-min", "must be > 0");
     if (!(ra.cMax >= 0.0)) throw CLI::ValidationError("--c-max", "must be >= 0 (0: 2 (1 + 2 tan^2(fov/2)))");
     if (ra.patchSize < 1 || ra.patchSize > 256) throw CLI::ValidationError("--patch-size", "must be 1..256");
-    if (ra.opaqueRefresh < 1 || ra.opaqueRefresh > 65535)
+    if (ra.opaqueRefresh < 0 || ra.opaqueRefresh > 65535)
         throw CLI::ValidationError("--opaque-refresh", "must be 1..65535 slices");
     Scene s = buildScene(a);
     s.settings.opaqueAlpha = ra.opaqueAlpha;
@@ -286,7 +286,9 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     s.settings.counters = ra.counters;
     if (ra.primitive == "points") s.settings.primitive = SplatSettings::Primitive::Points;
     else if (ra.primitive == "quads") s.settings.primitive = SplatSettings::Primitive::Quads;
-    else if (ra.primitive != "auto") throw CLI::ValidationError("--primitive", "'" + ra.primitive + "': expected auto, points or quads");
+    else if (ra.primitive == "tiles") s.settings.primitive = SplatSettings::Primitive::Tiles;
+    else if (ra.primitive != "auto")
+        throw CLI::ValidationError("--primitive", "'" + ra.primitive + "': expected auto, points, quads or tiles");
     Image heatmap;
     Image image;
     std::vector<double> ms;
@@ -319,10 +321,15 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
             counted.counters = true;
             gl.render(s.plane, counted);
             counters = gl.stats().counters;
-            std::printf("  %llu fragments passed (all passes)\n", (unsigned long long)gl.stats().fragments);
+            if (s.settings.primitive == SplatSettings::Primitive::Tiles)
+                std::printf("  %llu splat-tile pairs composited\n", (unsigned long long)gl.stats().tileEntries);
+            else
+                std::printf("  %llu fragments passed (all passes)\n", (unsigned long long)gl.stats().fragments);
         }
-        std::printf("  %s, %.2f GPU bytes per voxel\n", gl.stats().points ? "point sprites" : "quads",
-                    double(gl.sceneBytes()) / double(s.scene.classes.size()));
+        const char* primitive = s.settings.primitive == SplatSettings::Primitive::Tiles ? "tiles"
+                                : gl.stats().points                                      ? "point sprites"
+                                                                                          : "quads";
+        std::printf("  %s, %.2f GPU bytes per voxel\n", primitive, double(gl.sceneBytes()) / double(s.scene.classes.size()));
     }
     writeImage(image, a.out);
     if (s.settings.heatmap) writeImage(heatmap, ra.heatmap);
@@ -393,8 +400,11 @@ int main(int argc, char** argv) {
                        "Front to back, pixels this opaque take no more splats (1: never; splat-every-sample "
                        "then runs back to front)")->capture_default_str();
     render->add_option("--opaque-refresh", ra.opaqueRefresh,
-                       "Slices between refreshes of the opaque pixels (occlusion culling)")->capture_default_str();
-    render->add_option("--primitive", ra.primitive, "GL splat primitive: auto, points, quads")->capture_default_str();
+                       "Slices between refreshes of the opaque pixels (occlusion culling; 0: auto, every slice "
+                       "with tiles, every 8 rasterised)")->capture_default_str();
+    render->add_option("--primitive", ra.primitive,
+                       "GL splat primitive: auto, points, quads, or tiles (compute passes; sheets and X-ray only)")
+        ->capture_default_str();
     render->add_option("--heatmap", ra.heatmap, "Also write the filter-mode heatmap (red reconstruction, green "
                                                 "low-pass, blue EWA, weighted by opacity)");
     render->add_flag("--counters", ra.counters, "Print splats per filter and per cull (GL: counted on the GPU)");

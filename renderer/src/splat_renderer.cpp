@@ -80,71 +80,64 @@ int classifyPatch(ivec3 ijk, int previous) {
 int resolveFilter(ivec3 ijk, int previous) { return uFilter == 3 ? classifyPatch(ijk, previous) : uFilter; }
 )";
 
-const char* kSplatVertMain = R"(
-layout(location = 0) in uvec4 aRun;  // per draw (baseInstance): first entry, tile base,
-                                     // slice | bucket << 16 | dense << 31, count
+// The footprint of one listed voxel, shared by the vertex stage and the tile pass: the same guards in
+// the same order, counted in the same slots.
+const char* kSplatFootprint = R"(
 layout(std430, binding = 0) readonly buffer Entries { uint entries[]; };   // 16-bit offsets, two a word
 layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
 layout(std430, binding = 2) buffer Counters { uint counters[]; };
 layout(std430, binding = 3) readonly buffer Gradients { uint gradients[]; };   // packed (shading.h)
 layout(std430, binding = 4) readonly buffer PatchModes { uint patchModes[]; };
-layout(std430, binding = 5) readonly buffer OpaqueTiles { uint opaqueTiles[]; };
 uniform int uPatchColumns, uPatchRows;   // patches along the slice's axes a1 and a2
-uniform bool uReverse;        // front-to-back splat-every-sample: each run read backwards
-uniform int uTilesX;          // OCCLUSION: columns of the opaque-tile map
 layout(binding = 0) uniform usampler3D classes;      // per-voxel LUT class (R16UI)
 
 uniform ShadingParams uShadingParams;
 uniform float uSurfaceFlatten, uSurfaceGradient;   // flatten 1: no surface splats
 uniform vec3 uSigma;          // kernel sigma per object axis
 
-uniform int uVertsPerSplat;   // 1: point sprite, 6: two triangles
 uniform vec2 uCentrePx, uViewport;
-uniform float uGuardPx;       // the viewport reaches this far past the image (points clip by centre)
 uniform mat3 uVarCamera;      // W V'' W^T, shared by every voxel of a rectilinear grid
 uniform float uCutoff;        // in sigmas
 uniform float uExtinctionScale;   // density / mean spacing * voxel volume
 uniform float uMaxHalfExtent;     // huge-footprint guard, pixels
 
-flat out vec2 vCentre;
-flat out vec3 vConic;         // (a, b, c): e = a dx^2 + 2 b dx dy + c dy^2
-flat out float vAmplitude;
-flat out vec3 vColour;
-flat out vec3 vHeat;          // one-hot filter mode
-flat out vec3 vGradient;      // per-fragment shading: W times the decoded relative gradient
-
 // Program variants (SplatRenderer::Gl::splatProgram) switch features with #defines: llvmpipe runs
 // both sides of a branch under a mask, so an unused feature would still cost every vertex/fragment.
+bool countingInvocation();
 void count(int slot) {   // COUNTERS: count per splat (slots: CounterSlot)
 #ifdef COUNTERS
-    if (gl_VertexID % uVertsPerSplat == 0) atomicAdd(counters[slot], 1u);
+    if (countingInvocation()) atomicAdd(counters[slot], 1u);
 #endif
 }
 
-const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
+struct Footprint {
+    vec2 centre, halfExtent;  // pixels, y down; the cutoff ellipse's box
+    vec3 conic;               // (a, b, c): e = a dx^2 + 2 b dx dy + c dy^2
+    float amplitude;          // optical depth at the centre
+    vec3 colour;
+    vec3 gradient;            // per-fragment shading: W times the decoded relative gradient
+    int mode;                 // the filter used
+};
 
-void main() {
-    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);   // culled unless a footprint is emitted below
-    gl_PointSize = 1.0;
-    bool dense = (aRun.z >> 31) != 0u;
-    // Listed runs: gl_VertexID starts at the run's first entry; dense runs walk their tile from 0.
-    uint k = uint(gl_VertexID) / uint(uVertsPerSplat) - (dense ? 0u : aRun.x);
-    if (uReverse) k = aRun.w - 1u - k;
-    uint e = aRun.x + k;
-    uint pos = aRun.y + (dense ? k : (entries[e >> 1] >> ((e & 1u) * 16u)) & 0xffffu);
+// Entry k of run `run` (first entry, tile base, slice | bucket << 16 | dense << 31, count): false when
+// a guard culls it (counted in its slot).
+bool footprint(uvec4 run, uint k, out Footprint f) {
+    bool dense = (run.z >> 31) != 0u;
+    uint e = run.x + k;
+    uint pos = run.y + (dense ? k : (entries[e >> 1] >> ((e & 1u) * 16u)) & 0xffffu);
     int a1 = (uAxis + 1) % 3, a2 = (uAxis + 2) % 3;
     ivec3 ijk;
-    ijk[uAxis] = int(aRun.z & 0xffffu);
+    ijk[uAxis] = int(run.z & 0xffffu);
     ijk[a1] = int(pos % uint(uDims[a1]));
     ijk[a2] = int(pos / uint(uDims[a1]));
     uint cls = texelFetch(classes, ijk, 0).r;
-    if (dense && (cls >> 6) != ((aRun.z >> 16) & 0xffu)) return;   // another bucket's voxel
+    if (dense && (cls >> 6) != ((run.z >> 16) & 0xffu)) return false;   // another bucket's voxel
     count(0);
     vec4 tf = lut[cls];
-    if (!(tf.a > 0.0)) { count(1); return; }
+    if (!(tf.a > 0.0)) { count(1); return false; }
 
     vec3 u = uViewFromObject * (uSpacing * vec3(ijk)) + uTranslation;
-    if (!(u.z > uNear)) { count(2); return; }
+    if (!(u.z > uNear)) { count(2); return false; }
     float l = length(u);
     float iz = 1.0 / u.z;
     // Pixel-unit Jacobian (001 eq. 25), written row by row, transposed into GLSL's column order;
@@ -170,25 +163,70 @@ void main() {
     mat2 vHat = mat2(V[0][0], V[0][1], V[1][0], V[1][1]);
 #ifdef ADAPTIVE   // the patch's filter, classified once per patch by the patch pass
     int pa = ijk[a1] / uPatchSize, pb = ijk[a2] / uPatchSize;
-    int mode = int(patchModes[(ijk[uAxis] * uPatchRows + pb) * uPatchColumns + pa]);
+    f.mode = int(patchModes[(ijk[uAxis] * uPatchRows + pb) * uPatchColumns + pa]);
 #else
-    int mode = uFilter;
+    f.mode = uFilter;
 #endif
-    mat2 M = mode == 0 ? vHat : (mode == 1 ? mat2(1.0) : vHat + mat2(1.0));
-    if (surface && mode == 0) M = clampFootprintVariance(M, kMinFootprintVariancePx2);
+    mat2 M = f.mode == 0 ? vHat : (f.mode == 1 ? mat2(1.0) : vHat + mat2(1.0));
+    if (surface && f.mode == 0) M = clampFootprintVariance(M, kMinFootprintVariancePx2);
     float det = M[0][0] * M[1][1] - M[0][1] * M[1][0];
-    if (!(det > 1e-12)) { count(3); return; }
-    vec2 halfExtent = uCutoff * sqrt(vec2(M[0][0], M[1][1]));
-    if (max(halfExtent.x, halfExtent.y) > uMaxHalfExtent) { count(4); return; }
-    vec2 centre = uCentrePx + uFPx * (uOrtho ? u.xy : u.xy * iz);
-    if (centre.x + halfExtent.x < 0.0 || centre.x - halfExtent.x > uViewport.x ||
-        centre.y + halfExtent.y < 0.0 || centre.y - halfExtent.y > uViewport.y) { count(5); return; }
+    if (!(det > 1e-12)) { count(3); return false; }
+    f.halfExtent = uCutoff * sqrt(vec2(M[0][0], M[1][1]));
+    if (max(f.halfExtent.x, f.halfExtent.y) > uMaxHalfExtent) { count(4); return false; }
+    f.centre = uCentrePx + uFPx * (uOrtho ? u.xy : u.xy * iz);
+    if (f.centre.x + f.halfExtent.x < 0.0 || f.centre.x - f.halfExtent.x > uViewport.x ||
+        f.centre.y + f.halfExtent.y < 0.0 || f.centre.y - f.halfExtent.y > uViewport.y) { count(5); return false; }
+
+    float detJ = uOrtho ? uFPx * uFPx : uFPx * uFPx * l * iz * iz * iz;
+    f.conic = vec3(M[1][1], -M[0][1], M[0][0]) / det;
+    f.amplitude = tf.a * uExtinctionScale * detJ / (6.283185307 * sqrt(det));
+    f.gradient = uViewFromObject * (grad.xyz * grad.w);
+#ifdef SPLAT_SHADING
+    f.colour = shade(tf.rgb, f.gradient, -u, uShadingParams);
+#else
+    f.colour = tf.rgb;
+#endif
+    return true;
+}
+
+// Pixels the footprint can touch, as the CPU's box: centres inside centre -+ halfExtent.
+ivec2 boxLo(Footprint f) { return ivec2(ceil(f.centre - f.halfExtent - 0.5)); }
+ivec2 boxHi(Footprint f) { return ivec2(floor(f.centre + f.halfExtent - 0.5)); }
+)";
+
+const char* kSplatVertMain = R"(
+layout(location = 0) in uvec4 aRun;  // per draw (baseInstance): the run record
+layout(std430, binding = 5) readonly buffer OpaqueTiles { uint opaqueTiles[]; };
+uniform bool uReverse;        // front-to-back splat-every-sample: each run read backwards
+uniform int uTilesX;          // OCCLUSION: columns of the opaque-tile map
+uniform int uVertsPerSplat;   // 1: point sprite, 6: two triangles
+uniform float uGuardPx;       // the viewport reaches this far past the image (points clip by centre)
+
+flat out vec2 vCentre;
+flat out vec3 vConic;
+flat out float vAmplitude;
+flat out vec3 vColour;
+flat out vec3 vHeat;          // one-hot filter mode
+flat out vec3 vGradient;
+
+bool countingInvocation() { return gl_VertexID % uVertsPerSplat == 0; }
+
+const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
+
+void main() {
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);   // culled unless a footprint is emitted below
+    gl_PointSize = 1.0;
+    bool dense = (aRun.z >> 31) != 0u;
+    // Listed runs: gl_VertexID starts at the run's first entry; dense runs walk their tile from 0.
+    uint k = uint(gl_VertexID) / uint(uVertsPerSplat) - (dense ? 0u : aRun.x);
+    if (uReverse) k = aRun.w - 1u - k;
+    Footprint f;
+    if (!footprint(aRun, k, f)) return;
 #ifdef OCCLUSION
-    // Pixels the footprint can touch (as the CPU's box); culled when every tile under them was opaque
-    // at the last refresh: early termination would reject each of its fragments anyway.
-    ivec2 boxLo = clamp(ivec2(ceil(centre - halfExtent - 0.5)), ivec2(0), ivec2(uViewport) - 1);
-    ivec2 boxHi = clamp(ivec2(floor(centre + halfExtent - 0.5)), ivec2(0), ivec2(uViewport) - 1);
-    ivec2 ta = boxLo / OPAQUE_TILE, tb = boxHi / OPAQUE_TILE;
+    // Culled when every tile under the pixels it can touch was opaque at the last refresh: early
+    // termination would reject each of its fragments anyway.
+    ivec2 ta = clamp(boxLo(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
+    ivec2 tb = clamp(boxHi(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
     if (tb.x - ta.x < 4 && tb.y - ta.y < 4) {
         bool hidden = true;
         for (int ty = ta.y; ty <= tb.y; ++ty)
@@ -197,26 +235,280 @@ void main() {
     }
 #endif
     count(6);
-    count(7 + mode);
-
-    float detJ = uOrtho ? uFPx * uFPx : uFPx * uFPx * l * iz * iz * iz;
-    vCentre = centre;
-    vConic = vec3(M[1][1], -M[0][1], M[0][0]) / det;
-    vAmplitude = tf.a * uExtinctionScale * detJ / (6.283185307 * sqrt(det));
-    vGradient = uViewFromObject * (grad.xyz * grad.w);
-#ifdef SPLAT_SHADING
-    vColour = shade(tf.rgb, vGradient, -u, uShadingParams);
-#else
-    vColour = tf.rgb;
-#endif
-    vHeat = vec3(mode == 0 ? 1.0 : 0.0, mode == 1 ? 1.0 : 0.0, mode == 2 ? 1.0 : 0.0);
+    count(7 + f.mode);
+    vCentre = f.centre;
+    vConic = f.conic;
+    vAmplitude = f.amplitude;
+    vGradient = f.gradient;
+    vColour = f.colour;
+    vHeat = vec3(f.mode == 0 ? 1.0 : 0.0, f.mode == 1 ? 1.0 : 0.0, f.mode == 2 ? 1.0 : 0.0);
     // Half a pixel of margin against rounding: the fragment test, not the primitive, decides coverage
     // (a pixel centre on the box's edge would lie on the cutoff ellipse).
-    vec2 p = centre;
-    if (uVertsPerSplat == 1) gl_PointSize = 2.0 * max(halfExtent.x, halfExtent.y) + 1.0;
-    else p += kCorners[gl_VertexID % 6] * (halfExtent + 0.5);
+    vec2 p = f.centre;
+    if (uVertsPerSplat == 1) gl_PointSize = 2.0 * max(f.halfExtent.x, f.halfExtent.y) + 1.0;
+    else p += kCorners[gl_VertexID % 6] * (f.halfExtent + 0.5);
     vec2 span = uViewport + 2.0 * uGuardPx;
     gl_Position = vec4(2.0 * (p.x + uGuardPx) / span.x - 1.0, 1.0 - 2.0 * (p.y + uGuardPx) / span.y, 0.0, 1.0);
+}
+)";
+
+// Tiled splatting (SplatSettings::Primitive::Tiles), for sheet and X-ray compositing: compute passes
+// instead of the rasteriser. (1) Each kept splat is written as a record and counted in every screen
+// tile (SPLAT_TILE pixels square) its box reaches, per slice rank; (2) the counts become offsets, per
+// tile over the ranks and then over the tiles; (3) each splat appends its index to its tiles' lists;
+// (4) one workgroup per tile walks its list slice by slice, every pixel keeping its sheet and the image
+// in registers. A pixel's sums do not depend on the order within a slice, so the lists need no sort.
+// Records are SPLAT_VEC4S vec4s: centre and half extent; conic and amplitude; colour and rank | mode << 16;
+// FRAGMENT_SHADING: the gradient.
+const char* kTileSplatCompMain = R"(
+layout(local_size_x = 64) in;
+layout(std430, binding = 5) readonly buffer Runs { uvec4 runs[]; };
+layout(std430, binding = 6) readonly buffer Commands { uvec4 commands[]; };   // count 0: no active bucket
+layout(std430, binding = 7) writeonly buffer Splats { vec4 splats[]; };
+layout(std430, binding = 8) buffer Bins { uint bins[]; };                     // per tile and slice rank
+layout(std430, binding = 9) buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
+uniform uint uRuns, uGroupsX;
+uniform ivec2 uTiles;
+uniform int uSlices;
+uniform bool uRankDescending;   // rank 0 is the highest slice
+
+bool countingInvocation() { return true; }
+
+void main() {
+    uint r = gl_WorkGroupID.y * uGroupsX + gl_WorkGroupID.x;
+    if (r >= uRuns || commands[r].x == 0u) return;
+    uvec4 run = runs[r];
+    int slice = int(run.z & 0xffffu);
+    uint rank = uint(uRankDescending ? uSlices - 1 - slice : slice);
+    for (uint k = gl_LocalInvocationID.x; k < run.w; k += 64u) {
+        Footprint f;
+        if (!footprint(run, k, f)) continue;
+        count(6);
+        count(7 + f.mode);
+        uint i = atomicAdd(splatCount, 1u);
+        splats[SPLAT_VEC4S * i] = vec4(f.centre, f.halfExtent);
+        splats[SPLAT_VEC4S * i + 1] = vec4(f.conic, f.amplitude);
+        splats[SPLAT_VEC4S * i + 2] = vec4(f.colour, uintBitsToFloat(rank | uint(f.mode) << 16));
+#ifdef FRAGMENT_SHADING
+        splats[SPLAT_VEC4S * i + 3] = vec4(f.gradient, 0.0);
+#endif
+        ivec2 ta = max(boxLo(f), ivec2(0)) / SPLAT_TILE, tb = min(boxHi(f), ivec2(uViewport) - 1) / SPLAT_TILE;
+        for (int ty = ta.y; ty <= tb.y; ++ty)
+            for (int tx = ta.x; tx <= tb.x; ++tx) atomicAdd(bins[(ty * uTiles.x + tx) * uSlices + int(rank)], 1u);
+    }
+}
+)";
+
+// Counts to offsets: per tile over its ranks (bins become where each rank starts in the tile's list,
+// tileBase the tile's total)...
+const char* kTileOffsetsComp = R"(
+layout(local_size_x = 64) in;
+layout(std430, binding = 8) buffer Bins { uint bins[]; };
+layout(std430, binding = 9) buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
+uniform int uTileCount, uSlices;
+void main() {
+    int t = int(gl_GlobalInvocationID.x);
+    if (t >= uTileCount) return;
+    uint sum = 0u;
+    for (int k = 0; k < uSlices; ++k) {
+        uint c = bins[t * uSlices + k];
+        bins[t * uSlices + k] = sum;
+        sum += c;
+    }
+    tileBase[t] = sum;
+}
+)";
+
+// ...then over the tiles, in one workgroup: tileBase becomes where each tile's list starts, entryCount
+// the total.
+const char* kTileBasesComp = R"(
+layout(local_size_x = 1024) in;
+layout(std430, binding = 9) buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
+uniform int uTileCount;
+shared uint partial[1024];
+void main() {
+    uint id = gl_LocalInvocationID.x;
+    uint per = (uint(uTileCount) + 1023u) / 1024u;
+    uint i0 = min(id * per, uint(uTileCount)), i1 = min(i0 + per, uint(uTileCount));
+    uint sum = 0u;
+    for (uint i = i0; i < i1; ++i) sum += tileBase[i];
+    partial[id] = sum;
+    barrier();
+    if (id == 0u) {
+        uint running = 0u;
+        for (uint j = 0u; j < 1024u; ++j) {
+            uint v = partial[j];
+            partial[j] = running;
+            running += v;
+        }
+        entryCount = running;
+    }
+    barrier();
+    uint running = partial[id];
+    for (uint i = i0; i < i1; ++i) {
+        uint v = tileBase[i];
+        tileBase[i] = running;
+        running += v;
+    }
+}
+)";
+
+// Each splat appends its index to the list of every tile its box reaches (bins: the cursor per rank;
+// afterwards where each rank ends).
+const char* kTileScatterComp = R"(
+layout(local_size_x = 64) in;
+layout(std430, binding = 7) readonly buffer Splats { vec4 splats[]; };
+layout(std430, binding = 8) buffer Bins { uint bins[]; };
+layout(std430, binding = 9) readonly buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
+layout(std430, binding = 10) writeonly buffer List { uint list[]; };
+uniform ivec2 uTiles;
+uniform int uSlices;
+uniform vec2 uViewport;
+void scatter(uint i) {
+    vec4 box = splats[SPLAT_VEC4S * i];
+    int rank = int(floatBitsToUint(splats[SPLAT_VEC4S * i + 2].w) & 0xffffu);
+    // The same box as the count pass: the same floats through the same formulas.
+    ivec2 ta = max(ivec2(ceil(box.xy - box.zw - 0.5)), ivec2(0)) / SPLAT_TILE;
+    ivec2 tb = min(ivec2(floor(box.xy + box.zw - 0.5)), ivec2(uViewport) - 1) / SPLAT_TILE;
+    for (int ty = ta.y; ty <= tb.y; ++ty)
+        for (int tx = ta.x; tx <= tb.x; ++tx) {
+            int t = ty * uTiles.x + tx;
+            list[tileBase[t] + atomicAdd(bins[t * uSlices + rank], 1u)] = i;
+        }
+}
+void main() {   // a grid of at most 65535 workgroups walks every splat
+    for (uint i = gl_GlobalInvocationID.x; i < splatCount; i += gl_NumWorkGroups.x * 64u) scatter(i);
+}
+)";
+
+// One workgroup per tile, one invocation per pixel column: slice by slice, each of the column's pixels
+// adds its splats into its sheet, which is composited into the pixel (front to back "under", back to
+// front "over"; X-ray: summed and resolved at the end). Early termination as the rasterised sheets: a
+// pixel whose alpha reached uOpaqueAlpha at a refresh (every uRefresh ranks) takes nothing more.
+// A column per invocation fetches each record once for eight pixels (fetches were 60 % of a frame on
+// llvmpipe with a pixel per invocation). Every row is evaluated without a branch: the cutoff test
+// zeroes rows outside the ellipse, which lies inside the box the tiles were chosen by, and on llvmpipe
+// a masked branch costs more than the row (both sides run under a mask). Whole slices and tiles are
+// skipped by loops of at most one pass (SKIP_UNLESS): llvmpipe leaves a loop once no lane is in it.
+const char* kTileCompositeCompMain = R"(
+#if SPLAT_TILE != 8
+#error the row macros below assume 8x8 tiles
+#endif
+#define ROWS(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7)
+#define SKIP_UNLESS(cond) for (int once = 0; once < ((cond) ? 1 : 0); ++once)
+layout(local_size_x = SPLAT_TILE) in;
+// Records and lists through texel fetches: llvmpipe gathers those without a bounds check per lane.
+layout(binding = 0) uniform samplerBuffer splats;
+layout(binding = 1) uniform usamplerBuffer list;
+layout(std430, binding = 8) readonly buffer Bins { uint bins[]; };   // where each rank ends in its tile's list
+layout(std430, binding = 9) readonly buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
+layout(rgba32f, binding = 0) writeonly uniform image2D outImage;
+layout(rgba32f, binding = 1) writeonly uniform image2D outHeat;
+uniform ivec2 uTiles;
+uniform int uSlices, uRefresh;
+uniform vec2 uViewport, uCentrePx;
+uniform float uCutoff, uFPx, uOpaqueAlpha;
+uniform bool uFrontToBack, uOrtho;
+uniform ShadingParams uShadingParams;
+
+// (sum c tau, sum tau) -> premultiplied colour of alpha 1 - exp(-sum tau), as the sheet composite.
+vec4 sheetRgba(vec4 q) {
+    if (!(q.a > 0.0)) return vec4(0.0);
+    float a = q.a < 1e-3 ? q.a * (1.0 - 0.5 * q.a) : 1.0 - exp(-q.a);
+    return vec4(q.rgb / q.a * a, a);
+}
+
+vec4 composite(vec4 image, vec4 sheet) {
+#ifdef XRAY
+    return image + sheet;
+#else
+    vec4 s = sheetRgba(sheet);
+    return uFrontToBack ? image + (1.0 - image.a) * s : s + (1.0 - s.a) * image;
+#endif
+}
+
+// X-ray's resolve, as the rasterised one: sums become 1 - exp(-sum); the heatmap splits that alpha.
+vec4 resolve(vec4 image) {
+#ifdef XRAY
+    return vec4(1.0) - exp(-image);
+#else
+    return image;
+#endif
+}
+vec4 resolveHeat(vec4 h) {
+#ifdef XRAY
+    float a = 1.0 - exp(-h.a);
+    return vec4(h.a > 0.0 ? h.rgb * (a / h.a) : vec3(0.0), a);
+#else
+    return h;
+#endif
+}
+
+#ifdef HEATMAP
+#define ADD_HEAT(r) sheetHeat##r += vec4(mode == 0u ? tau : 0.0, mode == 1u ? tau : 0.0, mode == 2u ? tau : 0.0, tau);
+#define COMPOSITE_HEAT(r) heat##r = composite(heat##r, sheetHeat##r);
+#define STORE_HEAT(r) imageStore(outHeat, ivec2(px, int(uViewport.y) - 1 - (y0 + r)), resolveHeat(heat##r));
+#else
+#define ADD_HEAT(r)
+#define COMPOSITE_HEAT(r)
+#define STORE_HEAT(r)
+#endif
+#ifdef FRAGMENT_SHADING   // towards the eye along this pixel's ray
+#define SHADE(r) vec3 colour = shade(c.rgb, gradient, uOrtho ? vec3(0.0, 0.0, -1.0) : -vec3((vec2(cx, float(y0 + r) + 0.5) - uCentrePx) / uFPx, 1.0), uShadingParams);
+#else
+#define SHADE(r) vec3 colour = c.rgb;
+#endif
+
+#define DECLARE(r) vec4 image##r = vec4(0.0), heat##r = vec4(0.0), sheet##r, sheetHeat##r; bool live##r = true;
+#define REFRESH(r) live##r = image##r.a < uOpaqueAlpha;
+#define CLEAR(r) sheet##r = vec4(0.0); sheetHeat##r = vec4(0.0);
+#define ROW(r) { \
+        float dy = float(y0 + r) + 0.5 - a.y; \
+        float e = b.x * dx * dx + 2.0 * b.y * dx * dy + b.z * dy * dy; \
+        float tau = live##r && e <= cutoff2 ? b.w * exp(-0.5 * e) : 0.0; \
+        SHADE(r) \
+        sheet##r += vec4(colour * tau, tau); \
+        ADD_HEAT(r) \
+    }
+#define COMPOSITE(r) SKIP_UNLESS(sheet##r.a > 0.0) { image##r = composite(image##r, sheet##r); COMPOSITE_HEAT(r) }
+#define STORE(r) \
+    if (y0 + r < int(uViewport.y)) { \
+        imageStore(outImage, ivec2(px, int(uViewport.y) - 1 - (y0 + r)), resolve(image##r)); \
+        STORE_HEAT(r) \
+    }
+
+void main() {
+    int t = int(gl_WorkGroupID.y) * uTiles.x + int(gl_WorkGroupID.x);
+    int px = int(gl_GlobalInvocationID.x), y0 = int(gl_WorkGroupID.y) * SPLAT_TILE;
+    float cx = float(px) + 0.5;   // pixel centres, y down
+    float cutoff2 = uCutoff * uCutoff;
+    ROWS(DECLARE)
+    uint base = tileBase[t], start = 0u;
+    bool stale = false;   // a refresh is due before the next slice with splats here
+    for (int k = 0; k < uSlices; ++k) {
+        uint end = bins[t * uSlices + k];
+        stale = stale || (uFrontToBack && k % uRefresh == 0);
+        SKIP_UNLESS(end > start) {
+            if (stale) { ROWS(REFRESH) }
+            stale = false;
+            bool anyLive = live0 || live1 || live2 || live3 || live4 || live5 || live6 || live7;
+            ROWS(CLEAR)
+            for (uint j = start; j < (anyLive ? end : start); ++j) {
+                int i = int(SPLAT_VEC4S * texelFetch(list, int(base + j)).r);
+                vec4 a = texelFetch(splats, i), b = texelFetch(splats, i + 1), c = texelFetch(splats, i + 2);
+#ifdef FRAGMENT_SHADING
+                vec3 gradient = texelFetch(splats, i + 3).xyz;
+#endif
+                uint mode = floatBitsToUint(c.w) >> 16;
+                float dx = cx - a.x;
+                ROWS(ROW)
+            }
+            ROWS(COMPOSITE)
+        }
+        start = end;
+    }
+    if (px >= int(uViewport.x)) return;
+    ROWS(STORE)
 }
 )";
 
@@ -506,6 +798,11 @@ struct SplatRenderer::Gl {
     GLuint image = 0, heat = 0, sheet = 0, sheetHeat = 0, depth = 0, displayTex = 0;
     GLuint frameFbo = 0, sheetFbo = 0, displayFbo = 0, depthFbo = 0;
     GLuint opaqueTiles = 0;   // one word per kOpaqueTilePx tile: 1 once all its pixels are opaque
+    // Tiled splatting: programs by variant bits, and its per-frame buffers (grown, never shrunk).
+    std::map<int, GLuint> tilePrograms;
+    GLuint tileSplats = 0, tileBins = 0, tileState = 0, tileList = 0;
+    GLuint tileSplatTexture = 0, tileListTexture = 0;   // buffer textures over tileSplats and tileList
+    size_t tileSplatBytes = 0, tileBinBytes = 0, tileStateBytes = 0, tileListBytes = 0;
     glm::ivec2 tiles{0};
     int width = 0, height = 0;
     std::array<GLuint, kTimerRing> timers{};
@@ -514,6 +811,7 @@ struct SplatRenderer::Gl {
     uint64_t frameCounter = 0, newestTimed = 0;
     int timerNext = 0;
     GLint maxPointSize = 1;
+    GLint maxTexelBuffer = 0;   // GL_MAX_TEXTURE_BUFFER_SIZE: tiled splatting reads records through it
     GLuint fragmentQuery = 0;   // GL_SAMPLES_PASSED of a counted frame
     // Scene constants the vertex stage needs.
     glm::ivec3 dims{0};
@@ -523,6 +821,11 @@ struct SplatRenderer::Gl {
 
     ~Gl() {
         for (auto [bits, p] : splatPrograms) glDeleteProgram(p);
+        for (auto [bits, p] : tilePrograms) glDeleteProgram(p);
+        const GLuint tileBuffers[] = {tileSplats, tileBins, tileState, tileList};
+        glDeleteBuffers(4, tileBuffers);
+        const GLuint tileTextures[] = {tileSplatTexture, tileListTexture};
+        glDeleteTextures(2, tileTextures);
         for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
                          commandsProgram, patchProgram, opaqueTilesProgram})
             glDeleteProgram(p);
@@ -600,10 +903,46 @@ struct SplatRenderer::Gl {
                                                        {kAdaptive, "ADAPTIVE"}, {kOcclusion, "OCCLUSION"}};
         for (auto [bit, name] : defines)
             if (bits & bit) header += std::string("#define ") + name + "\n";
-        const GLuint p = gl::buildProgram("splat", (header + shadingGlsl() + kSplatCommon + kSplatVertMain).c_str(),
+        const GLuint p = gl::buildProgram("splat", (header + shadingGlsl() + kSplatCommon + kSplatFootprint + kSplatVertMain).c_str(),
                                           (header + shadingGlsl() + kSplatFragMain).c_str());
         splatPrograms[bits] = p;
         return p;
+    }
+
+    // Tiled splatting's passes (kTile* below); bits: SplatVariant features of the splat and composite
+    // passes.
+    enum TilePass { kTileSplat = 1 << 8, kTileOffsets = 2 << 8, kTileBases = 3 << 8, kTileScatter = 4 << 8,
+                    kTileComposite = 5 << 8, kTileXRay = 1 << 12 };
+    GLuint tileProgram(int pass, int bits) {
+        const int key = pass | bits;
+        auto it = tilePrograms.find(key);
+        if (it != tilePrograms.end()) return it->second;
+        std::string header = opaqueTileHeader() + "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n" +
+                             "#define SPLAT_VEC4S " + ((bits & kFragmentShading) ? "4u" : "3u") + "\n";
+        const std::pair<int, const char*> defines[] = {{kCounters, "COUNTERS"}, {kSurface, "SURFACE"},
+                                                       {kSplatShading, "SPLAT_SHADING"},
+                                                       {kFragmentShading, "FRAGMENT_SHADING"}, {kHeatmap, "HEATMAP"},
+                                                       {kAdaptive, "ADAPTIVE"}, {kTileXRay, "XRAY"}};
+        for (auto [bit, name] : defines)
+            if (bits & bit) header += std::string("#define ") + name + "\n";
+        std::string source;
+        if (pass == kTileSplat) source = header + shadingGlsl() + kSplatCommon + kSplatFootprint + kTileSplatCompMain;
+        else if (pass == kTileOffsets) source = header + kTileOffsetsComp;
+        else if (pass == kTileBases) source = header + kTileBasesComp;
+        else if (pass == kTileScatter) source = header + kTileScatterComp;
+        else source = header + shadingGlsl() + kTileCompositeCompMain;
+        const GLuint p = gl::buildComputeProgram("tiled_splatting", source.c_str());
+        tilePrograms[key] = p;
+        return p;
+    }
+
+    // Grows `buffer` to at least `bytes` (with headroom); its contents are not kept.
+    static void ensureBuffer(GLuint& buffer, size_t& capacity, size_t bytes) {
+        if (bytes <= capacity && buffer) return;
+        glDeleteBuffers(1, &buffer);
+        capacity = std::max<size_t>(bytes + bytes / 4, 64);
+        glCreateBuffers(1, &buffer);
+        glNamedBufferStorage(buffer, GLsizeiptr(capacity), nullptr, 0);
     }
 
     // The adaptive classifier once per patch (compute) into patchBuffer; returns the patch count.
@@ -707,6 +1046,14 @@ double maxHalfExtentBound(const glm::ivec3& dims, const glm::dvec3& origin, cons
     return settings.cutoffSigmas * std::sqrt(jacobian2 * sigma * sigma + 1.0);
 }
 
+void setShadingUniforms(GLuint p, const ShadingParams& sp) {
+    glUniform1f(glGetUniformLocation(p, "uShadingParams.ambient"), float(sp.ambient));
+    glUniform1f(glGetUniformLocation(p, "uShadingParams.diffuse"), float(sp.diffuse));
+    glUniform1f(glGetUniformLocation(p, "uShadingParams.specular"), float(sp.specular));
+    glUniform1f(glGetUniformLocation(p, "uShadingParams.shininess"), float(sp.shininess));
+    glUniform1f(glGetUniformLocation(p, "uShadingParams.flatGradient"), float(sp.flatGradient));
+}
+
 // Pixel rectangle a slice's splats can touch: the corners of the in-slice box [lo, hi] holding its
 // drawn voxels, projected and grown by the largest footprint. The whole image when the box reaches
 // the near plane.
@@ -768,6 +1115,7 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     GLfloat pointRange[2] = {1, 1};
     glGetFloatv(GL_ALIASED_POINT_SIZE_RANGE, pointRange);
     g.maxPointSize = GLint(pointRange[1]);
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &g.maxTexelBuffer);
     checkGlErrors("SplatRenderer setup");
 }
 
@@ -926,6 +1274,10 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     if (points && !(bound <= pointFits) && settings.primitive == SplatSettings::Primitive::Points)
         throw RenderError("point sprites cannot hold this view's footprints (up to " + std::to_string(bound) +
                           " px half extent, the driver's points reach " + std::to_string(pointFits) + ")");
+    const bool tiles = settings.primitive == SplatSettings::Primitive::Tiles;
+    if (tiles && settings.compositing == Compositing::SplatEverySample)
+        throw RenderError("tiled splatting composites sheets and X-ray only: splat-every-sample needs points or "
+                          "quads (its order within a slice matters)");
 
     // Nothing below throws before the queries end: a query left active would break the next frame
     // (NVIDIA keeps a deleted active query running).
@@ -950,6 +1302,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
 
     const float zero[4] = {0, 0, 0, 0};
     const float one = 1.0f;
+    std::string refused;   // why this frame could not be drawn, when only drawing it tells
     glDisable(GL_SCISSOR_TEST);
     glClearNamedFramebufferfv(g.frameFbo, GL_COLOR, 0, zero);
     glClearNamedFramebufferfv(g.frameFbo, GL_COLOR, 1, zero);
@@ -970,7 +1323,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         g.classifyPatches(plane, settings, trav.axis);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
-    const GLuint p = g.splatProgram(variant);
+    const GLuint p = tiles ? g.tileProgram(Gl::kTileSplat, variant & ~(kHeatmap | kOcclusion)) : g.splatProgram(variant);
     glUseProgram(p);
     {
         const PatchGrid grid = patchGrid(g.dims, trav.axis, settings.patchSize);
@@ -1000,11 +1353,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glClearNamedBufferData(g.opaqueTiles, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zeroWord);
     }
     const ShadingParams& sp = settings.shadingParams;
-    glUniform1f(glGetUniformLocation(p, "uShadingParams.ambient"), float(sp.ambient));
-    glUniform1f(glGetUniformLocation(p, "uShadingParams.diffuse"), float(sp.diffuse));
-    glUniform1f(glGetUniformLocation(p, "uShadingParams.specular"), float(sp.specular));
-    glUniform1f(glGetUniformLocation(p, "uShadingParams.shininess"), float(sp.shininess));
-    glUniform1f(glGetUniformLocation(p, "uShadingParams.flatGradient"), float(sp.flatGradient));
+    setShadingUniforms(p, sp);
     glUniform1f(glGetUniformLocation(p, "uSurfaceFlatten"), float(settings.surfaceFlatten));
     glUniform1f(glGetUniformLocation(p, "uSurfaceGradient"), float(settings.surfaceGradient));
     const glm::dvec3 sigma = settings.kernelScale * g.spacing;
@@ -1069,9 +1418,99 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     uint64_t submitted = 0;
     for (uint32_t r = 0; r < axis.runCount; ++r) submitted += active[axis.buckets[r]] ? axis.voxels[r] : 0;
     m_stats.slicesDrawn = 0;
+    m_stats.tileEntries = 0;
 
     const uint32_t slices = uint32_t(g.dims[trav.axis]);
-    if (reversed) {
+    if (tiles) {
+        // Tiled splatting (kTileSplatCompMain): splat records and per-tile counts, offsets, lists, then
+        // one workgroup per tile composites. Ranks follow the compositing order.
+        const glm::ivec2 grid((plane.width + kSplatTilePx - 1) / kSplatTilePx,
+                              (plane.height + kSplatTilePx - 1) / kSplatTilePx);
+        const GLint tileCount = grid.x * grid.y;
+        const size_t vec4s = (variant & kFragmentShading) ? 4 : 3;
+        const size_t binBytes = size_t(tileCount) * slices * 4;
+        Gl::ensureBuffer(g.tileSplats, g.tileSplatBytes, std::max<uint64_t>(submitted, 1) * vec4s * 16);
+        Gl::ensureBuffer(g.tileBins, g.tileBinBytes, binBytes);
+        Gl::ensureBuffer(g.tileState, g.tileStateBytes, (2 + size_t(tileCount)) * 4);
+        glClearNamedBufferSubData(g.tileBins, GL_R32UI, 0, GLsizeiptr(binBytes), GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+        glClearNamedBufferSubData(g.tileState, GL_R32UI, 0, 8, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, axis.runs);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, axis.ascending);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, g.tileSplats);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, g.tileBins);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.tileState);
+        const GLuint groupsX = std::min<GLuint>(std::max<uint32_t>(axis.runCount, 1), 32768);
+        glUniform1ui(glGetUniformLocation(p, "uRuns"), axis.runCount);
+        glUniform1ui(glGetUniformLocation(p, "uGroupsX"), groupsX);
+        glUniform2i(glGetUniformLocation(p, "uTiles"), grid.x, grid.y);
+        glUniform1i(glGetUniformLocation(p, "uSlices"), GLint(slices));
+        glUniform1i(glGetUniformLocation(p, "uRankDescending"), descending);
+        glDispatchCompute(groupsX, (axis.runCount + groupsX - 1) / groupsX, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+        const GLuint offsets = g.tileProgram(Gl::kTileOffsets, 0);
+        glUseProgram(offsets);
+        glUniform1i(glGetUniformLocation(offsets, "uTileCount"), tileCount);
+        glUniform1i(glGetUniformLocation(offsets, "uSlices"), GLint(slices));
+        glDispatchCompute(GLuint((tileCount + 63) / 64), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        const GLuint bases = g.tileProgram(Gl::kTileBases, 0);
+        glUseProgram(bases);
+        glUniform1i(glGetUniformLocation(bases, "uTileCount"), tileCount);
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        // The list's length sizes its buffer: the one wait of the frame (a few bytes).
+        GLuint counts[2] = {0, 0};
+        glGetNamedBufferSubData(g.tileState, 0, sizeof(counts), counts);
+        Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * 4);
+        m_stats.tileEntries = counts[1];
+        if (uint64_t(counts[0]) * vec4s > uint64_t(g.maxTexelBuffer) || counts[1] > uint64_t(g.maxTexelBuffer))
+            refused = "tiled splatting: " + std::to_string(counts[0]) + " splats in " + std::to_string(counts[1]) +
+                      " tile entries exceed GL_MAX_TEXTURE_BUFFER_SIZE (" + std::to_string(g.maxTexelBuffer) +
+                      " texels); use points or quads";
+
+        const GLuint scatter = g.tileProgram(Gl::kTileScatter, variant & kFragmentShading);
+        glUseProgram(scatter);
+        glUniform2i(glGetUniformLocation(scatter, "uTiles"), grid.x, grid.y);
+        glUniform1i(glGetUniformLocation(scatter, "uSlices"), GLint(slices));
+        glUniform2f(glGetUniformLocation(scatter, "uViewport"), float(plane.width), float(plane.height));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.tileList);
+        glDispatchCompute(std::clamp<GLuint>((counts[0] + 63) / 64, 1, 65535), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+        const GLuint composite = g.tileProgram(
+            Gl::kTileComposite, (variant & (kHeatmap | kFragmentShading)) | (xray ? Gl::kTileXRay : 0));
+        glUseProgram(composite);
+        glUniform2i(glGetUniformLocation(composite, "uTiles"), grid.x, grid.y);
+        glUniform1i(glGetUniformLocation(composite, "uSlices"), GLint(slices));
+        glUniform1i(glGetUniformLocation(composite, "uRefresh"), earlyTermination ? refresh : 1);
+        glUniform2f(glGetUniformLocation(composite, "uViewport"), float(plane.width), float(plane.height));
+        glUniform2f(glGetUniformLocation(composite, "uCentrePx"), float(plane.centrePx.x), float(plane.centrePx.y));
+        glUniform1f(glGetUniformLocation(composite, "uCutoff"), float(settings.cutoffSigmas));
+        glUniform1f(glGetUniformLocation(composite, "uFPx"), float(plane.fPx));
+        glUniform1f(glGetUniformLocation(composite, "uOpaqueAlpha"),
+                    earlyTermination ? float(settings.opaqueAlpha) : 2.0f);
+        glUniform1i(glGetUniformLocation(composite, "uFrontToBack"), ftb);
+        glUniform1i(glGetUniformLocation(composite, "uOrtho"), plane.orthographic);
+        setShadingUniforms(composite, sp);
+        if (!g.tileSplatTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileSplatTexture);
+        if (!g.tileListTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileListTexture);
+        glTextureBufferRange(g.tileSplatTexture, GL_RGBA32F, g.tileSplats, 0, GLsizeiptr(std::max<GLuint>(counts[0], 1) * vec4s * 16));
+        glTextureBufferRange(g.tileListTexture, GL_R32UI, g.tileList, 0, GLsizeiptr(std::max<GLuint>(counts[1], 1) * 4));
+        glBindTextureUnit(0, g.tileSplatTexture);
+        glBindTextureUnit(1, g.tileListTexture);
+        glBindImageTexture(0, g.image, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(1, g.heat, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        if (refused.empty()) glDispatchCompute(GLuint(grid.x), GLuint(grid.y), 1);   // a workgroup per tile
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                        GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        for (uint32_t slice = 0; slice < slices; ++slice)
+            for (uint32_t r = axis.sliceRuns[slice]; r < axis.sliceRuns[slice + 1]; ++r)
+                if (active[axis.buckets[r]]) {
+                    ++m_stats.slicesDrawn;
+                    break;
+                }
+    } else if (reversed) {
         // Front to back "under" (src (1 - dst.a) + dst), in groups of `refresh` slices.
         glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
         glEnable(GL_DEPTH_TEST);
@@ -1181,6 +1620,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glDisable(GL_BLEND);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlErrors("SplatRenderer::render");
+    if (!refused.empty()) throw RenderError(refused);   // found mid-frame: thrown once the queries ended
 
     m_stats.splatsDrawn = submitted;
     m_stats.points = points;

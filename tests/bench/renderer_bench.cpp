@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <tuple>
 
 using namespace renderer;
 
@@ -94,6 +95,7 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
     state.counters["bytes_per_voxel"] = double(r.sceneBytes()) / double(scene.classes.size());
     state.counters["fragments"] = double(r.stats().fragments);
     state.counters["occluded"] = double(c.culledOccluded);
+    state.counters["tile_entries"] = double(r.stats().tileEntries);
 }
 
 // TF edit to finished frame: bucket selection (upload the LUT, render) against rebuilding the scene
@@ -172,6 +174,26 @@ int main(int argc, char** argv) {
                 add(n + "/" + filterModeName(filter) + "/" + compositingName(comp),
                     [=](benchmark::State& st) { renderFrames(st, d, s); });
             }
+        // Tiled splatting (compute) for the modes it serves; front to back it refreshes every slice
+        // (auto), against every 8 as the rasteriser and no early termination.
+        for (auto filter : {FilterMode::Ewa, FilterMode::Adaptive})
+            for (auto comp : {Compositing::SheetBackToFront, Compositing::SheetFrontToBack, Compositing::XRay}) {
+                SplatSettings s;
+                s.filter = filter;
+                s.compositing = comp;
+                s.primitive = SplatSettings::Primitive::Tiles;
+                add(n + "/" + filterModeName(filter) + "/" + compositingName(comp) + "/tiles",
+                    [=](benchmark::State& st) { renderFrames(st, d, s); });
+            }
+        for (auto [name, alpha, refresh] : {std::tuple{"tiles-refresh-8", 0.998, 8},
+                                            std::tuple{"tiles-no-early-termination", 1.0, 0}}) {
+            SplatSettings s;
+            s.compositing = Compositing::SheetFrontToBack;
+            s.primitive = SplatSettings::Primitive::Tiles;
+            s.opaqueAlpha = alpha;
+            s.opaqueRefreshSlices = refresh;
+            add(n + "/ewa/sheet-front-to-back/" + name, [=](benchmark::State& st) { renderFrames(st, d, s); });
+        }
         // What each culling step and the primitive choice gain, full EWA.
         SplatSettings s;
         s.primitive = SplatSettings::Primitive::Quads;

@@ -76,6 +76,27 @@ TEST(Cli, RenderWritesTheHeatmapAndPrintsGpuCountersWithShadingAndSheets) {
     EXPECT_GT(covered, 64.0);
 }
 
+TEST(Cli, TiledSplattingRendersTheSameImageAsTheRasteriser) {
+    const auto dir = testing_support::testOutputDir("cli_tiles");
+    renderer::Image images[2];
+    for (int tiles = 0; tiles < 2; ++tiles) {
+        const auto out = dir / (tiles ? "tiles.exr" : "quads.exr");
+        const CliRun r = splatlab("render \"" + headsq() + "\" --out \"" + out.string() +
+                                  "\" --compositing sheet-front-to-back --size 96x80 --frames 1 --up -z --counters" +
+                                  " --opaque-refresh 8 --primitive " + (tiles ? "tiles" : "quads"));
+        ASSERT_EQ(r.status, 0) << r.output;
+        if (tiles) {
+            EXPECT_THAT(r.output, HasSubstr("splat-tile pairs composited"));
+        }
+        images[tiles] = renderer::readImage(out);
+    }
+    double worst = 0.0;
+    for (size_t i = 0; i < images[0].rgba.size(); ++i)
+        worst = std::max(worst, double(std::abs(images[0].rgba[i] - images[1].rgba[i])));
+    EXPECT_LT(worst, 1e-4);
+    EXPECT_GT(renderer::imageStats(images[1]).coveredFraction, 0.2);
+}
+
 TEST(Cli, BadRenderOptionsNameTheFlag) {
     const auto out = (testing_support::testOutputDir() / "cli_bad.png").string();
     for (auto [args, flag] : {std::pair{"--shading phong", "--shading"}, std::pair{"--surface 0.5", "--surface"},
@@ -106,6 +127,7 @@ TEST(Cli, MistakesGetOneClearLineAndAFailingExit) {
         {"render \"" + headsq() + "\" --out " + out + " --filter box", "known: reconstruction, low-pass, ewa"},
         {"render \"" + headsq() + "\" --out " + out + " --tf nonsense", "known: ct-skin-bone"},
         {"render \"" + headsq() + "\" --out " + out + " --up w", "expected x, y, z"},
+        {"render \"" + headsq() + "\" --out " + out + " --primitive tiles", "splat-every-sample needs points or quads"},
         {"render no_such_volume.nhdr --out " + out, "no_such_volume.nhdr: cannot open"},
         {"render \"" + headsq() + "\"", "--out is required"},
         {"info", "volume is required"},

@@ -276,6 +276,32 @@ TEST_F(ImGuiNull, ClickingCompositingComboAndXrayItemSelectsXray) {
     EXPECT_FALSE(changes.tfChanged);
 }
 
+TEST_F(ImGuiNull, TiledSplattingCheckboxSwitchesSheetsToTilesAndSplatEverySampleDropsIt) {
+    ui::EditorState state;
+    state.settings.compositing = renderer::Compositing::SheetFrontToBack;
+    bool changed = false;
+    ImGuiID boxId = 0;
+    auto body = [&] {
+        boxId = ImGui::GetID("Tiled splatting");
+        changed |= ui::drawSettingsPanel(state).settingsChanged;
+    };
+    frame(body);
+    const float y = findItem(boxId, 20.0f, 0.0f, 700.0f, body);
+    ASSERT_GE(y, 0.0f) << "no Tiled splatting checkbox for sheets";
+    EXPECT_FALSE(changed);
+    mouse(20.0f, y, true);
+    frame(body);
+    mouse(20.0f, y, false);
+    frame(body);
+    EXPECT_TRUE(changed);
+    EXPECT_EQ(state.settings.primitive, renderer::SplatSettings::Primitive::Tiles);
+    // Splat-every-sample cannot be tiled: the panel falls back to the rasteriser's automatic choice.
+    state.settings.compositing = renderer::Compositing::SplatEverySample;
+    mouse(900.0f, 700.0f, false);
+    frame(body);
+    EXPECT_EQ(state.settings.primitive, renderer::SplatSettings::Primitive::Auto);
+}
+
 TEST_F(ImGuiNull, ResetCameraButtonRestoresTheDefaultCamera) {
     ui::EditorState state;
     state.camera.azimuthDeg = 123.0;

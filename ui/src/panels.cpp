@@ -127,11 +127,24 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
                                          &renderer::compositingName);
     hint("splat-every-sample: 'over' in slice order (run front to back, reversed, while 'Opaque at' < 1)\n"
          "sheets: a slice sums into a float sheet, sheets composite in order\nxray: additive, order-free");
+    using Primitive = renderer::SplatSettings::Primitive;
+    if (s.compositing == renderer::Compositing::SplatEverySample) {
+        if (s.primitive == Primitive::Tiles) s.primitive = Primitive::Auto;   // tiles sum sheets only
+    } else {
+        bool tiled = s.primitive == Primitive::Tiles;
+        if (ImGui::Checkbox("Tiled splatting", &tiled)) {
+            s.primitive = tiled ? Primitive::Tiles : Primitive::Auto;
+            changes.settingsChanged = true;
+        }
+        hint("Compute passes instead of the rasteriser: splats binned to 8x8 pixel tiles, each pixel's sheet\n"
+             "and image kept in registers (the same image; faster where many splats overlap)");
+    }
     if (s.compositing == renderer::Compositing::SheetFrontToBack ||
         s.compositing == renderer::Compositing::SplatEverySample) {
         changes.settingsChanged |= sliderDouble("Opaque at", s.opaqueAlpha, 0.9, 1.0, "%.3f");
         hint("Early termination: pixels this opaque take no more splats (1: never)");
-        changes.settingsChanged |= ImGui::SliderInt("Refresh every", &s.opaqueRefreshSlices, 1, 64, "%d slices");
+        changes.settingsChanged |= ImGui::SliderInt("Refresh every", &s.opaqueRefreshSlices, 0, 64,
+                                                    s.opaqueRefreshSlices <= 0 ? "auto" : "%d slices");
         hint("How often the opaque pixels are found again; between refreshes splats over opaque tiles "
              "are culled before rasterisation");
     }

@@ -24,6 +24,7 @@ struct FrameStats {
     SplatCounters counters;
     uint64_t fragments = 0;      // with counters: samples passed in the frame (GL_SAMPLES_PASSED; sheet
                                  // and resolve passes included, discarded and depth-failed ones not)
+    uint64_t tileEntries = 0;    // tiled splatting: (splat, tile) pairs the composite pass walked
 };
 
 class SplatRenderer {

@@ -51,24 +51,33 @@ struct SplatSettings {
     // is refreshed every opaqueRefreshSlices slices (in draw order); in between, splats whose every
     // kOpaqueTilePx tile is opaque are culled before they reach the rasteriser.
     double opaqueAlpha = 0.998;
-    int opaqueRefreshSlices = 8;
+    int opaqueRefreshSlices = 0;        // 0: auto, opaqueRefreshSlices() below
     bool drawAllBuckets = false;        // baseline for measurements: every voxel reaches the vertex
                                         // stage, transparent ones are culled there
 
-    // GL only: how a splat is rasterised (both give the same image) and what else a frame records.
-    enum class Primitive { Auto, Points, Quads };   // Auto: points whenever every footprint fits
-    Primitive primitive = Primitive::Auto;          // the largest point size, quads otherwise
+    // GL only: how a splat is rasterised (all give the same image) and what else a frame records.
+    // Tiles: compute passes bin the splats to screen tiles and composite each pixel in registers
+    // (sheet and X-ray compositing only: a sheet's sum does not depend on the order within a slice).
+    enum class Primitive { Auto, Points, Quads, Tiles };   // Auto: points whenever every footprint fits
+    Primitive primitive = Primitive::Auto;                 // the largest point size, quads otherwise
     bool heatmap = false;               // also render the filter-mode heatmap (renderers' readback)
     bool counters = false;              // count splats per mode and per guard on the GPU (atomics)
 };
 
 // Side of the square pixel tiles of the opaque-tile map behind occlusion culling.
 constexpr int kOpaqueTilePx = 8;
+// Side of the square screen tiles of tiled splatting (one compute workgroup each).
+constexpr int kSplatTilePx = 8;
 
 // True when the frame is composited front to back (early termination applies).
 bool frontToBack(const SplatSettings& settings);
-// Slices between refreshes of the opaque pixels (at least 1).
-inline int opaqueRefreshSlices(const SplatSettings& s) { return s.opaqueRefreshSlices > 1 ? s.opaqueRefreshSlices : 1; }
+// Slices between refreshes of the opaque pixels. Auto: every slice for tiled splatting, whose pixels
+// keep their alpha in registers (a refresh is free); every 8 for the rasteriser, where a refresh is a
+// pass that drains the pipeline (8 was the fastest on llvmpipe and the H100).
+inline int opaqueRefreshSlices(const SplatSettings& s) {
+    if (s.opaqueRefreshSlices <= 0) return s.primitive == SplatSettings::Primitive::Tiles ? 1 : 8;
+    return s.opaqueRefreshSlices;
+}
 
 // Shading and surface splats read the scene's gradients.
 bool needsGradients(const SplatSettings& s);

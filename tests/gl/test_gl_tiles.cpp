@@ -1,0 +1,200 @@
+// Tiled splatting (SplatSettings::Primitive::Tiles): compute passes bin the splats to 8x8 pixel
+// tiles and composite every pixel in registers. Each sheet and X-ray mode, filter, heatmap, shading
+// and early termination against the CPU oracle (tolerance: gl_fixture.h), counters included.
+#include "gl_fixture.h"
+
+#include "renderer/errors.h"
+#include "renderer/gradients.h"
+#include "renderer/metrics.h"
+#include "renderer/procedural.h"
+#include "renderer/reference_renderer.h"
+#include "renderer/splat_renderer.h"
+
+using namespace renderer;
+
+namespace {
+
+TransferFunction ramp(double opacity = 0.9) {
+    return {"test-ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.2}, {1.0, {1.0, 0.8, 0.3}, opacity}}};
+}
+
+SplatSettings tiled(Compositing mode) {
+    SplatSettings s;
+    s.compositing = mode;
+    s.primitive = SplatSettings::Primitive::Tiles;
+    return s;
+}
+
+void expectCountersEqual(const SplatCounters& gpu, const SplatCounters& cpu) {
+    EXPECT_EQ(gpu.visible, cpu.visible);
+    EXPECT_EQ(gpu.culledTransparent, cpu.culledTransparent);
+    EXPECT_EQ(gpu.culledNear, cpu.culledNear);
+    EXPECT_EQ(gpu.culledDegenerate, cpu.culledDegenerate);
+    EXPECT_EQ(gpu.culledHuge, cpu.culledHuge);
+    EXPECT_EQ(gpu.culledOffscreen, cpu.culledOffscreen);
+    EXPECT_EQ(gpu.culledOccluded, cpu.culledOccluded);
+    EXPECT_EQ(gpu.drawn, cpu.drawn);
+    for (int m = 0; m < 3; ++m) EXPECT_EQ(gpu.drawnPerMode[m], cpu.drawnPerMode[m]) << filterModeName(FilterMode(m));
+}
+
+} // namespace
+
+TEST_F(GlTest, TiledSplattingMatchesCpuInEverySheetAndXRayMode) {
+    // Close up on a rectilinear volume: splats straddle the image border, and 100x84 leaves partial
+    // tiles on the right and bottom. Perspective and orthographic, full EWA and adaptive, heatmap on.
+    Volume v = makeMarschnerLobb(20);
+    v.spacing = {1.0, 1.5, 1.0};
+    const SplatScene scene = buildSplatScene(v, ramp());
+    SplatRenderer r;
+    r.setScene(scene);
+    for (bool ortho : {false, true}) {
+        const ImagePlane plane = makeImagePlane(
+            Camera{.azimuthDeg = 35, .elevationDeg = 25, .distance = 1.4, .orthographic = ortho}, scene.centre,
+            scene.radius, 100, 84);
+        for (auto mode : {Compositing::SheetBackToFront, Compositing::SheetFrontToBack, Compositing::XRay})
+            for (auto filter : {FilterMode::Ewa, FilterMode::Adaptive}) {
+                const std::string name = std::string("gl_tiles_") + compositingName(mode) + "_" +
+                                         filterModeName(filter) + (ortho ? "_ortho" : "");
+                SCOPED_TRACE(name);
+                SplatSettings s = tiled(mode);
+                s.filter = filter;
+                s.density = 4.0;   // front to back: opaque enough that early termination stops pixels
+                s.heatmap = true;
+                s.counters = true;
+                r.render(plane, s);
+                SplatCounters cpuCounters;
+                Image cpuHeat;
+                const Image cpu = renderReference(scene, plane, s, &cpuCounters, &cpuHeat);
+                EXPECT_GT(imageStats(cpu).meanAlpha, 0.2);
+                EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu, name);
+                EXPECT_IMAGES_CLOSE(r.readbackHeatmap(), cpuHeat, kGlVsCpu, name + "_heatmap");
+                expectCountersEqual(r.stats().counters, cpuCounters);
+                EXPECT_GT(r.stats().tileEntries, r.stats().counters.drawn) << "footprints span several tiles";
+            }
+    }
+}
+
+TEST_F(GlTest, TiledSplattingStopsAtOpaquePixelsLikeTheCpu) {
+    // Front to back, refreshed every slice (auto): only early termination changes a pixel, by at most
+    // 1 - opaqueAlpha; nothing is culled per splat (the tiles skip the work), and the CPU agrees.
+    const SplatScene scene = buildSplatScene(makeSphereShells(24, 8.0, 3.0), ramp(1.0));
+    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 25, .elevationDeg = 10}, scene.centre, scene.radius, 72, 64);
+    SplatRenderer r;
+    r.setScene(scene);
+    SplatSettings s = tiled(Compositing::SheetFrontToBack);
+    s.density = 8.0;
+    s.counters = true;
+    s.opaqueAlpha = 1.0;
+    r.render(plane, s);
+    const Image full = r.readback();
+    s.opaqueAlpha = 0.95;
+    ASSERT_EQ(opaqueRefreshSlices(s), 1);
+    r.render(plane, s);
+    const Image early = r.readback();
+    SplatCounters cpu;
+    EXPECT_IMAGES_CLOSE(early, renderReference(scene, plane, s, &cpu), kGlVsCpu, "gl_tiles_early_termination");
+    expectCountersEqual(r.stats().counters, cpu);
+    EXPECT_EQ(cpu.culledOccluded, 0u);
+    const ImageError e = compareImages(early, full);
+    EXPECT_GT(e.maxAbs, 1e-5) << "no pixel terminated: the test scene is not opaque enough";
+    EXPECT_LE(e.maxAbs, 0.05 + 1e-5);
+    // The rasteriser's refresh interval gives the rasteriser's image.
+    s.opaqueRefreshSlices = 3;
+    r.render(plane, s);
+    const Image tiles3 = r.readback();
+    s.primitive = SplatSettings::Primitive::Quads;
+    r.render(plane, s);
+    EXPECT_IMAGES_CLOSE(tiles3, r.readback(), kGlVsCpu, "gl_tiles_vs_quads_refresh_3");
+}
+
+TEST_F(GlTest, TiledSplattingRefreshesAfterSlicesWithoutSplatsLikeTheCpu) {
+    // Seen along z (from either end): empty slices 0-2, a wall in slices 3-5, an empty gap in 6-7
+    // holding a refresh boundary, then more. Refreshing every 3 slices, tiles refresh as the CPU and
+    // the rasteriser do (each tile skips the slices it has no splats from).
+    Volume v;
+    v.dims = {16, 16, 24};
+    v.values.assign(v.voxelCount(), 0.0f);
+    for (int z = 0; z < v.dims.z; ++z) {
+        const bool filled = (z >= 3 && z <= 5) || (z >= 8 && z <= 15) || (z >= 18 && z <= 20);
+        for (int i = 0; i < v.dims.x * v.dims.y; ++i) v.values[size_t(z) * 256 + size_t(i)] = filled ? 1.0f : 0.0f;
+    }
+    updateRange(v);
+    const SplatScene scene = buildSplatScene(v, ramp(1.0));
+    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 10, .elevationDeg = 75}, scene.centre, scene.radius, 64, 64);
+    ASSERT_EQ(chooseTraversal(plane).axis, 2);
+    SplatRenderer r;
+    r.setScene(scene);
+    SplatSettings s = tiled(Compositing::SheetFrontToBack);
+    s.density = 1.0;
+    s.opaqueAlpha = 0.5;   // the wall takes pixels just past it: what they would still take shows
+    s.opaqueRefreshSlices = 3;
+    r.render(plane, s);
+    const Image tiles = r.readback();
+    SplatSettings never = s;   // no refresh: the wall stops nothing
+    never.opaqueRefreshSlices = 1000;
+    r.render(plane, never);
+    EXPECT_GT(compareImages(tiles, r.readback()).maxAbs, 1e-3) << "the wall must stop pixels";
+    EXPECT_IMAGES_CLOSE(tiles, renderReference(scene, plane, s), kGlVsCpu, "gl_tiles_refresh_gap");
+    s.primitive = SplatSettings::Primitive::Quads;
+    r.render(plane, s);
+    EXPECT_IMAGES_CLOSE(tiles, r.readback(), kGlVsCpu, "gl_tiles_vs_quads_refresh_gap");
+}
+
+TEST_F(GlTest, TiledSplattingShadesAndFlattensSurfacesLikeTheCpu) {
+    const Volume v = makeSphereShells(20, 6.0, 2.0);
+    SplatScene scene = buildSplatScene(v, ramp());
+    addGradients(scene, *computeGradients(v));
+    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 40, .elevationDeg = 30, .distance = 2.0}, scene.centre,
+                                            scene.radius, 80, 72);
+    SplatRenderer r;
+    r.setScene(scene);
+    for (auto shading : {SplatSettings::Shading::PerSplat, SplatSettings::Shading::PerFragment})
+        for (double flatten : {1.0, 8.0}) {
+            SCOPED_TRACE(std::to_string(int(shading)) + " flatten " + std::to_string(flatten));
+            SplatSettings s = tiled(Compositing::SheetBackToFront);
+            s.shading = shading;
+            s.surfaceFlatten = flatten;
+            r.render(plane, s);
+            const Image cpu = renderReference(scene, plane, s);
+            EXPECT_GT(imageStats(cpu).meanAlpha, 0.05);
+            EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu, "gl_tiles_shaded");
+        }
+}
+
+TEST_F(GlTest, TiledSplattingCoversImagesOfManyTilesAndEmptyFrames) {
+    // 272x264 is 34x33 tiles: the tile offsets' single workgroup scans more than one tile per lane.
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(16), ramp());
+    const ImagePlane plane = makeImagePlane(Camera{.distance = 1.8}, scene.centre, scene.radius, 272, 264);
+    SplatRenderer r;
+    r.setScene(scene);
+    const SplatSettings s = tiled(Compositing::SheetFrontToBack);
+    r.render(plane, s);
+    const Image cpu = renderReference(scene, plane, s);
+    EXPECT_GT(imageStats(cpu).coveredFraction, 0.3);
+    EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu, "gl_tiles_many");
+    // A fully transparent TF: nothing is binned, the image is cleared.
+    const TransferFunction clear{"clear", {{0.0, {1.0, 1.0, 1.0}, 0.0}, {1.0, {1.0, 1.0, 1.0}, 0.0}}};
+    SplatScene empty = scene;
+    setTransferFunction(empty, clear);
+    r.setLut(empty.lut);
+    r.render(plane, s);
+    EXPECT_EQ(r.stats().tileEntries, 0u);
+    EXPECT_EQ(imageStats(r.readback()).coveredFraction, 0.0);
+}
+
+TEST_F(GlTest, TiledSplattingRefusesSplatEverySampleAndRendersAfterwards) {
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(12), ramp());
+    const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, 48, 40);
+    SplatRenderer r;
+    r.setScene(scene);
+    SplatSettings s = tiled(Compositing::SplatEverySample);
+    try {
+        r.render(plane, s);
+        FAIL() << "splat-every-sample with tiles must be refused";
+    } catch (const RenderError& e) {
+        EXPECT_NE(std::string(e.what()).find("splat-every-sample needs points or quads"), std::string::npos) << e.what();
+    }
+    s.compositing = Compositing::XRay;
+    r.render(plane, s);
+    EXPECT_IMAGES_CLOSE(r.readback(), renderReference(scene, plane, s), kGlVsCpu, "gl_tiles_after_refusal");
+}
