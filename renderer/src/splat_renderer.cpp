@@ -773,6 +773,18 @@ struct AxisBuffers {
 enum SplatVariant { kCounters = 1, kSurface = 2, kSplatShading = 4, kFragmentShading = 8, kHeatmap = 16, kAdaptive = 32,
                     kOcclusion = 64 };
 
+// The #defines of a variant's features.
+std::string variantDefines(int bits) {
+    const std::pair<int, const char*> defines[] = {{kCounters, "COUNTERS"}, {kSurface, "SURFACE"},
+                                                   {kSplatShading, "SPLAT_SHADING"},
+                                                   {kFragmentShading, "FRAGMENT_SHADING"}, {kHeatmap, "HEATMAP"},
+                                                   {kAdaptive, "ADAPTIVE"}, {kOcclusion, "OCCLUSION"}};
+    std::string header;
+    for (auto [bit, name] : defines)
+        if (bits & bit) header += std::string("#define ") + name + "\n";
+    return header;
+}
+
 struct SplatRenderer::Gl {
     std::map<int, GLuint> splatPrograms;   // by SplatVariant bits, built on first use
     std::array<GLuint, 2> compositePrograms{};   // without and with the heatmap
@@ -896,13 +908,7 @@ struct SplatRenderer::Gl {
     GLuint splatProgram(int bits) {
         auto it = splatPrograms.find(bits);
         if (it != splatPrograms.end()) return it->second;
-        std::string header = opaqueTileHeader();
-        const std::pair<int, const char*> defines[] = {{kCounters, "COUNTERS"}, {kSurface, "SURFACE"},
-                                                       {kSplatShading, "SPLAT_SHADING"},
-                                                       {kFragmentShading, "FRAGMENT_SHADING"}, {kHeatmap, "HEATMAP"},
-                                                       {kAdaptive, "ADAPTIVE"}, {kOcclusion, "OCCLUSION"}};
-        for (auto [bit, name] : defines)
-            if (bits & bit) header += std::string("#define ") + name + "\n";
+        const std::string header = opaqueTileHeader() + variantDefines(bits);
         const GLuint p = gl::buildProgram("splat", (header + shadingGlsl() + kSplatCommon + kSplatFootprint + kSplatVertMain).c_str(),
                                           (header + shadingGlsl() + kSplatFragMain).c_str());
         splatPrograms[bits] = p;
@@ -917,14 +923,9 @@ struct SplatRenderer::Gl {
         const int key = pass | bits;
         auto it = tilePrograms.find(key);
         if (it != tilePrograms.end()) return it->second;
-        std::string header = opaqueTileHeader() + "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n" +
-                             "#define SPLAT_VEC4S " + ((bits & kFragmentShading) ? "4u" : "3u") + "\n";
-        const std::pair<int, const char*> defines[] = {{kCounters, "COUNTERS"}, {kSurface, "SURFACE"},
-                                                       {kSplatShading, "SPLAT_SHADING"},
-                                                       {kFragmentShading, "FRAGMENT_SHADING"}, {kHeatmap, "HEATMAP"},
-                                                       {kAdaptive, "ADAPTIVE"}, {kTileXRay, "XRAY"}};
-        for (auto [bit, name] : defines)
-            if (bits & bit) header += std::string("#define ") + name + "\n";
+        const std::string header = opaqueTileHeader() + variantDefines(bits) + (bits & kTileXRay ? "#define XRAY\n" : "") +
+                                   "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n" +
+                                   "#define SPLAT_VEC4S " + ((bits & kFragmentShading) ? "4u" : "3u") + "\n";
         std::string source;
         if (pass == kTileSplat) source = header + shadingGlsl() + kSplatCommon + kSplatFootprint + kTileSplatCompMain;
         else if (pass == kTileOffsets) source = header + kTileOffsetsComp;

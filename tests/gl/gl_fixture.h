@@ -3,6 +3,7 @@
 #pragma once
 #include "image_compare.h"
 #include "renderer/gl_context.h"
+#include "renderer/reference_renderer.h"
 
 #include <gtest/gtest.h>
 
@@ -49,3 +50,17 @@ protected:
 // measured) so a slow drift cannot hide among the edge pixels.
 inline const testing_support::Tolerance kGlVsCpu{
     .abs = 2e-5, .rel = 2e-4, .maxBadFraction = 0.005, .maxMeanAbs = 2e-6, .maxAbs = 1e-2};
+
+// GPU counters against the CPU oracle's: every field equal.
+inline void expectCountersEqual(const renderer::SplatCounters& gpu, const renderer::SplatCounters& cpu) {
+    EXPECT_EQ(gpu.visible, cpu.visible);
+    EXPECT_EQ(gpu.culledTransparent, cpu.culledTransparent);
+    EXPECT_EQ(gpu.culledNear, cpu.culledNear);
+    EXPECT_EQ(gpu.culledDegenerate, cpu.culledDegenerate);
+    EXPECT_EQ(gpu.culledHuge, cpu.culledHuge);
+    EXPECT_EQ(gpu.culledOffscreen, cpu.culledOffscreen);
+    EXPECT_EQ(gpu.culledOccluded, cpu.culledOccluded);
+    EXPECT_EQ(gpu.drawn, cpu.drawn);
+    for (int m = 0; m < 3; ++m)
+        EXPECT_EQ(gpu.drawnPerMode[m], cpu.drawnPerMode[m]) << renderer::filterModeName(renderer::FilterMode(m));
+}

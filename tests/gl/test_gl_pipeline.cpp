@@ -31,18 +31,6 @@ Frame frame(const Volume& v, const TransferFunction& tf, const Camera& cam, int 
     return f;
 }
 
-void expectCountersEqual(const SplatCounters& gpu, const SplatCounters& cpu) {
-    EXPECT_EQ(gpu.visible, cpu.visible);
-    EXPECT_EQ(gpu.culledTransparent, cpu.culledTransparent);
-    EXPECT_EQ(gpu.culledNear, cpu.culledNear);
-    EXPECT_EQ(gpu.culledDegenerate, cpu.culledDegenerate);
-    EXPECT_EQ(gpu.culledHuge, cpu.culledHuge);
-    EXPECT_EQ(gpu.culledOffscreen, cpu.culledOffscreen);
-    EXPECT_EQ(gpu.culledOccluded, cpu.culledOccluded);
-    EXPECT_EQ(gpu.drawn, cpu.drawn);
-    for (int m = 0; m < 3; ++m) EXPECT_EQ(gpu.drawnPerMode[m], cpu.drawnPerMode[m]) << filterModeName(FilterMode(m));
-}
-
 } // namespace
 
 TEST_F(GlTest, SheetBuffersMatchCpuBothWays) {
