@@ -224,6 +224,12 @@ int runEditor(const EditorOptions& options) {
         state.camera = options.camera;
         state.camera.up = renderer::axisFromName(options.upAxis);
         state.settings.filter = renderer::filterModeFromName(options.filter);
+        state.settings.compositing = renderer::compositingFromName(options.compositing);
+        if (options.tiles) {
+            if (state.settings.compositing == renderer::Compositing::SplatEverySample)
+                throw renderer::RenderError("--tiles needs sheet or X-ray compositing (--compositing)");
+            state.settings.primitive = renderer::SplatSettings::Primitive::Tiles;
+        }
         state.showHeatmap = state.settings.heatmap = options.heatmap;
         if (options.volumePath.empty()) return;
         doc.tf = renderer::transferFunctionFromSpec(options.tfSpec);

@@ -16,6 +16,8 @@ struct EditorOptions {
     int width = 1280, height = 800;       // window size in screen coordinates
     std::string filter = "ewa";           // starting filter mode (ewa.h names)
     bool heatmap = false;                 // start showing the filter-mode heatmap
+    std::string compositing = "splat-every-sample";   // starting compositing (splat_settings.h names)
+    bool tiles = false;                   // start with tiled splatting (sheets and X-ray only)
 };
 
 // Runs the editor until the window closes, or for `frames` frames. Returns the process exit code:

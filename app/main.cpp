@@ -321,14 +321,12 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
             counted.counters = true;
             gl.render(s.plane, counted);
             counters = gl.stats().counters;
-            if (s.settings.primitive == SplatSettings::Primitive::Tiles)
+            if (gl.stats().tiles)
                 std::printf("  %llu splat-tile pairs composited\n", (unsigned long long)gl.stats().tileEntries);
             else
                 std::printf("  %llu fragments passed (all passes)\n", (unsigned long long)gl.stats().fragments);
         }
-        const char* primitive = s.settings.primitive == SplatSettings::Primitive::Tiles ? "tiles"
-                                : gl.stats().points                                      ? "point sprites"
-                                                                                          : "quads";
+        const char* primitive = gl.stats().tiles ? "tiles" : gl.stats().points ? "point sprites" : "quads";
         std::printf("  %s, %.2f GPU bytes per voxel\n", primitive, double(gl.sceneBytes()) / double(s.scene.classes.size()));
     }
     writeImage(image, a.out);
@@ -457,6 +455,10 @@ int main(int argc, char** argv) {
     editor->add_option("--filter", e.filter, "Starting filter: reconstruction, low-pass, ewa or adaptive")
         ->capture_default_str();
     editor->add_flag("--heatmap", e.heatmap, "Start with the filter-mode heatmap in the viewport");
+    editor->add_option("--compositing", e.compositing,
+                       "Starting compositing: splat-every-sample, sheet-back-to-front, sheet-front-to-back, xray")
+        ->capture_default_str();
+    editor->add_flag("--tiles", e.tiles, "Start with tiled splatting (sheet or X-ray compositing)");
     editor->add_option("--up", editorUp, "Object axis shown upwards: x, y, z, -x, -y, -z (default: z; "
                                          "-z for the bundled headsq)");
 

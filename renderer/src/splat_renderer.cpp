@@ -1625,6 +1625,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
 
     m_stats.splatsDrawn = submitted;
     m_stats.points = points;
+    m_stats.tiles = tiles;
     m_stats.uploadBytes = 0;   // a frame uploads uniforms only
     m_stats.hasCounters = settings.counters;
     if (settings.counters) {   // waits for the frame: for tests, benchmarks and the stats panel's opt-in

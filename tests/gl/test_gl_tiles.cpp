@@ -90,8 +90,10 @@ TEST_F(GlTest, TiledSplattingStopsAtOpaquePixelsLikeTheCpu) {
     s.opaqueRefreshSlices = 3;
     r.render(plane, s);
     const Image tiles3 = r.readback();
+    EXPECT_TRUE(r.stats().tiles);
     s.primitive = SplatSettings::Primitive::Quads;
     r.render(plane, s);
+    EXPECT_FALSE(r.stats().tiles);
     EXPECT_IMAGES_CLOSE(tiles3, r.readback(), kGlVsCpu, "gl_tiles_vs_quads_refresh_3");
 }
 

@@ -108,3 +108,23 @@ TEST(EditorScreenshot, HeatmapViewShowsFilterColoursInsteadOfTheVolume) {
     EXPECT_GT(blue, 10u * (other + 1)) << "see " << shot;
     EXPECT_GT(double(blue) / (double(centre.w) * centre.h), 0.3) << "see " << shot;
 }
+
+TEST(EditorScreenshot, TiledSheetsShowTheSameViewportAsRasterisedSheets) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    // The same frame through compute passes instead of the rasteriser: the viewport must match to
+    // 8-bit rounding (the Stats text below it differs).
+    const renderer::Image raster = editorScreenshot("--compositing sheet-front-to-back", "editor_sheets.png");
+    const renderer::Image tiled = editorScreenshot("--compositing sheet-front-to-back --tiles", "editor_tiles.png");
+    ASSERT_FALSE(::testing::Test::HasFailure());
+    const ui::DockLayout layout = ui::makeEditorLayout();
+    const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    const ui::Rect viewport = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.0f);
+    const ui::Rect centre = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.25f);
+    double worst = 0.0;
+    for (int y = int(viewport.y); y < int(viewport.bottom()); ++y)
+        for (int x = int(viewport.x); x < int(viewport.right()); ++x)
+            for (int c = 0; c < 3; ++c) worst = std::max(worst, double(std::abs(raster.pixel(x, y)[c] - tiled.pixel(x, y)[c])));
+    EXPECT_LE(worst, 1.5 / 255.0) << "see editor_sheets.png and editor_tiles.png";
+    EXPECT_GT(fractionBrighterThan(tiled, centre, modalLuminance(tiled, viewport) + 0.08), 0.5) << "see editor_tiles.png";
+}

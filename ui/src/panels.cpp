@@ -282,7 +282,7 @@ void drawStatsPanel(const StatsView& stats) {
         ImGui::Text("render  cpu %.2f ms   gpu (pending)", f.cpuMs);
     ImGui::Text("splats  %llu sent (%zu visible)", static_cast<unsigned long long>(f.splatsDrawn),
                 stats.visibleSplats);
-    ImGui::Text("upload  %.1f KiB   %s", double(f.uploadBytes) / 1024.0, f.points ? "point sprites" : "quads");
+    ImGui::Text("upload  %.1f KiB   %s", double(f.uploadBytes) / 1024.0, f.tiles ? "tiles" : f.points ? "point sprites" : "quads");
     if (f.hasCounters) {
         const renderer::SplatCounters& c = f.counters;
         ImGui::Text("filters recon %llu  low-pass %llu  ewa %llu", (unsigned long long)c.drawnPerMode[0],

@@ -18,7 +18,8 @@ struct FrameStats {
     double cpuMs = 0.0;          // CPU time spent issuing the frame
     uint64_t splatsDrawn = 0;    // voxels of the active buckets sent to the vertex stage
     uint64_t uploadBytes = 0;    // bytes uploaded to buffers and textures by the last call
-    bool points = false;         // the frame drew point sprites (else two-triangle quads)
+    bool points = false;         // the frame drew point sprites (else two-triangle quads or tiles)
+    bool tiles = false;          // the frame was tiled splatting (compute passes, no rasteriser)
     int slicesDrawn = 0;         // sheet modes: slices with an active bucket (the rest are skipped)
     bool hasCounters = false;    // SplatSettings::counters was on: `counters` holds the GPU's counts
     SplatCounters counters;
