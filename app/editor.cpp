@@ -225,11 +225,10 @@ int runEditor(const EditorOptions& options) {
         state.camera.up = renderer::axisFromName(options.upAxis);
         state.settings.filter = renderer::filterModeFromName(options.filter);
         state.settings.compositing = renderer::compositingFromName(options.compositing);
-        if (options.tiles) {
-            if (state.settings.compositing == renderer::Compositing::SplatEverySample)
-                throw renderer::RenderError("--tiles needs sheet or X-ray compositing (--compositing)");
-            state.settings.primitive = renderer::SplatSettings::Primitive::Tiles;
-        }
+        state.settings.primitive = options.primitive;
+        if (options.primitive == renderer::SplatSettings::Primitive::Tiles &&
+            state.settings.compositing == renderer::Compositing::SplatEverySample)
+            throw renderer::RenderError("--primitive tiles needs sheet or X-ray compositing (--compositing)");
         state.showHeatmap = state.settings.heatmap = options.heatmap;
         if (options.volumePath.empty()) return;
         doc.tf = renderer::transferFunctionFromSpec(options.tfSpec);

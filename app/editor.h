@@ -2,6 +2,7 @@
 // and the splat renderer. The command line (main.cpp) parses flags into EditorOptions.
 #pragma once
 #include "renderer/camera.h"
+#include "renderer/splat_settings.h"
 
 #include <filesystem>
 #include <string>
@@ -17,7 +18,7 @@ struct EditorOptions {
     std::string filter = "ewa";           // starting filter mode (ewa.h names)
     bool heatmap = false;                 // start showing the filter-mode heatmap
     std::string compositing = "splat-every-sample";   // starting compositing (splat_settings.h names)
-    bool tiles = false;                   // start with tiled splatting (sheets and X-ray only)
+    renderer::SplatSettings::Primitive primitive = renderer::SplatSettings::Primitive::Auto;   // --primitive
 };
 
 // Runs the editor until the window closes, or for `frames` frames. Returns the process exit code:

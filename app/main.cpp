@@ -248,6 +248,19 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }
 
 // What only `render` sets: GL options and extra outputs.
+const char* kPrimitiveHelp = "How splats reach pixels: auto (tiles for sheets and X-ray, else raster), raster "
+                             "(points where they fit, else quads), points, quads, or tiles (compute passes; sheets "
+                             "and X-ray only)";
+
+SplatSettings::Primitive parsePrimitive(const std::string& name) {
+    using P = SplatSettings::Primitive;
+    const std::pair<const char*, P> names[] = {{"auto", P::Auto}, {"raster", P::Raster}, {"points", P::Points},
+                                               {"quads", P::Quads}, {"tiles", P::Tiles}};
+    for (auto [n, p] : names)
+        if (name == n) return p;
+    throw CLI::ValidationError("--primitive", "'" + name + "': expected auto, raster, points, quads or tiles");
+}
+
 struct RenderArgs {
     int frames = 5;
     bool cpu = false, counters = false;
@@ -284,11 +297,7 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     s.settings.patchSize = ra.patchSize;
     s.settings.heatmap = !ra.heatmap.empty();
     s.settings.counters = ra.counters;
-    if (ra.primitive == "points") s.settings.primitive = SplatSettings::Primitive::Points;
-    else if (ra.primitive == "quads") s.settings.primitive = SplatSettings::Primitive::Quads;
-    else if (ra.primitive == "tiles") s.settings.primitive = SplatSettings::Primitive::Tiles;
-    else if (ra.primitive != "auto")
-        throw CLI::ValidationError("--primitive", "'" + ra.primitive + "': expected auto, points, quads or tiles");
+    s.settings.primitive = parsePrimitive(ra.primitive);
     Image heatmap;
     Image image;
     std::vector<double> ms;
@@ -400,9 +409,7 @@ int main(int argc, char** argv) {
     render->add_option("--opaque-refresh", ra.opaqueRefresh,
                        "Slices between refreshes of the opaque pixels (occlusion culling; 0: auto, every slice "
                        "with tiles, every 8 rasterised)")->capture_default_str();
-    render->add_option("--primitive", ra.primitive,
-                       "GL splat primitive: auto, points, quads, or tiles (compute passes; sheets and X-ray only)")
-        ->capture_default_str();
+    render->add_option("--primitive", ra.primitive, kPrimitiveHelp)->capture_default_str();
     render->add_option("--heatmap", ra.heatmap, "Also write the filter-mode heatmap (red reconstruction, green "
                                                 "low-pass, blue EWA, weighted by opacity)");
     render->add_flag("--counters", ra.counters, "Print splats per filter and per cull (GL: counted on the GPU)");
@@ -444,7 +451,7 @@ int main(int argc, char** argv) {
 
     EditorOptions e;
     e.volumePath = std::filesystem::path(SPLATLAB_ASSET_DIR) / "volumes" / "headsq.nhdr";
-    std::string editorSize = "1280x800", editorVolume, screenshot, editorUp, editorCamera;
+    std::string editorSize = "1280x800", editorVolume, screenshot, editorUp, editorCamera, editorPrimitive = "auto";
     auto* editor = app.add_subcommand("editor", "Open the editor window (default: the bundled headsq)");
     editor->add_option("volume", editorVolume, "Volume file");
     editor->add_option("--tf", e.tfSpec, "Transfer function: a preset name or a JSON file")->capture_default_str();
@@ -458,7 +465,7 @@ int main(int argc, char** argv) {
     editor->add_option("--compositing", e.compositing,
                        "Starting compositing: splat-every-sample, sheet-back-to-front, sheet-front-to-back, xray")
         ->capture_default_str();
-    editor->add_flag("--tiles", e.tiles, "Start with tiled splatting (sheet or X-ray compositing)");
+    editor->add_option("--primitive", editorPrimitive, kPrimitiveHelp)->capture_default_str();
     editor->add_option("--up", editorUp, "Object axis shown upwards: x, y, z, -x, -y, -z (default: z; "
                                          "-z for the bundled headsq)");
 
@@ -473,6 +480,7 @@ int main(int argc, char** argv) {
         e.upAxis = editorVolume.empty() ? "-z" : "z";
         if (editorVolume.empty()) e.camera = parseCamera("60,15,2.5,30");   // a three-quarter view of the face
         if (!editorCamera.empty()) e.camera = parseCamera(editorCamera);
+        e.primitive = parsePrimitive(editorPrimitive);
         if (!editorUp.empty()) e.upAxis = (axisFromName(editorUp), editorUp);
         if (!editorVolume.empty()) e.volumePath = editorVolume;
         if (!screenshot.empty()) e.screenshotPath = screenshot;

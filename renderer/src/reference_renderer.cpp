@@ -308,7 +308,7 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
     // Occlusion culling as the GPU's vertex stage does it: a splat is culled when every tile under
     // its pixel box (at most 4 x 4) was opaque at its group's refresh. Its fragments were all rejected
     // above, so only the counters change. Tiled splatting culls no splat (its tiles skip the work).
-    if (earlyTermination && counters && settings.primitive != SplatSettings::Primitive::Tiles) {
+    if (earlyTermination && counters && !tiledSplatting(settings)) {
         for (size_t j = refresh; j < slices; ++j)
             for (size_t k = sliceStarts[j]; k < sliceStarts[j + 1]; ++k) {
                 const SplatGeometry& g = splats[k].geometry;

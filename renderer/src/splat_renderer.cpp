@@ -1270,15 +1270,27 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     // footprint to fit the largest point size, and a guard band, since a point is clipped by its centre.
     const double bound = maxHalfExtentBound(g.dims, g.origin, g.spacing, plane, settings);
     const double pointFits = 0.5 * (g.maxPointSize - 1.0);   // gl_PointSize = 2 h + 1
-    bool points = settings.primitive == SplatSettings::Primitive::Points ||
-                  (settings.primitive == SplatSettings::Primitive::Auto && bound <= pointFits);
-    if (points && !(bound <= pointFits) && settings.primitive == SplatSettings::Primitive::Points)
-        throw RenderError("point sprites cannot hold this view's footprints (up to " + std::to_string(bound) +
-                          " px half extent, the driver's points reach " + std::to_string(pointFits) + ")");
-    const bool tiles = settings.primitive == SplatSettings::Primitive::Tiles;
-    if (tiles && settings.compositing == Compositing::SplatEverySample)
+    using Primitive = SplatSettings::Primitive;
+    if (settings.primitive == Primitive::Tiles && settings.compositing == Compositing::SplatEverySample)
         throw RenderError("tiled splatting composites sheets and X-ray only: splat-every-sample needs points or "
                           "quads (its order within a slice matters)");
+    // Auto takes tiles only where records and lists surely fit the texel buffers they are read
+    // through: a footprint's box spans at most ceil((2 bound + 1) / tile) + 1 tiles a side.
+    uint64_t submitted = 0;
+    {
+        std::array<bool, kBuckets> active = activeBuckets(g.lut);
+        if (settings.drawAllBuckets) active.fill(true);
+        const AxisBuffers& a = g.axes[size_t(chooseTraversal(plane).axis)];
+        for (uint32_t r = 0; r < a.runCount; ++r) submitted += active[a.buckets[r]] ? a.voxels[r] : 0;
+    }
+    const double tilesASide = std::ceil((2.0 * bound + 1.0) / kSplatTilePx) + 1.0;
+    const bool listsFit = double(submitted) * std::max(tilesASide * tilesASide, 4.0) <= double(g.maxTexelBuffer);
+    const bool tiles = settings.primitive == Primitive::Tiles || (tiledSplatting(settings) && listsFit);
+    const bool points = !tiles && (settings.primitive == Primitive::Points ||
+                                   (settings.primitive != Primitive::Quads && bound <= pointFits));
+    if (settings.primitive == Primitive::Points && !(bound <= pointFits))
+        throw RenderError("point sprites cannot hold this view's footprints (up to " + std::to_string(bound) +
+                          " px half extent, the driver's points reach " + std::to_string(pointFits) + ")");
 
     // Nothing below throws before the queries end: a query left active would break the next frame
     // (NVIDIA keeps a deleted active query running).
@@ -1319,7 +1331,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                         (settings.shading == Shading::PerSplat ? kSplatShading : 0) |
                         (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
                         (settings.heatmap ? kHeatmap : 0) | (settings.filter == FilterMode::Adaptive ? kAdaptive : 0) |
-                        (earlyTermination ? kOcclusion : 0);
+                        (earlyTermination && !tiledSplatting(settings) ? kOcclusion : 0);
     if (settings.filter == FilterMode::Adaptive) {
         g.classifyPatches(plane, settings, trav.axis);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -1416,8 +1428,6 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
 
     std::array<bool, kBuckets> active = activeBuckets(g.lut);
     if (settings.drawAllBuckets) active.fill(true);
-    uint64_t submitted = 0;
-    for (uint32_t r = 0; r < axis.runCount; ++r) submitted += active[axis.buckets[r]] ? axis.voxels[r] : 0;
     m_stats.slicesDrawn = 0;
     m_stats.tileEntries = 0;
 

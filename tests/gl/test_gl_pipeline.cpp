@@ -47,6 +47,7 @@ TEST_F(GlTest, SheetBuffersMatchCpuBothWays) {
                 if (mode == Compositing::SheetBackToFront && opaque < 1.0) continue;
                 SplatSettings s;
                 s.compositing = mode;
+                s.primitive = SplatSettings::Primitive::Raster;   // the rasteriser (tiles: test_gl_tiles.cpp)
                 s.opaqueAlpha = opaque;
                 s.density = 4.0;   // opaque enough that early termination has pixels to stop
                 r.render(f.plane, s);
@@ -67,6 +68,7 @@ TEST_F(GlTest, EarlyTerminationChangesAPixelByLessThanWhatItSkips) {
     r.setScene(f.scene);
     SplatSettings s;
     s.compositing = Compositing::SheetFrontToBack;
+    s.primitive = SplatSettings::Primitive::Raster;   // the rasteriser (tiles: test_gl_tiles.cpp)
     s.density = 8.0;
     s.opaqueAlpha = 1.0;
     s.counters = true;
@@ -102,6 +104,7 @@ TEST_F(GlTest, FrontToBackSplattingCullsHiddenSplatsLikeTheCpu) {
         SCOPED_TRACE(compositingName(mode));
         SplatSettings s;
         s.compositing = mode;
+        s.primitive = SplatSettings::Primitive::Raster;   // the rasteriser (tiles: test_gl_tiles.cpp)
         s.density = 8.0;
         s.counters = true;
         s.opaqueAlpha = 1.0;   // splat-every-sample: back to front
@@ -144,6 +147,7 @@ TEST_F(GlTest, HeatmapCountersAndPatchModesMatchCpu) {
         s.patchSize = 4;
         s.cMin = 0.6;
         s.compositing = mode;
+        s.primitive = SplatSettings::Primitive::Raster;   // the rasteriser (tiles: test_gl_tiles.cpp)
         s.heatmap = true;
         s.counters = true;
         r.render(f.plane, s);

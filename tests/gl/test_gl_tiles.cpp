@@ -172,6 +172,35 @@ TEST_F(GlTest, TiledSplattingCoversImagesOfManyTilesAndEmptyFrames) {
     EXPECT_EQ(imageStats(r.readback()).coveredFraction, 0.0);
 }
 
+TEST_F(GlTest, AutoTilesSheetsAndXRayRastersTheRestAndFallsBackWhereListsMightNotFit) {
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(16), ramp());
+    SplatRenderer r;
+    r.setScene(scene);
+    const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, 64, 56);
+    for (auto mode : {Compositing::SplatEverySample, Compositing::SheetBackToFront, Compositing::SheetFrontToBack,
+                      Compositing::XRay}) {
+        SplatSettings s;
+        s.compositing = mode;
+        r.render(plane, s);
+        EXPECT_EQ(r.stats().tiles, mode != Compositing::SplatEverySample) << compositingName(mode);
+        EXPECT_EQ(r.stats().tiles, tiledSplatting(s));
+    }
+    // The camera inside the volume: footprints have no bound, so the lists might not fit and auto
+    // rasterises, with tiles' semantics (refresh every slice, no splat culled as hidden): the CPU
+    // oracle's image and counters.
+    const ImagePlane inside = makeImagePlane(Camera{.distance = 0.3, .fovYDeg = 60}, scene.centre, scene.radius, 64, 56);
+    SplatSettings s;
+    s.compositing = Compositing::SheetFrontToBack;
+    s.density = 4.0;
+    s.counters = true;
+    r.render(inside, s);
+    EXPECT_FALSE(r.stats().tiles);
+    SplatCounters cpu;
+    EXPECT_IMAGES_CLOSE(r.readback(), renderReference(scene, inside, s, &cpu), kGlVsCpu, "gl_auto_fallback");
+    expectCountersEqual(r.stats().counters, cpu);
+    EXPECT_GT(cpu.culledNear, 0u) << "the camera must be inside the volume";
+}
+
 TEST_F(GlTest, TiledSplattingRefusesSplatEverySampleAndRendersAfterwards) {
     const SplatScene scene = buildSplatScene(makeMarschnerLobb(12), ramp());
     const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, 48, 40);

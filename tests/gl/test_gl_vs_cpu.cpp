@@ -62,6 +62,7 @@ TEST_F(GlTest, XRayMatchesCpu) {
     const Volume v = makeMarschnerLobb(18);
     SplatSettings s;
     s.compositing = Compositing::XRay;
+    s.primitive = SplatSettings::Primitive::Raster;   // the rasteriser's X-ray (tiles: test_gl_tiles.cpp)
     const Case c = renderBoth(v, ramp(), Camera{.azimuthDeg = 10, .elevationDeg = -30, .distance = 2.5}, s, 80, 80);
     EXPECT_GT(imageStats(c.cpu).meanAlpha, 0.05);
     EXPECT_IMAGES_CLOSE(c.gl, c.cpu, kGlVsCpu, "gl_vs_cpu_xray");

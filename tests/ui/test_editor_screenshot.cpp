@@ -112,10 +112,11 @@ TEST(EditorScreenshot, HeatmapViewShowsFilterColoursInsteadOfTheVolume) {
 TEST(EditorScreenshot, TiledSheetsShowTheSameViewportAsRasterisedSheets) {
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
-    // The same frame through compute passes instead of the rasteriser: the viewport must match to
-    // 8-bit rounding (the Stats text below it differs).
-    const renderer::Image raster = editorScreenshot("--compositing sheet-front-to-back", "editor_sheets.png");
-    const renderer::Image tiled = editorScreenshot("--compositing sheet-front-to-back --tiles", "editor_tiles.png");
+    // Sheets start tiled (compute passes); the same frame through the rasteriser must match to 8-bit
+    // rounding in the viewport (the Stats text below it differs).
+    const renderer::Image raster =
+        editorScreenshot("--compositing sheet-front-to-back --primitive raster", "editor_sheets.png");
+    const renderer::Image tiled = editorScreenshot("--compositing sheet-front-to-back", "editor_tiles.png");
     ASSERT_FALSE(::testing::Test::HasFailure());
     const ui::DockLayout layout = ui::makeEditorLayout();
     const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});

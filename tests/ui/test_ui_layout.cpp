@@ -276,9 +276,10 @@ TEST_F(ImGuiNull, ClickingCompositingComboAndXrayItemSelectsXray) {
     EXPECT_FALSE(changes.tfChanged);
 }
 
-TEST_F(ImGuiNull, TiledSplattingCheckboxSwitchesSheetsToTilesAndSplatEverySampleDropsIt) {
+TEST_F(ImGuiNull, TiledSplattingCheckboxSwitchesSheetsBetweenTilesAndTheRasteriser) {
     ui::EditorState state;
     state.settings.compositing = renderer::Compositing::SheetFrontToBack;
+    ASSERT_TRUE(renderer::tiledSplatting(state.settings)) << "sheets start tiled (auto)";
     bool changed = false;
     ImGuiID boxId = 0;
     auto body = [&] {
@@ -289,17 +290,25 @@ TEST_F(ImGuiNull, TiledSplattingCheckboxSwitchesSheetsToTilesAndSplatEverySample
     const float y = findItem(boxId, 20.0f, 0.0f, 700.0f, body);
     ASSERT_GE(y, 0.0f) << "no Tiled splatting checkbox for sheets";
     EXPECT_FALSE(changed);
-    mouse(20.0f, y, true);
-    frame(body);
-    mouse(20.0f, y, false);
-    frame(body);
+    auto click = [&] {
+        mouse(20.0f, y, true);
+        frame(body);
+        mouse(20.0f, y, false);
+        frame(body);
+    };
+    click();
     EXPECT_TRUE(changed);
-    EXPECT_EQ(state.settings.primitive, renderer::SplatSettings::Primitive::Tiles);
-    // Splat-every-sample cannot be tiled: the panel falls back to the rasteriser's automatic choice.
+    EXPECT_EQ(state.settings.primitive, renderer::SplatSettings::Primitive::Raster);
+    EXPECT_FALSE(renderer::tiledSplatting(state.settings));
+    click();
+    EXPECT_TRUE(renderer::tiledSplatting(state.settings));
+    // Splat-every-sample cannot be tiled: an explicit Tiles falls back to the automatic choice.
+    state.settings.primitive = renderer::SplatSettings::Primitive::Tiles;
     state.settings.compositing = renderer::Compositing::SplatEverySample;
     mouse(900.0f, 700.0f, false);
     frame(body);
     EXPECT_EQ(state.settings.primitive, renderer::SplatSettings::Primitive::Auto);
+    EXPECT_FALSE(renderer::tiledSplatting(state.settings));
 }
 
 TEST_F(ImGuiNull, ResetCameraButtonRestoresTheDefaultCamera) {

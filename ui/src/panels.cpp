@@ -131,13 +131,14 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     if (s.compositing == renderer::Compositing::SplatEverySample) {
         if (s.primitive == Primitive::Tiles) s.primitive = Primitive::Auto;   // tiles sum sheets only
     } else {
-        bool tiled = s.primitive == Primitive::Tiles;
+        bool tiled = renderer::tiledSplatting(s);
         if (ImGui::Checkbox("Tiled splatting", &tiled)) {
-            s.primitive = tiled ? Primitive::Tiles : Primitive::Auto;
+            s.primitive = tiled ? Primitive::Auto : Primitive::Raster;
             changes.settingsChanged = true;
         }
-        hint("Compute passes instead of the rasteriser: splats binned to 8x8 pixel tiles, each pixel's sheet\n"
-             "and image kept in registers (the same image; faster where many splats overlap)");
+        hint("Compute passes instead of the rasteriser (the default for sheets and X-ray): splats binned to\n"
+             "8x8 pixel tiles, each pixel's sheet and image kept in registers. The same image, faster on\n"
+             "every machine measured; off: points or quads through the rasteriser");
     }
     if (s.compositing == renderer::Compositing::SheetFrontToBack ||
         s.compositing == renderer::Compositing::SplatEverySample) {

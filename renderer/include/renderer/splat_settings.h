@@ -55,11 +55,14 @@ struct SplatSettings {
     bool drawAllBuckets = false;        // baseline for measurements: every voxel reaches the vertex
                                         // stage, transparent ones are culled there
 
-    // GL only: how a splat is rasterised (all give the same image) and what else a frame records.
+    // GL only: how splats reach pixels (all give the same image) and what else a frame records.
     // Tiles: compute passes bin the splats to screen tiles and composite each pixel in registers
     // (sheet and X-ray compositing only: a sheet's sum does not depend on the order within a slice).
-    enum class Primitive { Auto, Points, Quads, Tiles };   // Auto: points whenever every footprint fits
-    Primitive primitive = Primitive::Auto;                 // the largest point size, quads otherwise
+    // Raster: points whenever every footprint fits the largest point size, quads otherwise.
+    // Auto: tiles for sheets and X-ray (faster on every machine measured), raster for
+    // splat-every-sample; raster also where the tile lists might not fit (tiledSplatting()).
+    enum class Primitive { Auto, Raster, Points, Quads, Tiles };
+    Primitive primitive = Primitive::Auto;
     bool heatmap = false;               // also render the filter-mode heatmap (renderers' readback)
     bool counters = false;              // count splats per mode and per guard on the GPU (atomics)
 };
@@ -71,11 +74,20 @@ constexpr int kSplatTilePx = 8;
 
 // True when the frame is composited front to back (early termination applies).
 bool frontToBack(const SplatSettings& settings);
+// Whether the frame composites with tiles' semantics: primitive Tiles, or Auto with sheets or X-ray.
+// Per-splat occlusion culling, its counter and the automatic refresh interval follow from it, on the
+// GPU and in the CPU oracle alike. (Auto falls back to the rasteriser for lists that might not fit;
+// that frame keeps these semantics: same image and counters, only slower.)
+inline bool tiledSplatting(const SplatSettings& s) {
+    return s.primitive == SplatSettings::Primitive::Tiles ||
+           (s.primitive == SplatSettings::Primitive::Auto && s.compositing != Compositing::SplatEverySample);
+}
+
 // Slices between refreshes of the opaque pixels. Auto: every slice for tiled splatting, whose pixels
 // keep their alpha in registers (a refresh is free); every 8 for the rasteriser, where a refresh is a
 // pass that drains the pipeline (8 was the fastest on llvmpipe and the H100).
 inline int opaqueRefreshSlices(const SplatSettings& s) {
-    if (s.opaqueRefreshSlices <= 0) return s.primitive == SplatSettings::Primitive::Tiles ? 1 : 8;
+    if (s.opaqueRefreshSlices <= 0) return tiledSplatting(s) ? 1 : 8;
     return s.opaqueRefreshSlices;
 }
 
