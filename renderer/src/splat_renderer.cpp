@@ -1276,13 +1276,12 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                           "quads (its order within a slice matters)");
     // Auto takes tiles only where records and lists surely fit the texel buffers they are read
     // through: a footprint's box spans at most ceil((2 bound + 1) / tile) + 1 tiles a side.
+    const Traversal trav = chooseTraversal(plane);
+    const AxisBuffers& axis = g.axes[size_t(trav.axis)];
+    std::array<bool, kBuckets> active = activeBuckets(g.lut);
+    if (settings.drawAllBuckets) active.fill(true);
     uint64_t submitted = 0;
-    {
-        std::array<bool, kBuckets> active = activeBuckets(g.lut);
-        if (settings.drawAllBuckets) active.fill(true);
-        const AxisBuffers& a = g.axes[size_t(chooseTraversal(plane).axis)];
-        for (uint32_t r = 0; r < a.runCount; ++r) submitted += active[a.buckets[r]] ? a.voxels[r] : 0;
-    }
+    for (uint32_t r = 0; r < axis.runCount; ++r) submitted += active[axis.buckets[r]] ? axis.voxels[r] : 0;
     const double tilesASide = std::ceil((2.0 * bound + 1.0) / kSplatTilePx) + 1.0;
     const bool listsFit = double(submitted) * std::max(tilesASide * tilesASide, 4.0) <= double(g.maxTexelBuffer);
     const bool tiles = settings.primitive == Primitive::Tiles || (tiledSplatting(settings) && listsFit);
@@ -1303,7 +1302,6 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     const float guard = points ? float(std::ceil(0.5 * g.maxPointSize) + 1.0) : 0.0f;
     g.updateCommands(verts, settings.drawAllBuckets);
 
-    const Traversal trav = chooseTraversal(plane);
     const Compositing mode = settings.compositing;
     const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
     const bool ftb = frontToBack(settings);
@@ -1311,7 +1309,6 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     const bool reversed = ftb && !sheets;   // splat-every-sample, front to back: the exact reverse
     const int refresh = opaqueRefreshSlices(settings);
     const bool xray = mode == Compositing::XRay;
-    const AxisBuffers& axis = g.axes[size_t(trav.axis)];
 
     const float zero[4] = {0, 0, 0, 0};
     const float one = 1.0f;
@@ -1426,8 +1423,6 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glDisable(GL_CULL_FACE);
     glEnable(GL_BLEND);
 
-    std::array<bool, kBuckets> active = activeBuckets(g.lut);
-    if (settings.drawAllBuckets) active.fill(true);
     m_stats.slicesDrawn = 0;
     m_stats.tileEntries = 0;
 
