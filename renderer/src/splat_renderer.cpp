@@ -1,7 +1,9 @@
-// The GL splatting path (see splat_renderer.h). One non-indexed draw of 6 vertices per splat: the
+// The GL splatting path (see splat_renderer.h). Rasterised: one point (or 6 vertices) per splat; the
 // vertex stage fetches the voxel index from the visible list, rebuilds the footprint exactly as
-// splatGeometry() does on the CPU (same formulas, float instead of double) and emits a quad around
-// the cutoff ellipse; the fragment stage evaluates the Gaussian at the pixel centre.
+// splatGeometry() does on the CPU (same formulas, float instead of double) and emits a point or quad
+// around the cutoff ellipse; the fragment stage evaluates the Gaussian at the pixel centre. Tiled
+// (sheets and X-ray): compute passes build the same footprints, bin them to screen tiles and
+// composite each tile's pixels in registers (kTileSplatCompMain and after).
 #include "renderer/splat_renderer.h"
 
 #include "gl_util.h"

@@ -1,6 +1,7 @@
 // The GL splatting path. Retained mode: the voxel classes, the LUT and the bucketed slice lists live
 // on the GPU; a frame uploads only a few uniforms, a compute pass turns the LUT into indirect draws of
-// the active buckets, and the vertex stage rebuilds each splat from its list entry. A TF edit uploads
+// the active buckets, and the vertex stage (or, tiled, a compute pass) rebuilds each splat from its
+// list entry. A TF edit uploads
 // the LUT and nothing else. Needs a current GL 4.5 core context (HeadlessGl or the editor's window).
 #pragma once
 #include "renderer/image.h"
