@@ -200,6 +200,13 @@ class ImGuiNull : public testing::Test {
         ImGui::GetIO().MousePos = ImVec2(x, y);
         ImGui::GetIO().MouseDown[0] = down;
     }
+    // Presses and releases the left button at (x, y), a frame each.
+    void click(float x, float y, const std::function<void()>& body) {
+        mouse(x, y, true);
+        frame(body);
+        mouse(x, y, false);
+        frame(body);
+    }
     // Moves the mouse down the column x = `x` between y0 and y1 until the item `id` is hovered; returns
     // the y where it was, or -1. Widget positions come from ImGui's own layout, not from constants.
     float findItem(ImGuiID id, float x, float y0, float y1, const std::function<void()>& body) {
@@ -251,10 +258,7 @@ TEST_F(ImGuiNull, ClickingCompositingComboAndXrayItemSelectsXray) {
     // 1. Hover and click the combo: its popup opens.
     const float comboY = findItem(comboId, 40.0f, 0.0f, 700.0f, body);
     ASSERT_GE(comboY, 0.0f) << "the Compositing combo was never hovered";
-    mouse(40.0f, comboY, true);
-    frame(body);
-    mouse(40.0f, comboY, false);
-    frame(body);
+    click(40.0f, comboY, body);
     const ImGuiWindow* popup = ImGui::FindWindowByName("##Combo_00");
     ASSERT_NE(popup, nullptr);
     ASSERT_TRUE(popup->Active) << "the combo's popup did not open";
@@ -266,10 +270,7 @@ TEST_F(ImGuiNull, ClickingCompositingComboAndXrayItemSelectsXray) {
     const float itemY = findItem(xrayId, x, comboY, comboY + 200.0f, body);
     ASSERT_GE(itemY, 0.0f) << "the xray item was never hovered";
     EXPECT_FALSE(changes.settingsChanged);
-    mouse(x, itemY, true);
-    frame(body);
-    mouse(x, itemY, false);
-    frame(body);
+    click(x, itemY, body);
 
     EXPECT_EQ(state.settings.compositing, renderer::Compositing::XRay);
     EXPECT_TRUE(changes.settingsChanged);
@@ -290,17 +291,11 @@ TEST_F(ImGuiNull, TiledSplattingCheckboxSwitchesSheetsBetweenTilesAndTheRasteris
     const float y = findItem(boxId, 20.0f, 0.0f, 700.0f, body);
     ASSERT_GE(y, 0.0f) << "no Tiled splatting checkbox for sheets";
     EXPECT_FALSE(changed);
-    auto click = [&] {
-        mouse(20.0f, y, true);
-        frame(body);
-        mouse(20.0f, y, false);
-        frame(body);
-    };
-    click();
+    click(20.0f, y, body);
     EXPECT_TRUE(changed);
     EXPECT_EQ(state.settings.primitive, renderer::SplatSettings::Primitive::Raster);
     EXPECT_FALSE(renderer::tiledSplatting(state.settings));
-    click();
+    click(20.0f, y, body);
     EXPECT_TRUE(renderer::tiledSplatting(state.settings));
     // Splat-every-sample cannot be tiled: an explicit Tiles falls back to the automatic choice.
     state.settings.primitive = renderer::SplatSettings::Primitive::Tiles;
@@ -325,10 +320,7 @@ TEST_F(ImGuiNull, ResetCameraButtonRestoresTheDefaultCamera) {
     const float y = findItem(buttonId, 30.0f, 0.0f, 700.0f, body);
     ASSERT_GE(y, 0.0f);
     EXPECT_FALSE(cameraChanged);
-    mouse(30.0f, y, true);
-    frame(body);
-    mouse(30.0f, y, false);
-    frame(body);
+    click(30.0f, y, body);
     EXPECT_TRUE(cameraChanged);
     EXPECT_EQ(state.camera.azimuthDeg, renderer::Camera{}.azimuthDeg);
     EXPECT_EQ(state.camera.distance, renderer::Camera{}.distance);
@@ -424,10 +416,7 @@ TEST_F(ImGuiNull, WindowSectionPercentileRadioSelectsThePercentileWindow) {
         if (ImGui::GetCurrentContext()->HoveredId == percentileId) x = tx;
     }
     ASSERT_GE(x, 0.0f) << "the percentile radio was never hovered";
-    mouse(x, y, true);
-    frame(body);
-    mouse(x, y, false);
-    frame(body);
+    click(x, y, body);
     EXPECT_TRUE(changed);
     EXPECT_EQ(state.window.mode, renderer::WindowMode::Percentile);
 }
@@ -445,10 +434,7 @@ TEST_F(ImGuiNull, ProgressModalCancelButtonReportsOnceAndTheModalClosesWhenWorkE
     const float y = findItem(cancelId, x, modal->Pos.y, modal->Pos.y + modal->Size.y, body);
     ASSERT_GE(y, 0.0f) << "the Cancel button was never hovered";
     EXPECT_FALSE(cancelled);
-    mouse(x, y, true);
-    frame(body);
-    mouse(x, y, false);
-    frame(body);
+    click(x, y, body);
     EXPECT_TRUE(cancelled);
     running = false;
     frame(body);
