@@ -257,7 +257,7 @@ void main() {
 // Tiled splatting (SplatSettings::Primitive::Tiles), for sheet and X-ray compositing: compute passes
 // instead of the rasteriser. (1) Each kept splat is written as a record and counted in every screen
 // tile (SPLAT_TILE pixels square) its box reaches, per slice rank; (2) the counts become offsets, per
-// tile over the ranks and then over the tiles; (3) each splat appends its index to its tiles' lists;
+// tile over the ranks and then over the tiles; (3) each splat copies its record into its tiles' lists;
 // (4) one workgroup per tile walks its list slice by slice, every pixel keeping its sheet and the image
 // in registers. A pixel's sums do not depend on the order within a slice, so the lists need no sort.
 // Records are SPLAT_VEC4S vec4s: centre and half extent; conic and amplitude; colour and rank | mode << 16;
@@ -355,27 +355,37 @@ void main() {
 }
 )";
 
-// Each splat appends its index to the list of every tile its box reaches (bins: the cursor per rank;
-// afterwards where each rank ends).
+// Each splat copies its record into the list of every tile its box reaches (bins: the cursor per rank;
+// afterwards where each rank ends). Copies, not indices: a tile then reads its list in order, where
+// records fetched by index miss the cache (a third of bonsai's composite time on llvmpipe).
 const char* kTileScatterComp = R"(
 layout(local_size_x = 64) in;
 layout(std430, binding = 7) readonly buffer Splats { vec4 splats[]; };
 layout(std430, binding = 8) buffer Bins { uint bins[]; };
 layout(std430, binding = 9) readonly buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
-layout(std430, binding = 10) writeonly buffer List { uint list[]; };
+layout(std430, binding = 10) writeonly buffer Entries { vec4 entries[]; };
 uniform ivec2 uTiles;
 uniform int uSlices;
 uniform vec2 uViewport;
 void scatter(uint i) {
-    vec4 box = splats[SPLAT_VEC4S * i];
-    int rank = int(floatBitsToUint(splats[SPLAT_VEC4S * i + 2].w) & 0xffffu);
+    vec4 box = splats[SPLAT_VEC4S * i], conic = splats[SPLAT_VEC4S * i + 1], colour = splats[SPLAT_VEC4S * i + 2];
+#ifdef FRAGMENT_SHADING
+    vec4 gradient = splats[SPLAT_VEC4S * i + 3];
+#endif
+    int rank = int(floatBitsToUint(colour.w) & 0xffffu);
     // The same box as the count pass: the same floats through the same formulas.
     ivec2 ta = max(ivec2(ceil(box.xy - box.zw - 0.5)), ivec2(0)) / SPLAT_TILE;
     ivec2 tb = min(ivec2(floor(box.xy + box.zw - 0.5)), ivec2(uViewport) - 1) / SPLAT_TILE;
     for (int ty = ta.y; ty <= tb.y; ++ty)
         for (int tx = ta.x; tx <= tb.x; ++tx) {
             int t = ty * uTiles.x + tx;
-            list[tileBase[t] + atomicAdd(bins[t * uSlices + rank], 1u)] = i;
+            uint e = SPLAT_VEC4S * (tileBase[t] + atomicAdd(bins[t * uSlices + rank], 1u));
+            entries[e] = box;
+            entries[e + 1u] = conic;
+            entries[e + 2u] = colour;
+#ifdef FRAGMENT_SHADING
+            entries[e + 3u] = gradient;
+#endif
         }
 }
 void main() {   // a grid of at most 65535 workgroups walks every splat
@@ -399,9 +409,8 @@ const char* kTileCompositeCompMain = R"(
 #define ROWS(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7)
 #define SKIP_UNLESS(cond) for (int once = 0; once < ((cond) ? 1 : 0); ++once)
 layout(local_size_x = SPLAT_TILE) in;
-// Records and lists through texel fetches: llvmpipe gathers those without a bounds check per lane.
-layout(binding = 0) uniform samplerBuffer splats;
-layout(binding = 1) uniform usamplerBuffer list;
+// The list through texel fetches: llvmpipe gathers those without a bounds check per lane.
+layout(binding = 0) uniform samplerBuffer entries;
 layout(std430, binding = 8) readonly buffer Bins { uint bins[]; };   // where each rank ends in its tile's list
 layout(std430, binding = 9) readonly buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
 layout(rgba32f, binding = 0) writeonly uniform image2D outImage;
@@ -496,10 +505,10 @@ void main() {
             bool anyLive = live0 || live1 || live2 || live3 || live4 || live5 || live6 || live7;
             ROWS(CLEAR)
             for (uint j = start; j < (anyLive ? end : start); ++j) {
-                int i = int(SPLAT_VEC4S * texelFetch(list, int(base + j)).r);
-                vec4 a = texelFetch(splats, i), b = texelFetch(splats, i + 1), c = texelFetch(splats, i + 2);
+                int i = int(SPLAT_VEC4S * (base + j));
+                vec4 a = texelFetch(entries, i), b = texelFetch(entries, i + 1), c = texelFetch(entries, i + 2);
 #ifdef FRAGMENT_SHADING
-                vec3 gradient = texelFetch(splats, i + 3).xyz;
+                vec3 gradient = texelFetch(entries, i + 3).xyz;
 #endif
                 uint mode = floatBitsToUint(c.w) >> 16;
                 float dx = cx - a.x;
@@ -815,7 +824,7 @@ struct SplatRenderer::Gl {
     // Tiled splatting: programs by variant bits, and its per-frame buffers (grown, never shrunk).
     std::map<int, GLuint> tilePrograms;
     GLuint tileSplats = 0, tileBins = 0, tileState = 0, tileList = 0;
-    GLuint tileSplatTexture = 0, tileListTexture = 0;   // buffer textures over tileSplats and tileList
+    GLuint tileListTexture = 0;   // buffer texture over tileList
     size_t tileSplatBytes = 0, tileBinBytes = 0, tileStateBytes = 0, tileListBytes = 0;
     glm::ivec2 tiles{0};
     int width = 0, height = 0;
@@ -838,8 +847,7 @@ struct SplatRenderer::Gl {
         for (auto [bits, p] : tilePrograms) glDeleteProgram(p);
         const GLuint tileBuffers[] = {tileSplats, tileBins, tileState, tileList};
         glDeleteBuffers(4, tileBuffers);
-        const GLuint tileTextures[] = {tileSplatTexture, tileListTexture};
-        glDeleteTextures(2, tileTextures);
+        glDeleteTextures(1, &tileListTexture);
         for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
                          commandsProgram, patchProgram, opaqueTilesProgram})
             glDeleteProgram(p);
@@ -1276,8 +1284,8 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     if (settings.primitive == Primitive::Tiles && settings.compositing == Compositing::SplatEverySample)
         throw RenderError("tiled splatting composites sheets and X-ray only: splat-every-sample needs points or "
                           "quads (its order within a slice matters)");
-    // Auto takes tiles only where records and lists surely fit the texel buffers they are read
-    // through: a footprint's box spans at most ceil((2 bound + 1) / tile) + 1 tiles a side.
+    // Auto takes tiles only where the lists surely fit the texel buffer they are read through: a
+    // footprint's box spans at most ceil((2 bound + 1) / tile) + 1 tiles a side, each entry a record.
     const Traversal trav = chooseTraversal(plane);
     const AxisBuffers& axis = g.axes[size_t(trav.axis)];
     std::array<bool, kBuckets> active = activeBuckets(g.lut);
@@ -1285,7 +1293,9 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     uint64_t submitted = 0;
     for (uint32_t r = 0; r < axis.runCount; ++r) submitted += active[axis.buckets[r]] ? axis.voxels[r] : 0;
     const double tilesASide = std::ceil((2.0 * bound + 1.0) / kSplatTilePx) + 1.0;
-    const bool listsFit = double(submitted) * std::max(tilesASide * tilesASide, 4.0) <= double(g.maxTexelBuffer);
+    const double recordTexels = settings.shading == SplatSettings::Shading::PerFragment ? 4.0 : 3.0;
+    const bool listsFit =
+        double(submitted) * std::max(tilesASide * tilesASide, 4.0) * recordTexels <= double(g.maxTexelBuffer);
     const bool tiles = settings.primitive == Primitive::Tiles || (tiledSplatting(settings) && listsFit);
     const bool points = !tiles && (settings.primitive == Primitive::Points ||
                                    (settings.primitive != Primitive::Quads && bound <= pointFits));
@@ -1470,9 +1480,9 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         // The list's length sizes its buffer: the one wait of the frame (a few bytes).
         GLuint counts[2] = {0, 0};
         glGetNamedBufferSubData(g.tileState, 0, sizeof(counts), counts);
-        Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * 4);
+        Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * vec4s * 16);
         m_stats.tileEntries = counts[1];
-        if (uint64_t(counts[0]) * vec4s > uint64_t(g.maxTexelBuffer) || counts[1] > uint64_t(g.maxTexelBuffer))
+        if (uint64_t(counts[1]) * vec4s > uint64_t(g.maxTexelBuffer))
             refused = "tiled splatting: " + std::to_string(counts[0]) + " splats in " + std::to_string(counts[1]) +
                       " tile entries exceed GL_MAX_TEXTURE_BUFFER_SIZE (" + std::to_string(g.maxTexelBuffer) +
                       " texels); use points or quads";
@@ -1501,12 +1511,9 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glUniform1i(glGetUniformLocation(composite, "uFrontToBack"), ftb);
         glUniform1i(glGetUniformLocation(composite, "uOrtho"), plane.orthographic);
         setShadingUniforms(composite, sp);
-        if (!g.tileSplatTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileSplatTexture);
         if (!g.tileListTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileListTexture);
-        glTextureBufferRange(g.tileSplatTexture, GL_RGBA32F, g.tileSplats, 0, GLsizeiptr(std::max<GLuint>(counts[0], 1) * vec4s * 16));
-        glTextureBufferRange(g.tileListTexture, GL_R32UI, g.tileList, 0, GLsizeiptr(std::max<GLuint>(counts[1], 1) * 4));
-        glBindTextureUnit(0, g.tileSplatTexture);
-        glBindTextureUnit(1, g.tileListTexture);
+        glTextureBufferRange(g.tileListTexture, GL_RGBA32F, g.tileList, 0, GLsizeiptr(std::max<GLuint>(counts[1], 1) * vec4s * 16));
+        glBindTextureUnit(0, g.tileListTexture);
         glBindImageTexture(0, g.image, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glBindImageTexture(1, g.heat, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         if (refused.empty()) glDispatchCompute(GLuint(grid.x), GLuint(grid.y), 1);   // a workgroup per tile
