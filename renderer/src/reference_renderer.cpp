@@ -256,7 +256,9 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
                 if (sheets) flushSheet();
                 const size_t before = slice;
                 while (k == sliceStarts[slice + 1]) ++slice;
-                if (earlyTermination && slice / refresh != before / refresh) refreshOpaque(slice / refresh);
+                // A snapshot for every refresh crossed: occlusion may read one whose slices were empty.
+                if (earlyTermination)
+                    for (size_t group = before / refresh + 1; group <= slice / refresh; ++group) refreshOpaque(group);
             }
             const Splat& s = splats[k];
             const SplatGeometry& g = s.geometry;
@@ -305,11 +307,12 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
         if (sheets) flushSheet();
     });
 
-    // Occlusion culling as the GPU's vertex stage does it: a splat is culled when every tile under
-    // its pixel box (at most 4 x 4) was opaque at its group's refresh. Its fragments were all rejected
-    // above, so only the counters change. Tiled splatting culls no splat (its tiles skip the work).
-    if (earlyTermination && counters && !tiledSplatting(settings)) {
-        for (size_t j = refresh; j < slices; ++j)
+    // Occlusion culling as the GPU does it: a splat is culled when every tile under its pixel box (at
+    // most 4 x 4) was opaque at the snapshot its slice reads, taken every occlusionSlices() slices.
+    // Its pixels were all skipped above, so only the counters change.
+    const size_t occlusion = size_t(occlusionSlices(settings));
+    if (earlyTermination && counters) {
+        for (size_t j = occlusion; j < slices; ++j)
             for (size_t k = sliceStarts[j]; k < sliceStarts[j + 1]; ++k) {
                 const SplatGeometry& g = splats[k].geometry;
                 if (g.culled) continue;
@@ -318,7 +321,7 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
                 const int ta = std::clamp(int(lo.x), 0, w - 1) / kOpaqueTilePx, tb = std::clamp(int(hi.x), 0, w - 1) / kOpaqueTilePx;
                 const int sa = std::clamp(int(lo.y), 0, h - 1) / kOpaqueTilePx, sb = std::clamp(int(hi.y), 0, h - 1) / kOpaqueTilePx;
                 if (tb - ta >= 4 || sb - sa >= 4) continue;
-                const uint8_t* tiles = &tileSnapshots[j / refresh * tilesX * tilesY];
+                const uint8_t* tiles = &tileSnapshots[j / occlusion * (occlusion / refresh) * tilesX * tilesY];
                 bool hidden = true;
                 for (int ty = sa; ty <= sb; ++ty)
                     for (int tx = ta; tx <= tb; ++tx) hidden = hidden && tiles[ty * tilesX + tx];

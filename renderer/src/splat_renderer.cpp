@@ -31,6 +31,15 @@ std::string opaqueTileHeader() {
     return "#version 450 core\n#define OPAQUE_TILE " + std::to_string(kOpaqueTilePx) + "\n";
 }
 
+// Reading the opaque-tile map (1 where every pixel of the tile is opaque) for occlusion culling. (A
+// storage buffer: llvmpipe's texel fetches cost more here, in loops with a varying trip count.)
+const char* kOpaqueTilesRead = R"(
+#ifdef OCCLUSION
+layout(std430, binding = 11) readonly buffer OpaqueTiles { uint opaqueTiles[]; };
+bool tileOpaque(int t) { return opaqueTiles[t] != 0u; }
+#endif
+)";
+
 // Uniforms and the adaptive classifier, shared by the splat vertex stage and the patch-mode pass.
 const char* kSplatCommon = R"(
 uniform ivec3 uDims;
@@ -194,13 +203,26 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
 // Pixels the footprint can touch, as the CPU's box: centres inside centre -+ halfExtent.
 ivec2 boxLo(Footprint f) { return ivec2(ceil(f.centre - f.halfExtent - 0.5)); }
 ivec2 boxHi(Footprint f) { return ivec2(floor(f.centre + f.halfExtent - 0.5)); }
+
+#ifdef OCCLUSION
+uniform int uTilesX;          // columns of the opaque-tile map
+// Culled when every tile under the pixels it can touch was opaque at the last snapshot of the map:
+// early termination would reject each of its pixels anyway. Boxes wider than 4 tiles are kept.
+bool hidden(Footprint f) {
+    ivec2 ta = clamp(boxLo(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
+    ivec2 tb = clamp(boxHi(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
+    if (tb.x - ta.x >= 4 || tb.y - ta.y >= 4) return false;
+    bool opaque = true;
+    for (int ty = ta.y; ty <= tb.y; ++ty)
+        for (int tx = ta.x; tx <= tb.x; ++tx) opaque = opaque && tileOpaque(ty * uTilesX + tx);
+    return opaque;
+}
+#endif
 )";
 
 const char* kSplatVertMain = R"(
 layout(location = 0) in uvec4 aRun;  // per draw (baseInstance): the run record
-layout(std430, binding = 5) readonly buffer OpaqueTiles { uint opaqueTiles[]; };
 uniform bool uReverse;        // front-to-back splat-every-sample: each run read backwards
-uniform int uTilesX;          // OCCLUSION: columns of the opaque-tile map
 uniform int uVertsPerSplat;   // 1: point sprite, 6: two triangles
 uniform float uGuardPx;       // the viewport reaches this far past the image (points clip by centre)
 
@@ -225,16 +247,7 @@ void main() {
     Footprint f;
     if (!footprint(aRun, k, f)) return;
 #ifdef OCCLUSION
-    // Culled when every tile under the pixels it can touch was opaque at the last refresh: early
-    // termination would reject each of its fragments anyway.
-    ivec2 ta = clamp(boxLo(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
-    ivec2 tb = clamp(boxHi(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
-    if (tb.x - ta.x < 4 && tb.y - ta.y < 4) {
-        bool hidden = true;
-        for (int ty = ta.y; ty <= tb.y; ++ty)
-            for (int tx = ta.x; tx <= tb.x; ++tx) hidden = hidden && opaqueTiles[ty * uTilesX + tx] != 0u;
-        if (hidden) { count(10); return; }
-    }
+    if (hidden(f)) { count(10); return; }
 #endif
     count(6);
     count(7 + f.mode);
@@ -260,6 +273,8 @@ void main() {
 // tile over the ranks and then over the tiles; (3) each splat copies its record into its tiles' lists;
 // (4) one workgroup per tile walks its list slice by slice, every pixel keeping its sheet and the image
 // in registers. A pixel's sums do not depend on the order within a slice, so the lists need no sort.
+// Front to back with early termination the slices go through these passes in chunks: each chunk is
+// binned against the tiles earlier chunks made opaque (OCCLUSION), so hidden splats cost no entries.
 // Records are SPLAT_VEC4S vec4s: centre and half extent; conic and amplitude; colour and rank | mode << 16;
 // FRAGMENT_SHADING: the gradient.
 const char* kTileSplatCompMain = R"(
@@ -267,24 +282,27 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 5) readonly buffer Runs { uvec4 runs[]; };
 layout(std430, binding = 6) readonly buffer Commands { uvec4 commands[]; };   // count 0: no active bucket
 layout(std430, binding = 7) writeonly buffer Splats { vec4 splats[]; };
-layout(std430, binding = 8) buffer Bins { uint bins[]; };                     // per tile and slice rank
+layout(std430, binding = 8) buffer Bins { uint bins[]; };                     // per tile and chunk rank
 layout(std430, binding = 9) buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
-uniform uint uRuns, uGroupsX;
+uniform uint uRunFirst, uRuns, uGroupsX;   // the chunk's runs
 uniform ivec2 uTiles;
-uniform int uSlices;
+uniform int uSlices, uRank0, uRanks;       // the chunk: ranks uRank0 .. uRank0 + uRanks - 1
 uniform bool uRankDescending;   // rank 0 is the highest slice
 
 bool countingInvocation() { return true; }
 
 void main() {
-    uint r = gl_WorkGroupID.y * uGroupsX + gl_WorkGroupID.x;
-    if (r >= uRuns || commands[r].x == 0u) return;
+    uint r = uRunFirst + gl_WorkGroupID.y * uGroupsX + gl_WorkGroupID.x;
+    if (r >= uRunFirst + uRuns || commands[r].x == 0u) return;
     uvec4 run = runs[r];
     int slice = int(run.z & 0xffffu);
-    uint rank = uint(uRankDescending ? uSlices - 1 - slice : slice);
+    uint rank = uint((uRankDescending ? uSlices - 1 - slice : slice) - uRank0);
     for (uint k = gl_LocalInvocationID.x; k < run.w; k += 64u) {
         Footprint f;
         if (!footprint(run, k, f)) continue;
+#ifdef OCCLUSION
+        if (hidden(f)) { count(10); continue; }
+#endif
         count(6);
         count(7 + f.mode);
         uint i = atomicAdd(splatCount, 1u);
@@ -296,7 +314,13 @@ void main() {
 #endif
         ivec2 ta = max(boxLo(f), ivec2(0)) / SPLAT_TILE, tb = min(boxHi(f), ivec2(uViewport) - 1) / SPLAT_TILE;
         for (int ty = ta.y; ty <= tb.y; ++ty)
-            for (int tx = ta.x; tx <= tb.x; ++tx) atomicAdd(bins[(ty * uTiles.x + tx) * uSlices + int(rank)], 1u);
+            for (int tx = ta.x; tx <= tb.x; ++tx) {
+                int t = ty * uTiles.x + tx;
+#ifdef OCCLUSION   // an opaque tile takes nothing more: no entry
+                if (tileOpaque(t)) continue;
+#endif
+                atomicAdd(bins[t * uRanks + int(rank)], 1u);
+            }
     }
 }
 )";
@@ -307,14 +331,14 @@ const char* kTileOffsetsComp = R"(
 layout(local_size_x = 64) in;
 layout(std430, binding = 8) buffer Bins { uint bins[]; };
 layout(std430, binding = 9) buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
-uniform int uTileCount, uSlices;
+uniform int uTileCount, uRanks;
 void main() {
     int t = int(gl_GlobalInvocationID.x);
     if (t >= uTileCount) return;
     uint sum = 0u;
-    for (int k = 0; k < uSlices; ++k) {
-        uint c = bins[t * uSlices + k];
-        bins[t * uSlices + k] = sum;
+    for (int k = 0; k < uRanks; ++k) {
+        uint c = bins[t * uRanks + k];
+        bins[t * uRanks + k] = sum;
         sum += c;
     }
     tileBase[t] = sum;
@@ -365,7 +389,7 @@ layout(std430, binding = 8) buffer Bins { uint bins[]; };
 layout(std430, binding = 9) readonly buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
 layout(std430, binding = 10) writeonly buffer Entries { vec4 entries[]; };
 uniform ivec2 uTiles;
-uniform int uSlices;
+uniform int uRanks;
 uniform vec2 uViewport;
 void scatter(uint i) {
     vec4 box = splats[SPLAT_VEC4S * i], conic = splats[SPLAT_VEC4S * i + 1], colour = splats[SPLAT_VEC4S * i + 2];
@@ -379,7 +403,10 @@ void scatter(uint i) {
     for (int ty = ta.y; ty <= tb.y; ++ty)
         for (int tx = ta.x; tx <= tb.x; ++tx) {
             int t = ty * uTiles.x + tx;
-            uint e = SPLAT_VEC4S * (tileBase[t] + atomicAdd(bins[t * uSlices + rank], 1u));
+#ifdef OCCLUSION   // as the count pass
+            if (tileOpaque(t)) continue;
+#endif
+            uint e = SPLAT_VEC4S * (tileBase[t] + atomicAdd(bins[t * uRanks + rank], 1u));
             entries[e] = box;
             entries[e + 1u] = conic;
             entries[e + 2u] = colour;
@@ -413,10 +440,13 @@ layout(local_size_x = SPLAT_TILE) in;
 layout(binding = 0) uniform samplerBuffer entries;
 layout(std430, binding = 8) readonly buffer Bins { uint bins[]; };   // where each rank ends in its tile's list
 layout(std430, binding = 9) readonly buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
-layout(rgba32f, binding = 0) writeonly uniform image2D outImage;
-layout(rgba32f, binding = 1) writeonly uniform image2D outHeat;
+// The image and heatmap so far (earlier chunks; cleared before the first), rows bottom up.
+layout(rgba32f, binding = 0) uniform image2D outImage;
+layout(rgba32f, binding = 1) uniform image2D outHeat;
+layout(std430, binding = 11) writeonly buffer OpaqueTiles { uint opaqueTiles[]; };   // OCCLUSION
+shared uint liveColumns;
 uniform ivec2 uTiles;
-uniform int uSlices, uRefresh;
+uniform int uRank0, uRanks, uRefresh;   // the chunk's ranks, as the count pass
 uniform vec2 uViewport, uCentrePx;
 uniform float uCutoff, uFPx, uOpaqueAlpha;
 uniform bool uFrontToBack, uOrtho;
@@ -459,7 +489,9 @@ vec4 resolveHeat(vec4 h) {
 #define ADD_HEAT(r) sheetHeat##r += vec4(mode == 0u ? tau : 0.0, mode == 1u ? tau : 0.0, mode == 2u ? tau : 0.0, tau);
 #define COMPOSITE_HEAT(r) heat##r = composite(heat##r, sheetHeat##r);
 #define STORE_HEAT(r) imageStore(outHeat, ivec2(px, int(uViewport.y) - 1 - (y0 + r)), resolveHeat(heat##r));
+#define LOAD_HEAT(r) imageLoad(outHeat, ivec2(px, int(uViewport.y) - 1 - (y0 + r)))
 #else
+#define LOAD_HEAT(r) vec4(0.0)
 #define ADD_HEAT(r)
 #define COMPOSITE_HEAT(r)
 #define STORE_HEAT(r)
@@ -470,7 +502,10 @@ vec4 resolveHeat(vec4 h) {
 #define SHADE(r) vec3 colour = c.rgb;
 #endif
 
-#define DECLARE(r) vec4 image##r = vec4(0.0), heat##r = vec4(0.0), sheet##r, sheetHeat##r; bool live##r = true;
+// Past the image's edge imageLoad gives 0 (nothing is stored there).
+#define DECLARE(r) \
+    vec4 image##r = imageLoad(outImage, ivec2(px, int(uViewport.y) - 1 - (y0 + r))), heat##r = LOAD_HEAT(r), sheet##r, sheetHeat##r; \
+    bool live##r = true;
 #define REFRESH(r) live##r = image##r.a < uOpaqueAlpha;
 #define CLEAR(r) sheet##r = vec4(0.0); sheetHeat##r = vec4(0.0);
 #define ROW(r) { \
@@ -488,17 +523,20 @@ vec4 resolveHeat(vec4 h) {
         STORE_HEAT(r) \
     }
 
+#define OPAQUE(r) && (y0 + r >= int(uViewport.y) || image##r.a >= uOpaqueAlpha)
+
 void main() {
     int t = int(gl_WorkGroupID.y) * uTiles.x + int(gl_WorkGroupID.x);
+    if (bins[t * uRanks + uRanks - 1] == 0u) return;   // no entry in this chunk: the tile stays as it is
     int px = int(gl_GlobalInvocationID.x), y0 = int(gl_WorkGroupID.y) * SPLAT_TILE;
     float cx = float(px) + 0.5;   // pixel centres, y down
     float cutoff2 = uCutoff * uCutoff;
     ROWS(DECLARE)
     uint base = tileBase[t], start = 0u;
     bool stale = false;   // a refresh is due before the next slice with splats here
-    for (int k = 0; k < uSlices; ++k) {
-        uint end = bins[t * uSlices + k];
-        stale = stale || (uFrontToBack && k % uRefresh == 0);
+    for (int k = 0; k < uRanks; ++k) {
+        uint end = bins[t * uRanks + k];
+        stale = stale || (uFrontToBack && (uRank0 + k) % uRefresh == 0);
         SKIP_UNLESS(end > start) {
             if (stale) { ROWS(REFRESH) }
             stale = false;
@@ -518,6 +556,14 @@ void main() {
         }
         start = end;
     }
+#ifdef OCCLUSION   // the opaque-tile map the next chunk is binned against (pixels past the edge count as opaque)
+    if (gl_LocalInvocationID.x == 0u) liveColumns = 0u;
+    barrier();
+    bool opaque = px >= int(uViewport.x) || (true ROWS(OPAQUE));
+    if (!opaque) atomicOr(liveColumns, 1u);
+    barrier();
+    if (gl_LocalInvocationID.x == 0u) opaqueTiles[t] = liveColumns == 0u ? 1u : 0u;
+#endif
     if (px >= int(uViewport.x)) return;
     ROWS(STORE)
 }
@@ -609,7 +655,7 @@ void main() {
 const char* kOpaqueTilesComp = R"(
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 2) uniform sampler2D image;
-layout(std430, binding = 5) writeonly buffer OpaqueTiles { uint opaqueTiles[]; };
+layout(std430, binding = 11) writeonly buffer OpaqueTiles { uint opaqueTiles[]; };
 uniform float uOpaqueAlpha;
 uniform ivec2 uTiles;
 void main() {
@@ -915,11 +961,21 @@ struct SplatRenderer::Gl {
         height = h;
     }
 
+    // The opaque-tile map (binding 11) from the image's alpha: what occlusion culling reads.
+    void updateOpaqueTiles(float opaqueAlpha) {
+        glUseProgram(opaqueTilesProgram);
+        glUniform1f(glGetUniformLocation(opaqueTilesProgram, "uOpaqueAlpha"), opaqueAlpha);
+        glUniform2i(glGetUniformLocation(opaqueTilesProgram, "uTiles"), tiles.x, tiles.y);
+        glBindTextureUnit(2, image);
+        glDispatchCompute(GLuint((tiles.x + 7) / 8), GLuint((tiles.y + 7) / 8), 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+
     GLuint splatProgram(int bits) {
         auto it = splatPrograms.find(bits);
         if (it != splatPrograms.end()) return it->second;
         const std::string header = opaqueTileHeader() + variantDefines(bits);
-        const GLuint p = gl::buildProgram("splat", (header + shadingGlsl() + kSplatCommon + kSplatFootprint + kSplatVertMain).c_str(),
+        const GLuint p = gl::buildProgram("splat", (header + shadingGlsl() + kSplatCommon + kOpaqueTilesRead + kSplatFootprint + kSplatVertMain).c_str(),
                                           (header + shadingGlsl() + kSplatFragMain).c_str());
         splatPrograms[bits] = p;
         return p;
@@ -937,10 +993,10 @@ struct SplatRenderer::Gl {
                                    "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n" +
                                    "#define SPLAT_VEC4S " + ((bits & kFragmentShading) ? "4u" : "3u") + "\n";
         std::string source;
-        if (pass == kTileSplat) source = header + shadingGlsl() + kSplatCommon + kSplatFootprint + kTileSplatCompMain;
+        if (pass == kTileSplat) source = header + shadingGlsl() + kSplatCommon + kOpaqueTilesRead + kSplatFootprint + kTileSplatCompMain;
         else if (pass == kTileOffsets) source = header + kTileOffsetsComp;
         else if (pass == kTileBases) source = header + kTileBasesComp;
-        else if (pass == kTileScatter) source = header + kTileScatterComp;
+        else if (pass == kTileScatter) source = header + kOpaqueTilesRead + kTileScatterComp;
         else source = header + shadingGlsl() + kTileCompositeCompMain;
         const GLuint p = gl::buildComputeProgram("tiled_splatting", source.c_str());
         tilePrograms[key] = p;
@@ -1340,12 +1396,12 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                         (settings.shading == Shading::PerSplat ? kSplatShading : 0) |
                         (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
                         (settings.heatmap ? kHeatmap : 0) | (settings.filter == FilterMode::Adaptive ? kAdaptive : 0) |
-                        (earlyTermination && !tiledSplatting(settings) ? kOcclusion : 0);
+                        (earlyTermination ? kOcclusion : 0);
     if (settings.filter == FilterMode::Adaptive) {
         g.classifyPatches(plane, settings, trav.axis);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
-    const GLuint p = tiles ? g.tileProgram(Gl::kTileSplat, variant & ~(kHeatmap | kOcclusion)) : g.splatProgram(variant);
+    const GLuint p = tiles ? g.tileProgram(Gl::kTileSplat, variant & ~kHeatmap) : g.splatProgram(variant);
     glUseProgram(p);
     {
         const PatchGrid grid = patchGrid(g.dims, trav.axis, settings.patchSize);
@@ -1369,7 +1425,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glUniform1i(glGetUniformLocation(p, "uAdditive"), sheets || xray);
     glUniform1i(glGetUniformLocation(p, "uReverse"), reversed);
     glUniform1i(glGetUniformLocation(p, "uTilesX"), g.tiles.x);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, g.opaqueTiles);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, g.opaqueTiles);
     if (earlyTermination) {   // nothing is opaque yet
         const GLuint zeroWord = 0;
         glClearNamedBufferData(g.opaqueTiles, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zeroWord);
@@ -1400,8 +1456,9 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         return std::pair{reversed ? runCount - first - n : first, n};
     };
     // Front to back, every `refresh` slices: pixels whose alpha reached opaqueAlpha get depth 0.5,
-    // where splats (also at 0.5) fail GL_LESS, and the tile map the vertex stage culls with is redone.
-    auto refreshOpaque = [&](GLuint fbo) {
+    // where splats (also at 0.5) fail GL_LESS; the tile map the vertex stage culls with is redone
+    // once every occlusionSlices(settings) slices (`remap`).
+    auto refreshOpaque = [&](GLuint fbo, bool remap) {
         glDisable(GL_SCISSOR_TEST);
         glDisable(GL_BLEND);
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);
@@ -1416,11 +1473,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glBindVertexArray(g.emptyVao);
         glDrawArrays(GL_TRIANGLES, 0, 3);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        glUseProgram(g.opaqueTilesProgram);
-        glUniform1f(glGetUniformLocation(g.opaqueTilesProgram, "uOpaqueAlpha"), float(settings.opaqueAlpha));
-        glUniform2i(glGetUniformLocation(g.opaqueTilesProgram, "uTiles"), g.tiles.x, g.tiles.y);
-        glDispatchCompute(GLuint((g.tiles.x + 7) / 8), GLuint((g.tiles.y + 7) / 8), 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        if (remap) g.updateOpaqueTiles(float(settings.opaqueAlpha));
         // Back to splatting: at depth 0.5 against the mask, blending, the splat program.
         glDepthFunc(GL_LESS);
         glDepthMask(GL_FALSE);
@@ -1441,66 +1494,35 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     const uint32_t slices = uint32_t(g.dims[trav.axis]);
     if (tiles) {
         // Tiled splatting (kTileSplatCompMain): splat records and per-tile counts, offsets, lists, then
-        // one workgroup per tile composites. Ranks follow the compositing order.
+        // one workgroup per tile composites. Ranks follow the compositing order. With early termination
+        // the ranks go in chunks, each binned against the opaque-tile map the chunks before it left.
         const glm::ivec2 grid((plane.width + kSplatTilePx - 1) / kSplatTilePx,
                               (plane.height + kSplatTilePx - 1) / kSplatTilePx);
         const GLint tileCount = grid.x * grid.y;
         const size_t vec4s = (variant & kFragmentShading) ? 4 : 3;
-        const size_t binBytes = size_t(tileCount) * slices * 4;
+        const uint32_t chunk = earlyTermination ? uint32_t(occlusionSlices(settings)) : slices;
+        const size_t binBytes = size_t(tileCount) * std::min(chunk, slices) * 4;
         Gl::ensureBuffer(g.tileSplats, g.tileSplatBytes, std::max<uint64_t>(submitted, 1) * vec4s * 16);
         Gl::ensureBuffer(g.tileBins, g.tileBinBytes, binBytes);
         Gl::ensureBuffer(g.tileState, g.tileStateBytes, (2 + size_t(tileCount)) * 4);
-        glClearNamedBufferSubData(g.tileBins, GL_R32UI, 0, GLsizeiptr(binBytes), GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-        glClearNamedBufferSubData(g.tileState, GL_R32UI, 0, 8, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, axis.runs);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, axis.ascending);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, g.tileSplats);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, g.tileBins);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.tileState);
-        const GLuint groupsX = std::min<GLuint>(std::max<uint32_t>(axis.runCount, 1), 32768);
-        glUniform1ui(glGetUniformLocation(p, "uRuns"), axis.runCount);
-        glUniform1ui(glGetUniformLocation(p, "uGroupsX"), groupsX);
+        if (!g.tileListTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileListTexture);
+        const GLuint offsets = g.tileProgram(Gl::kTileOffsets, 0);
+        const GLuint bases = g.tileProgram(Gl::kTileBases, 0);
+        const GLuint scatter = g.tileProgram(Gl::kTileScatter, variant & (kFragmentShading | kOcclusion));
+        const GLuint composite = g.tileProgram(
+            Gl::kTileComposite, (variant & (kHeatmap | kFragmentShading | kOcclusion)) | (xray ? Gl::kTileXRay : 0));
         glUniform2i(glGetUniformLocation(p, "uTiles"), grid.x, grid.y);
         glUniform1i(glGetUniformLocation(p, "uSlices"), GLint(slices));
         glUniform1i(glGetUniformLocation(p, "uRankDescending"), descending);
-        glDispatchCompute(groupsX, (axis.runCount + groupsX - 1) / groupsX, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-
-        const GLuint offsets = g.tileProgram(Gl::kTileOffsets, 0);
         glUseProgram(offsets);
         glUniform1i(glGetUniformLocation(offsets, "uTileCount"), tileCount);
-        glUniform1i(glGetUniformLocation(offsets, "uSlices"), GLint(slices));
-        glDispatchCompute(GLuint((tileCount + 63) / 64), 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        const GLuint bases = g.tileProgram(Gl::kTileBases, 0);
         glUseProgram(bases);
         glUniform1i(glGetUniformLocation(bases, "uTileCount"), tileCount);
-        glDispatchCompute(1, 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-        // The list's length sizes its buffer: the one wait of the frame (a few bytes).
-        GLuint counts[2] = {0, 0};
-        glGetNamedBufferSubData(g.tileState, 0, sizeof(counts), counts);
-        Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * vec4s * 16);
-        m_stats.tileEntries = counts[1];
-        if (uint64_t(counts[1]) * vec4s > uint64_t(g.maxTexelBuffer))
-            refused = "tiled splatting: " + std::to_string(counts[0]) + " splats in " + std::to_string(counts[1]) +
-                      " tile entries exceed GL_MAX_TEXTURE_BUFFER_SIZE (" + std::to_string(g.maxTexelBuffer) +
-                      " texels); use points or quads";
-
-        const GLuint scatter = g.tileProgram(Gl::kTileScatter, variant & kFragmentShading);
         glUseProgram(scatter);
         glUniform2i(glGetUniformLocation(scatter, "uTiles"), grid.x, grid.y);
-        glUniform1i(glGetUniformLocation(scatter, "uSlices"), GLint(slices));
         glUniform2f(glGetUniformLocation(scatter, "uViewport"), float(plane.width), float(plane.height));
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.tileList);
-        glDispatchCompute(std::clamp<GLuint>((counts[0] + 63) / 64, 1, 65535), 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-
-        const GLuint composite = g.tileProgram(
-            Gl::kTileComposite, (variant & (kHeatmap | kFragmentShading)) | (xray ? Gl::kTileXRay : 0));
         glUseProgram(composite);
         glUniform2i(glGetUniformLocation(composite, "uTiles"), grid.x, grid.y);
-        glUniform1i(glGetUniformLocation(composite, "uSlices"), GLint(slices));
         glUniform1i(glGetUniformLocation(composite, "uRefresh"), earlyTermination ? refresh : 1);
         glUniform2f(glGetUniformLocation(composite, "uViewport"), float(plane.width), float(plane.height));
         glUniform2f(glGetUniformLocation(composite, "uCentrePx"), float(plane.centrePx.x), float(plane.centrePx.y));
@@ -1511,12 +1533,69 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glUniform1i(glGetUniformLocation(composite, "uFrontToBack"), ftb);
         glUniform1i(glGetUniformLocation(composite, "uOrtho"), plane.orthographic);
         setShadingUniforms(composite, sp);
-        if (!g.tileListTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileListTexture);
-        glTextureBufferRange(g.tileListTexture, GL_RGBA32F, g.tileList, 0, GLsizeiptr(std::max<GLuint>(counts[1], 1) * vec4s * 16));
-        glBindTextureUnit(0, g.tileListTexture);
-        glBindImageTexture(0, g.image, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        glBindImageTexture(1, g.heat, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        if (refused.empty()) glDispatchCompute(GLuint(grid.x), GLuint(grid.y), 1);   // a workgroup per tile
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, axis.runs);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, axis.ascending);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, g.tileSplats);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, g.tileBins);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.tileState);
+        glBindImageTexture(0, g.image, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glBindImageTexture(1, g.heat, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        for (uint32_t k0 = 0; k0 < slices && refused.empty(); k0 += chunk) {
+            const uint32_t k1 = std::min(slices, k0 + chunk), ranks = k1 - k0;
+            // The chunk's slices, and so its runs, are contiguous (runs are sorted by slice).
+            const uint32_t s0 = descending ? slices - k1 : k0, s1 = descending ? slices - k0 : k1;
+            const uint32_t runFirst = axis.sliceRuns[s0], runs = axis.sliceRuns[s1] - runFirst;
+            bool any = false;
+            for (uint32_t r = runFirst; r < runFirst + runs && !any; ++r) any = active[axis.buckets[r]];
+            if (!any) continue;
+            glClearNamedBufferSubData(g.tileBins, GL_R32UI, 0, GLsizeiptr(size_t(tileCount) * ranks * 4), GL_RED_INTEGER,
+                                      GL_UNSIGNED_INT, nullptr);
+            glClearNamedBufferSubData(g.tileState, GL_R32UI, 0, 8, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+            const GLuint groupsX = std::min<GLuint>(runs, 32768);
+            glUseProgram(p);
+            glUniform1ui(glGetUniformLocation(p, "uRunFirst"), runFirst);
+            glUniform1ui(glGetUniformLocation(p, "uRuns"), runs);
+            glUniform1ui(glGetUniformLocation(p, "uGroupsX"), groupsX);
+            glUniform1i(glGetUniformLocation(p, "uRank0"), GLint(k0));
+            glUniform1i(glGetUniformLocation(p, "uRanks"), GLint(ranks));
+            glDispatchCompute(groupsX, (runs + groupsX - 1) / groupsX, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+            glUseProgram(offsets);
+            glUniform1i(glGetUniformLocation(offsets, "uRanks"), GLint(ranks));
+            glDispatchCompute(GLuint((tileCount + 63) / 64), 1, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            glUseProgram(bases);
+            glDispatchCompute(1, 1, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+            // The list's length sizes its buffer: the one wait of a chunk (a few bytes).
+            GLuint counts[2] = {0, 0};
+            glGetNamedBufferSubData(g.tileState, 0, sizeof(counts), counts);
+            m_stats.tileEntries += counts[1];
+            if (uint64_t(counts[1]) * vec4s > uint64_t(g.maxTexelBuffer)) {
+                refused = "tiled splatting: " + std::to_string(counts[0]) + " splats in " + std::to_string(counts[1]) +
+                          " tile entries exceed GL_MAX_TEXTURE_BUFFER_SIZE (" + std::to_string(g.maxTexelBuffer) +
+                          " texels); use points or quads";
+                break;
+            }
+            Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * vec4s * 16);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.tileList);
+
+            glUseProgram(scatter);
+            glUniform1i(glGetUniformLocation(scatter, "uRanks"), GLint(ranks));
+            glDispatchCompute(std::clamp<GLuint>((counts[0] + 63) / 64, 1, 65535), 1, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+
+            glUseProgram(composite);
+            glUniform1i(glGetUniformLocation(composite, "uRank0"), GLint(k0));
+            glUniform1i(glGetUniformLocation(composite, "uRanks"), GLint(ranks));
+            glTextureBufferRange(g.tileListTexture, GL_RGBA32F, g.tileList, 0,
+                                 GLsizeiptr(std::max<GLuint>(counts[1], 1) * vec4s * 16));
+            glBindTextureUnit(0, g.tileListTexture);
+            // A workgroup per tile; with OCCLUSION it also leaves the opaque-tile map for the next chunk.
+            glDispatchCompute(GLuint(grid.x), GLuint(grid.y), 1);
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+        }
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
                         GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         for (uint32_t slice = 0; slice < slices; ++slice)
@@ -1538,7 +1617,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                 if (n > 0) first = std::min(first, f), last = std::max(last, f + n);
             }
             if (first >= last) continue;
-            if (k0 > 0) refreshOpaque(g.depthFbo);
+            if (k0 > 0) refreshOpaque(g.depthFbo, true);
             glBindFramebuffer(GL_FRAMEBUFFER, g.frameFbo);
             glViewport(-guardInt, -guardInt, plane.width + 2 * guardInt, plane.height + 2 * guardInt);
             glMultiDrawArraysIndirect(primitive, reinterpret_cast<const void*>(size_t(first) * 16),
@@ -1572,6 +1651,8 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glBindTextureUnit(1, g.sheetHeat);
         glBindTextureUnit(2, g.image);
         bool stale = false;   // a refresh is due before the next drawn slice
+        const uint32_t occlusion = uint32_t(occlusionSlices(settings));
+        uint32_t mapped = 0;   // the occlusion chunk the opaque-tile map was made for
         for (uint32_t k = 0; k < slices; ++k) {
             const uint32_t slice = descending ? slices - 1 - k : k;
             stale = stale || (earlyTermination && k > 0 && k % uint32_t(refresh) == 0);
@@ -1584,7 +1665,11 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             ++m_stats.slicesDrawn;
             const Rect rect = sliceRect(g.origin, g.spacing, plane, trav.axis, int(slice), lo, hi, margin);
             if (rect.x0 >= rect.x1 || rect.y0 >= rect.y1) continue;
-            if (stale) refreshOpaque(g.sheetFbo);   // mark what earlier slices made opaque
+            if (stale) {   // mark what earlier slices made opaque
+                const bool remap = k / occlusion != mapped;
+                refreshOpaque(g.sheetFbo, remap);
+                if (remap) mapped = k / occlusion;
+            }
             stale = false;
             // GL's rows run bottom up.
             glEnable(GL_SCISSOR_TEST);

@@ -64,7 +64,8 @@ TEST_F(GlTest, TiledSplattingMatchesCpuInEverySheetAndXRayMode) {
 
 TEST_F(GlTest, TiledSplattingStopsAtOpaquePixelsLikeTheCpu) {
     // Front to back, refreshed every slice (auto): only early termination changes a pixel, by at most
-    // 1 - opaqueAlpha; nothing is culled per splat (the tiles skip the work), and the CPU agrees.
+    // 1 - opaqueAlpha. The 24 slices go in two chunks (occlusionSlices): the second is binned against
+    // the tiles the first made opaque, so splats are culled and tiles lose entries; the CPU agrees.
     const SplatScene scene = buildSplatScene(makeSphereShells(24, 8.0, 3.0), ramp(1.0));
     const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 25, .elevationDeg = 10}, scene.centre, scene.radius, 72, 64);
     SplatRenderer r;
@@ -75,14 +76,17 @@ TEST_F(GlTest, TiledSplattingStopsAtOpaquePixelsLikeTheCpu) {
     s.opaqueAlpha = 1.0;
     r.render(plane, s);
     const Image full = r.readback();
+    const uint64_t allEntries = r.stats().tileEntries;
     s.opaqueAlpha = 0.95;
     ASSERT_EQ(opaqueRefreshSlices(s), 1);
+    ASSERT_EQ(occlusionSlices(s), 16);
     r.render(plane, s);
     const Image early = r.readback();
     SplatCounters cpu;
     EXPECT_IMAGES_CLOSE(early, renderReference(scene, plane, s, &cpu), kGlVsCpu, "gl_tiles_early_termination");
     expectCountersEqual(r.stats().counters, cpu);
-    EXPECT_EQ(cpu.culledOccluded, 0u);
+    EXPECT_GT(cpu.culledOccluded, 0u);
+    EXPECT_LT(r.stats().tileEntries, allEntries - cpu.culledOccluded) << "hidden splats and opaque tiles take no entries";
     const ImageError e = compareImages(early, full);
     EXPECT_GT(e.maxAbs, 1e-5) << "no pixel terminated: the test scene is not opaque enough";
     EXPECT_LE(e.maxAbs, 0.05 + 1e-5);
@@ -187,19 +191,22 @@ TEST_F(GlTest, AutoTilesSheetsAndXRayRastersTheRestAndFallsBackWhereListsMightNo
         EXPECT_EQ(r.stats().tiles, tiledSplatting(s));
     }
     // The camera inside the volume: footprints have no bound, so the lists might not fit and auto
-    // rasterises, with tiles' semantics (refresh every slice, no splat culled as hidden): the CPU
-    // oracle's image and counters.
-    const ImagePlane inside = makeImagePlane(Camera{.distance = 0.3, .fovYDeg = 60}, scene.centre, scene.radius, 64, 56);
+    // rasterises, with tiles' semantics (refresh every slice, the opaque-tile map culled against taken
+    // once a chunk of occlusionSlices): the CPU oracle's image and counters.
+    const SplatScene deep = buildSplatScene(makeMarschnerLobb(40), ramp());
+    r.setScene(deep);
+    const ImagePlane inside = makeImagePlane(Camera{.distance = 0.3, .fovYDeg = 60}, deep.centre, deep.radius, 64, 56);
     SplatSettings s;
     s.compositing = Compositing::SheetFrontToBack;
-    s.density = 4.0;
+    s.density = 8.0;
     s.counters = true;
     r.render(inside, s);
     EXPECT_FALSE(r.stats().tiles);
     SplatCounters cpu;
-    EXPECT_IMAGES_CLOSE(r.readback(), renderReference(scene, inside, s, &cpu), kGlVsCpu, "gl_auto_fallback");
+    EXPECT_IMAGES_CLOSE(r.readback(), renderReference(deep, inside, s, &cpu), kGlVsCpu, "gl_auto_fallback");
     expectCountersEqual(r.stats().counters, cpu);
     EXPECT_GT(cpu.culledNear, 0u) << "the camera must be inside the volume";
+    EXPECT_GT(cpu.culledOccluded, 0u) << "the second chunk must be culled against the first";
 }
 
 TEST_F(GlTest, TiledSplattingRefusesSplatEverySampleAndRendersAfterwards) {

@@ -91,6 +91,16 @@ inline int opaqueRefreshSlices(const SplatSettings& s) {
     return s.opaqueRefreshSlices;
 }
 
+// Slices between the snapshots of the opaque-tile map that occlusion culling reads (a splat is culled
+// when every tile under its box was opaque at the last snapshot). The rasteriser takes one at each
+// refresh. Tiled splatting bins chunks of at least kTileChunkSlices slices (a multiple of the refresh),
+// each against the map the chunks before it left: a chunk is several passes and a wait, so not a slice.
+constexpr int kTileChunkSlices = 16;
+inline int occlusionSlices(const SplatSettings& s) {
+    const int refresh = opaqueRefreshSlices(s);
+    return tiledSplatting(s) ? refresh * ((kTileChunkSlices + refresh - 1) / refresh) : refresh;
+}
+
 // Shading and surface splats read the scene's gradients.
 bool needsGradients(const SplatSettings& s);
 // Throws RenderError naming the scene when `s` needs gradients the scene lacks, or for a surface
