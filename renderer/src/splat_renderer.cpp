@@ -747,6 +747,8 @@ void main() {
 )";
 
 constexpr int kTimerRing = 4;
+// Tiled splatting culls against the opaque-tile map with its own tile indices.
+static_assert(kOpaqueTilePx == kSplatTilePx);
 
 constexpr uint64_t kMiB = uint64_t(1) << 20;
 

@@ -146,8 +146,9 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
         hint("Early termination: pixels this opaque take no more splats (1: never)");
         changes.settingsChanged |= ImGui::SliderInt("Refresh every", &s.opaqueRefreshSlices, 0, 64,
                                                     s.opaqueRefreshSlices <= 0 ? "auto" : "%d slices");
-        hint("How often the opaque pixels are found again; between refreshes splats over opaque tiles "
-             "are culled before rasterisation");
+        hint("How often the opaque pixels are found again (auto: every slice with tiles, every 8 rasterised).\n"
+             "Splats whose 8x8 pixel tiles were all opaque are culled before they are drawn; which tiles\n"
+             "are opaque is taken at each refresh rasterised, once a chunk of 16 or more slices with tiles");
     }
 
     sectionTitle("Shading and surfaces");

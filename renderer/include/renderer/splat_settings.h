@@ -48,8 +48,8 @@ struct SplatSettings {
     // (the exact reverse of its back-to-front order: the same image) and, like front-to-back sheets,
     // stops adding to a pixel once its alpha reached opaqueAlpha; >= 1: never, and splat-every-sample
     // runs back to front. What is lost is at most 1 - opaqueAlpha of the pixel. Which pixels are opaque
-    // is refreshed every opaqueRefreshSlices slices (in draw order); in between, splats whose every
-    // kOpaqueTilePx tile is opaque are culled before they reach the rasteriser.
+    // is refreshed every opaqueRefreshSlices slices (in draw order); splats whose every kOpaqueTilePx
+    // tile was opaque at the last snapshot (occlusionSlices()) are culled before they are drawn or binned.
     double opaqueAlpha = 0.998;
     int opaqueRefreshSlices = 0;        // 0: auto, opaqueRefreshSlices() below
     bool drawAllBuckets = false;        // baseline for measurements: every voxel reaches the vertex
