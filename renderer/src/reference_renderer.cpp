@@ -311,7 +311,7 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
     // most 4 x 4) was opaque at the snapshot its slice reads, taken every occlusionSlices() slices.
     // Its pixels were all skipped above, so only the counters change.
     const size_t occlusion = size_t(occlusionSlices(settings));
-    if (earlyTermination && counters) {
+    if (earlyTermination && counters && settings.occlusionCulling) {
         for (size_t j = occlusion; j < slices; ++j)
             for (size_t k = sliceStarts[j]; k < sliceStarts[j + 1]; ++k) {
                 const SplatGeometry& g = splats[k].geometry;

@@ -1398,7 +1398,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                         (settings.shading == Shading::PerSplat ? kSplatShading : 0) |
                         (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
                         (settings.heatmap ? kHeatmap : 0) | (settings.filter == FilterMode::Adaptive ? kAdaptive : 0) |
-                        (earlyTermination ? kOcclusion : 0);
+                        (earlyTermination && settings.occlusionCulling ? kOcclusion : 0);
     if (settings.filter == FilterMode::Adaptive) {
         g.classifyPatches(plane, settings, trav.axis);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -1502,7 +1502,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                               (plane.height + kSplatTilePx - 1) / kSplatTilePx);
         const GLint tileCount = grid.x * grid.y;
         const size_t vec4s = (variant & kFragmentShading) ? 4 : 3;
-        const uint32_t chunk = earlyTermination ? uint32_t(occlusionSlices(settings)) : slices;
+        const uint32_t chunk = (variant & kOcclusion) ? uint32_t(occlusionSlices(settings)) : slices;
         const size_t binBytes = size_t(tileCount) * std::min(chunk, slices) * 4;
         Gl::ensureBuffer(g.tileSplats, g.tileSplatBytes, std::max<uint64_t>(submitted, 1) * vec4s * 16);
         Gl::ensureBuffer(g.tileBins, g.tileBinBytes, binBytes);

@@ -175,8 +175,7 @@ int main(int argc, char** argv) {
                 add(n + "/" + filterModeName(filter) + "/" + compositingName(comp),
                     [=](benchmark::State& st) { renderFrames(st, d, s); });
             }
-        // Sheets and X-ray are tiled (auto) in the rows above; here through the rasteriser. Tiles front to
-        // back refresh every slice (auto), against every 8 as the rasteriser and no early termination.
+        // Sheets and X-ray are tiled (auto) in the rows above; here through the rasteriser.
         for (auto filter : {FilterMode::Ewa, FilterMode::Adaptive})
             for (auto comp : {Compositing::SheetBackToFront, Compositing::SheetFrontToBack, Compositing::XRay}) {
                 SplatSettings s;
@@ -186,13 +185,16 @@ int main(int argc, char** argv) {
                 add(n + "/" + filterModeName(filter) + "/" + compositingName(comp) + "/raster",
                     [=](benchmark::State& st) { renderFrames(st, d, s); });
             }
-        for (auto [name, alpha, refresh] : {std::tuple{"tiles-refresh-8", 0.998, 8},
-                                            std::tuple{"tiles-no-early-termination", 1.0, 0}}) {
+        // Tiles front to back: refresh every 8, no occlusion culling (one chunk), no early termination.
+        for (auto [name, alpha, refresh, cull] : {std::tuple{"tiles-refresh-8", 0.998, 8, true},
+                                                  std::tuple{"tiles-no-occlusion-culling", 0.998, 0, false},
+                                                  std::tuple{"tiles-no-early-termination", 1.0, 0, true}}) {
             SplatSettings s;
             s.compositing = Compositing::SheetFrontToBack;
             s.primitive = SplatSettings::Primitive::Tiles;
             s.opaqueAlpha = alpha;
             s.opaqueRefreshSlices = refresh;
+            s.occlusionCulling = cull;
             add(n + "/ewa/sheet-front-to-back/" + name, [=](benchmark::State& st) { renderFrames(st, d, s); });
         }
         // What each culling step and the primitive choice gain, full EWA.
@@ -212,6 +214,9 @@ int main(int argc, char** argv) {
             add(n + "/ewa/" + compositingName(comp) + "/no-early-termination",
                 [=](benchmark::State& st) { renderFrames(st, d, s); });
         }
+        s = {};
+        s.occlusionCulling = false;
+        add(n + "/ewa/splat-every-sample/no-occlusion-culling", [=](benchmark::State& st) { renderFrames(st, d, s); });
         for (int refresh : {2, 4, 16, 32}) {
             s = {};
             s.opaqueRefreshSlices = refresh;

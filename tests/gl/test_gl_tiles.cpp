@@ -86,7 +86,19 @@ TEST_F(GlTest, TiledSplattingStopsAtOpaquePixelsLikeTheCpu) {
     EXPECT_IMAGES_CLOSE(early, renderReference(scene, plane, s, &cpu), kGlVsCpu, "gl_tiles_early_termination");
     expectCountersEqual(r.stats().counters, cpu);
     EXPECT_GT(cpu.culledOccluded, 0u);
-    EXPECT_LT(r.stats().tileEntries, allEntries - cpu.culledOccluded) << "hidden splats and opaque tiles take no entries";
+    const uint64_t culledEntries = r.stats().tileEntries;
+    EXPECT_LT(culledEntries, allEntries - cpu.culledOccluded) << "hidden splats and opaque tiles take no entries";
+    // The measurement baseline: no culling gives the same image, with every splat drawn and binned.
+    s.occlusionCulling = false;
+    r.render(plane, s);
+    EXPECT_IMAGES_CLOSE(r.readback(), early, kGlVsCpu, "gl_tiles_without_occlusion_culling");
+    SplatCounters unculled;
+    renderReference(scene, plane, s, &unculled);
+    expectCountersEqual(r.stats().counters, unculled);
+    EXPECT_EQ(unculled.culledOccluded, 0u);
+    EXPECT_EQ(unculled.drawn, cpu.drawn + cpu.culledOccluded);
+    EXPECT_EQ(r.stats().tileEntries, allEntries);
+    s.occlusionCulling = true;
     const ImageError e = compareImages(early, full);
     EXPECT_GT(e.maxAbs, 1e-5) << "no pixel terminated: the test scene is not opaque enough";
     EXPECT_LE(e.maxAbs, 0.05 + 1e-5);
