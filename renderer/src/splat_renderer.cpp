@@ -212,10 +212,10 @@ bool hidden(Footprint f) {
     ivec2 ta = clamp(boxLo(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
     ivec2 tb = clamp(boxHi(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
     if (tb.x - ta.x >= 4 || tb.y - ta.y >= 4) return false;
-    bool opaque = true;
     for (int ty = ta.y; ty <= tb.y; ++ty)
-        for (int tx = ta.x; tx <= tb.x; ++tx) opaque = opaque && tileOpaque(ty * uTilesX + tx);
-    return opaque;
+        for (int tx = ta.x; tx <= tb.x; ++tx)
+            if (!tileOpaque(ty * uTilesX + tx)) return false;   // most splats leave at their first tile
+    return true;
 }
 #endif
 )";
