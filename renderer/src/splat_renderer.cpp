@@ -278,7 +278,7 @@ void main() {
 // Records are SPLAT_VEC4S vec4s: centre and half extent; conic and amplitude; colour and rank | mode << 16;
 // FRAGMENT_SHADING: the gradient.
 const char* kTileSplatCompMain = R"(
-layout(local_size_x = 64) in;
+layout(local_size_x = RUN_LANES) in;
 layout(std430, binding = 5) readonly buffer Runs { uvec4 runs[]; };
 layout(std430, binding = 6) readonly buffer Commands { uvec4 commands[]; };   // count 0: no active bucket
 layout(std430, binding = 7) writeonly buffer Splats { vec4 splats[]; };
@@ -297,7 +297,7 @@ void main() {
     uvec4 run = runs[r];
     int slice = int(run.z & 0xffffu);
     uint rank = uint((uRankDescending ? uSlices - 1 - slice : slice) - uRank0);
-    for (uint k = gl_LocalInvocationID.x; k < run.w; k += 64u) {
+    for (uint k = gl_LocalInvocationID.x; k < run.w; k += uint(RUN_LANES)) {
         Footprint f;
         if (!footprint(run, k, f)) continue;
 #ifdef OCCLUSION
@@ -883,6 +883,10 @@ struct SplatRenderer::Gl {
     int timerNext = 0;
     GLint maxPointSize = 1;
     GLint maxTexelBuffer = 0;   // GL_MAX_TEXTURE_BUFFER_SIZE: tiled splatting reads records through it
+    // Invocations a run of voxels takes in the record pass. llvmpipe: one SIMD row (8 lanes of 256
+    // bits) looping over the run, 5 % faster on bonsai than 64 (fewer idle rows, each started once);
+    // a GPU keeps full warps.
+    int runLanes = 64;
     GLuint fragmentQuery = 0;   // GL_SAMPLES_PASSED of a counted frame
     // Scene constants the vertex stage needs.
     glm::ivec3 dims{0};
@@ -995,7 +999,7 @@ struct SplatRenderer::Gl {
                                    "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n" +
                                    "#define SPLAT_VEC4S " + ((bits & kFragmentShading) ? "4u" : "3u") + "\n";
         std::string source;
-        if (pass == kTileSplat) source = header + shadingGlsl() + kSplatCommon + kOpaqueTilesRead + kSplatFootprint + kTileSplatCompMain;
+        if (pass == kTileSplat) source = header + "#define RUN_LANES " + std::to_string(runLanes) + "\n" + shadingGlsl() + kSplatCommon + kOpaqueTilesRead + kSplatFootprint + kTileSplatCompMain;
         else if (pass == kTileOffsets) source = header + kTileOffsetsComp;
         else if (pass == kTileBases) source = header + kTileBasesComp;
         else if (pass == kTileScatter) source = header + kOpaqueTilesRead + kTileScatterComp;
@@ -1185,6 +1189,7 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     glGetFloatv(GL_ALIASED_POINT_SIZE_RANGE, pointRange);
     g.maxPointSize = GLint(pointRange[1]);
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &g.maxTexelBuffer);
+    if (glRendererName().rfind("llvmpipe", 0) == 0) g.runLanes = 8;
     checkGlErrors("SplatRenderer setup");
 }
 
