@@ -346,35 +346,46 @@ void main() {
 )";
 
 // ...then over the tiles, in one workgroup: tileBase becomes where each tile's list starts, entryCount
-// the total.
+// the total; the tiles with entries are listed, with the composite's indirect dispatch (a grid
+// BUSY_ROW wide: a dimension may be capped at 65535) and their count.
 const char* kTileBasesComp = R"(
 layout(local_size_x = 1024) in;
 layout(std430, binding = 9) buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
+layout(std430, binding = 12) writeonly buffer Busy { uvec4 busyGroups; uint busyTiles[]; };
 uniform int uTileCount;
-shared uint partial[1024];
+shared uint partial[1024], partialBusy[1024];
 void main() {
     uint id = gl_LocalInvocationID.x;
     uint per = (uint(uTileCount) + 1023u) / 1024u;
     uint i0 = min(id * per, uint(uTileCount)), i1 = min(i0 + per, uint(uTileCount));
-    uint sum = 0u;
-    for (uint i = i0; i < i1; ++i) sum += tileBase[i];
+    uint sum = 0u, busy = 0u;
+    for (uint i = i0; i < i1; ++i) {
+        uint c = tileBase[i];
+        sum += c;
+        busy += c > 0u ? 1u : 0u;
+    }
     partial[id] = sum;
+    partialBusy[id] = busy;
     barrier();
     if (id == 0u) {
-        uint running = 0u;
+        uint running = 0u, runningBusy = 0u;
         for (uint j = 0u; j < 1024u; ++j) {
-            uint v = partial[j];
+            uint v = partial[j], b = partialBusy[j];
             partial[j] = running;
+            partialBusy[j] = runningBusy;
             running += v;
+            runningBusy += b;
         }
         entryCount = running;
+        busyGroups = uvec4(min(runningBusy, BUSY_ROW), (runningBusy + BUSY_ROW - 1u) / BUSY_ROW, 1u, runningBusy);
     }
     barrier();
-    uint running = partial[id];
+    uint running = partial[id], runningBusy = partialBusy[id];
     for (uint i = i0; i < i1; ++i) {
         uint v = tileBase[i];
         tileBase[i] = running;
         running += v;
+        if (v > 0u) busyTiles[runningBusy++] = i;
     }
 }
 )";
@@ -444,6 +455,7 @@ layout(std430, binding = 9) readonly buffer TileState { uint splatCount; uint en
 layout(rgba32f, binding = 0) uniform image2D outImage;
 layout(rgba32f, binding = 1) uniform image2D outHeat;
 layout(std430, binding = 11) writeonly buffer OpaqueTiles { uint opaqueTiles[]; };   // OCCLUSION
+layout(std430, binding = 12) readonly buffer Busy { uvec4 busyGroups; uint busyTiles[]; };   // the tiles to do
 shared uint liveColumns;
 uniform ivec2 uTiles;
 uniform int uRank0, uRanks, uRefresh;   // the chunk's ranks, as the count pass
@@ -526,9 +538,11 @@ vec4 resolveHeat(vec4 h) {
 #define OPAQUE(r) && (y0 + r >= int(uViewport.y) || image##r.a >= uOpaqueAlpha)
 
 void main() {
-    int t = int(gl_WorkGroupID.y) * uTiles.x + int(gl_WorkGroupID.x);
-    if (bins[t * uRanks + uRanks - 1] == 0u) return;   // no entry in this chunk: the tile stays as it is
-    int px = int(gl_GlobalInvocationID.x), y0 = int(gl_WorkGroupID.y) * SPLAT_TILE;
+    // Only tiles with entries in this chunk: the others stay as they are.
+    uint busy = gl_WorkGroupID.y * BUSY_ROW + gl_WorkGroupID.x;
+    if (busy >= busyGroups.w) return;
+    int t = int(busyTiles[busy]);
+    int px = (t % uTiles.x) * SPLAT_TILE + int(gl_LocalInvocationID.x), y0 = (t / uTiles.x) * SPLAT_TILE;
     float cx = float(px) + 0.5;   // pixel centres, y down
     float cutoff2 = uCutoff * uCutoff;
     ROWS(DECLARE)
@@ -871,9 +885,9 @@ struct SplatRenderer::Gl {
     GLuint opaqueTiles = 0;   // one word per kOpaqueTilePx tile: 1 once all its pixels are opaque
     // Tiled splatting: programs by variant bits, and its per-frame buffers (grown, never shrunk).
     std::map<int, GLuint> tilePrograms;
-    GLuint tileSplats = 0, tileBins = 0, tileState = 0, tileList = 0;
+    GLuint tileSplats = 0, tileBins = 0, tileState = 0, tileList = 0, tileBusy = 0;
     GLuint tileListTexture = 0;   // buffer texture over tileList
-    size_t tileSplatBytes = 0, tileBinBytes = 0, tileStateBytes = 0, tileListBytes = 0;
+    size_t tileSplatBytes = 0, tileBinBytes = 0, tileStateBytes = 0, tileListBytes = 0, tileBusyBytes = 0;
     glm::ivec2 tiles{0};
     int width = 0, height = 0;
     std::array<GLuint, kTimerRing> timers{};
@@ -897,8 +911,8 @@ struct SplatRenderer::Gl {
     ~Gl() {
         for (auto [bits, p] : splatPrograms) glDeleteProgram(p);
         for (auto [bits, p] : tilePrograms) glDeleteProgram(p);
-        const GLuint tileBuffers[] = {tileSplats, tileBins, tileState, tileList};
-        glDeleteBuffers(4, tileBuffers);
+        const GLuint tileBuffers[] = {tileSplats, tileBins, tileState, tileList, tileBusy};
+        glDeleteBuffers(5, tileBuffers);
         glDeleteTextures(1, &tileListTexture);
         for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
                          commandsProgram, patchProgram, opaqueTilesProgram})
@@ -996,7 +1010,7 @@ struct SplatRenderer::Gl {
         auto it = tilePrograms.find(key);
         if (it != tilePrograms.end()) return it->second;
         const std::string header = opaqueTileHeader() + variantDefines(bits) + (bits & kTileXRay ? "#define XRAY\n" : "") +
-                                   "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n" +
+                                   "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n#define BUSY_ROW 4096u\n" +
                                    "#define SPLAT_VEC4S " + ((bits & kFragmentShading) ? "4u" : "3u") + "\n";
         std::string source;
         if (pass == kTileSplat) source = header + "#define RUN_LANES " + std::to_string(runLanes) + "\n" + shadingGlsl() + kSplatCommon + kOpaqueTilesRead + kSplatFootprint + kTileSplatCompMain;
@@ -1512,6 +1526,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         Gl::ensureBuffer(g.tileSplats, g.tileSplatBytes, std::max<uint64_t>(submitted, 1) * vec4s * 16);
         Gl::ensureBuffer(g.tileBins, g.tileBinBytes, binBytes);
         Gl::ensureBuffer(g.tileState, g.tileStateBytes, (2 + size_t(tileCount)) * 4);
+        Gl::ensureBuffer(g.tileBusy, g.tileBusyBytes, (4 + size_t(tileCount)) * 4);
         if (!g.tileListTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileListTexture);
         const GLuint offsets = g.tileProgram(Gl::kTileOffsets, 0);
         const GLuint bases = g.tileProgram(Gl::kTileBases, 0);
@@ -1545,6 +1560,8 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, g.tileSplats);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, g.tileBins);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.tileState);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, g.tileBusy);
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, g.tileBusy);
         glBindImageTexture(0, g.image, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
         glBindImageTexture(1, g.heat, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
         for (uint32_t k0 = 0; k0 < slices && refused.empty(); k0 += chunk) {
@@ -1574,7 +1591,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             glUseProgram(bases);
             glDispatchCompute(1, 1, 1);
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
             // The list's length sizes its buffer: the one wait of a chunk (a few bytes).
             GLuint counts[2] = {0, 0};
             glGetNamedBufferSubData(g.tileState, 0, sizeof(counts), counts);
@@ -1599,10 +1616,12 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             glTextureBufferRange(g.tileListTexture, GL_RGBA32F, g.tileList, 0,
                                  GLsizeiptr(std::max<GLuint>(counts[1], 1) * vec4s * 16));
             glBindTextureUnit(0, g.tileListTexture);
-            // A workgroup per tile; with OCCLUSION it also leaves the opaque-tile map for the next chunk.
-            glDispatchCompute(GLuint(grid.x), GLuint(grid.y), 1);
+            // A workgroup per tile with entries (listed by the bases pass); with OCCLUSION it also leaves
+            // the opaque-tile map for the next chunk.
+            glDispatchComputeIndirect(0);
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
         }
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
                         GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         for (uint32_t slice = 0; slice < slices; ++slice)
