@@ -191,6 +191,30 @@ TEST_F(GlTest, TiledSplattingCoversImagesOfManyTilesAndEmptyFrames) {
     EXPECT_EQ(imageStats(r.readback()).coveredFraction, 0.0);
 }
 
+TEST_F(GlTest, TiledSplattingCarriesTheImageAcrossChunksLikeTheCpu) {
+    // 72 slices: back to front and X-ray bin them in two chunks (64 at a time), front to back in five
+    // (occlusionSlices). The image and heatmap pass from chunk to chunk; X-ray resolves after the last.
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(72), ramp(0.5));
+    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 20, .elevationDeg = 15}, scene.centre, scene.radius, 64, 56);
+    ASSERT_EQ(scene.dims[chooseTraversal(plane).axis], 72);
+    SplatRenderer r;
+    r.setScene(scene);
+    for (auto mode : {Compositing::SheetBackToFront, Compositing::SheetFrontToBack, Compositing::XRay}) {
+        SCOPED_TRACE(compositingName(mode));
+        SplatSettings s = tiled(mode);
+        s.heatmap = true;
+        s.counters = true;
+        r.render(plane, s);
+        Image cpuHeat;
+        SplatCounters cpu;
+        const Image expected = renderReference(scene, plane, s, &cpu, &cpuHeat);
+        EXPECT_GT(imageStats(expected).meanAlpha, 0.2);
+        EXPECT_IMAGES_CLOSE(r.readback(), expected, kGlVsCpu, std::string("gl_tiles_chunks_") + compositingName(mode));
+        EXPECT_IMAGES_CLOSE(r.readbackHeatmap(), cpuHeat, kGlVsCpu, std::string("gl_tiles_chunks_heat_") + compositingName(mode));
+        expectCountersEqual(r.stats().counters, cpu);
+    }
+}
+
 TEST_F(GlTest, AutoTilesSheetsAndXRayRastersTheRestAndFallsBackWhereListsMightNotFit) {
     const SplatScene scene = buildSplatScene(makeMarschnerLobb(16), ramp());
     SplatRenderer r;
