@@ -185,7 +185,7 @@ int main(int argc, char** argv) {
                 add(n + "/" + filterModeName(filter) + "/" + compositingName(comp) + "/raster",
                     [=](benchmark::State& st) { renderFrames(st, d, s); });
             }
-        // Tiles front to back: refresh every 8, no occlusion culling (one chunk), no early termination.
+        // Tiles front to back: refresh every 8, no occlusion culling, no early termination.
         for (auto [name, alpha, refresh, cull] : {std::tuple{"tiles-refresh-8", 0.998, 8, true},
                                                   std::tuple{"tiles-no-occlusion-culling", 0.998, 0, false},
                                                   std::tuple{"tiles-no-early-termination", 1.0, 0, true}}) {
