@@ -25,6 +25,19 @@ SplatSettings tiled(Compositing mode) {
     return s;
 }
 
+// The frame `r` just rendered with `s` (heatmap and counters on) against the CPU oracle's: image,
+// heatmap and counters.
+void expectFrameMatchesCpu(const SplatRenderer& r, const SplatScene& scene, const ImagePlane& plane,
+                           const SplatSettings& s, const std::string& name) {
+    SplatCounters cpuCounters;
+    Image cpuHeat;
+    const Image cpu = renderReference(scene, plane, s, &cpuCounters, &cpuHeat);
+    EXPECT_GT(imageStats(cpu).meanAlpha, 0.2);
+    EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu, name);
+    EXPECT_IMAGES_CLOSE(r.readbackHeatmap(), cpuHeat, kGlVsCpu, name + "_heatmap");
+    expectCountersEqual(r.stats().counters, cpuCounters);
+}
+
 } // namespace
 
 TEST_F(GlTest, TiledSplattingMatchesCpuInEverySheetAndXRayMode) {
@@ -50,13 +63,7 @@ TEST_F(GlTest, TiledSplattingMatchesCpuInEverySheetAndXRayMode) {
                 s.heatmap = true;
                 s.counters = true;
                 r.render(plane, s);
-                SplatCounters cpuCounters;
-                Image cpuHeat;
-                const Image cpu = renderReference(scene, plane, s, &cpuCounters, &cpuHeat);
-                EXPECT_GT(imageStats(cpu).meanAlpha, 0.2);
-                EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu, name);
-                EXPECT_IMAGES_CLOSE(r.readbackHeatmap(), cpuHeat, kGlVsCpu, name + "_heatmap");
-                expectCountersEqual(r.stats().counters, cpuCounters);
+                expectFrameMatchesCpu(r, scene, plane, s, name);
                 EXPECT_GT(r.stats().tileEntries, r.stats().counters.drawn) << "footprints span several tiles";
             }
     }
@@ -205,13 +212,7 @@ TEST_F(GlTest, TiledSplattingCarriesTheImageAcrossChunksLikeTheCpu) {
         s.heatmap = true;
         s.counters = true;
         r.render(plane, s);
-        Image cpuHeat;
-        SplatCounters cpu;
-        const Image expected = renderReference(scene, plane, s, &cpu, &cpuHeat);
-        EXPECT_GT(imageStats(expected).meanAlpha, 0.2);
-        EXPECT_IMAGES_CLOSE(r.readback(), expected, kGlVsCpu, std::string("gl_tiles_chunks_") + compositingName(mode));
-        EXPECT_IMAGES_CLOSE(r.readbackHeatmap(), cpuHeat, kGlVsCpu, std::string("gl_tiles_chunks_heat_") + compositingName(mode));
-        expectCountersEqual(r.stats().counters, cpu);
+        expectFrameMatchesCpu(r, scene, plane, s, std::string("gl_tiles_chunks_") + compositingName(mode));
     }
 }
 
