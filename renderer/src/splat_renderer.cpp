@@ -128,6 +128,7 @@ struct Footprint {
     vec3 colour;
     vec3 gradient;            // per-fragment shading: W times the decoded relative gradient
     int mode;                 // the filter used
+    uint lutClass;            // tiles fetch the unshaded colour by it
 };
 
 // Entry k of run `run` (first entry, tile base, slice | bucket << 16 | dense << 31, count): false when
@@ -144,6 +145,7 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
     uint cls = texelFetch(classes, ijk, 0).r;
     if (dense && (cls >> 6) != ((run.z >> 16) & 0xffu)) return false;   // another bucket's voxel
     count(0);
+    f.lutClass = cls;
     vec4 tf = lut[cls];
     if (!(tf.a > 0.0)) { count(1); return false; }
 
@@ -276,8 +278,9 @@ void main() {
 // The slices go through these passes in chunks, the image carried from one to the next (X-ray's
 // resolve follows the last). Front to back with early termination each chunk is binned against the
 // tiles earlier chunks made opaque (OCCLUSION), so hidden splats cost no entries.
-// Records are SPLAT_VEC4S vec4s: centre and half extent; conic and amplitude; colour and rank | mode << 16;
-// FRAGMENT_SHADING: the gradient.
+// Records are RECORD_VEC4S vec4s: centre and half extent; conic and amplitude; its bits (rank | mode << 16 |
+// LUT class << 18) in .w of the third, whose .rgb holds the colour with SPLAT_SHADING; FRAGMENT_SHADING: the
+// gradient. List entries are ENTRY_TEXELS vec4s (see kTileScatterComp).
 const char* kTileSplatCompMain = R"(
 layout(local_size_x = RUN_LANES) in;
 layout(std430, binding = 5) readonly buffer Runs { uvec4 runs[]; };
@@ -307,11 +310,17 @@ void main() {
         count(6);
         count(7 + f.mode);
         uint i = atomicAdd(splatCount, 1u);
-        splats[SPLAT_VEC4S * i] = vec4(f.centre, f.halfExtent);
-        splats[SPLAT_VEC4S * i + 1] = vec4(f.conic, f.amplitude);
-        splats[SPLAT_VEC4S * i + 2] = vec4(f.colour, uintBitsToFloat(rank | uint(f.mode) << 16));
+        // On llvmpipe a storage-buffer store costs a loop over the lanes per component: only what is used.
+        float bits = uintBitsToFloat(rank | uint(f.mode) << 16 | f.lutClass << 18);
+        splats[RECORD_VEC4S * i] = vec4(f.centre, f.halfExtent);
+        splats[RECORD_VEC4S * i + 1] = vec4(f.conic, f.amplitude);
+#ifdef SPLAT_SHADING
+        splats[RECORD_VEC4S * i + 2] = vec4(f.colour, bits);
+#else
+        splats[RECORD_VEC4S * i + 2].w = bits;
+#endif
 #ifdef FRAGMENT_SHADING
-        splats[SPLAT_VEC4S * i + 3] = vec4(f.gradient, 0.0);
+        splats[RECORD_VEC4S * i + 3].xyz = f.gradient;
 #endif
         ivec2 ta = max(boxLo(f), ivec2(0)) / SPLAT_TILE, tb = min(boxHi(f), ivec2(uViewport) - 1) / SPLAT_TILE;
         for (int ty = ta.y; ty <= tb.y; ++ty)
@@ -391,9 +400,12 @@ void main() {
 }
 )";
 
-// Each splat copies its record into the list of every tile its box reaches (bins: the cursor per rank;
-// afterwards where each rank ends). Copies, not indices: a tile then reads its list in order, where
-// records fetched by index miss the cache (a third of bonsai's composite time on llvmpipe).
+// Each splat copies what the composite needs into the list of every tile its box reaches (bins: the
+// cursor per rank; afterwards where each rank ends). Copies, not indices: a tile then reads its list in
+// order, where records fetched by index miss the cache (a third of bonsai's composite time on llvmpipe).
+// An entry is (centre, conic.xy), (conic.z, amplitude, bits) and, with shading, the shaded colour or the
+// gradient: without SPLAT_SHADING the composite fetches the colour from the LUT by class, so an entry
+// takes 7 stored floats instead of 11 (llvmpipe pays per stored component).
 const char* kTileScatterComp = R"(
 layout(local_size_x = 64) in;
 layout(std430, binding = 7) readonly buffer Splats { vec4 splats[]; };
@@ -404,11 +416,17 @@ uniform ivec2 uTiles;
 uniform int uRanks;
 uniform vec2 uViewport;
 void scatter(uint i) {
-    vec4 box = splats[SPLAT_VEC4S * i], conic = splats[SPLAT_VEC4S * i + 1], colour = splats[SPLAT_VEC4S * i + 2];
-#ifdef FRAGMENT_SHADING
-    vec4 gradient = splats[SPLAT_VEC4S * i + 3];
+    vec4 box = splats[RECORD_VEC4S * i], conic = splats[RECORD_VEC4S * i + 1];
+#ifdef SPLAT_SHADING
+    vec4 colour = splats[RECORD_VEC4S * i + 2];
+    float bits = colour.w;
+#else
+    float bits = splats[RECORD_VEC4S * i + 2].w;
 #endif
-    int rank = int(floatBitsToUint(colour.w) & 0xffffu);
+#ifdef FRAGMENT_SHADING
+    vec3 gradient = splats[RECORD_VEC4S * i + 3].xyz;
+#endif
+    int rank = int(floatBitsToUint(bits) & 0xffffu);
     // The same box as the count pass: the same floats through the same formulas.
     ivec2 ta = max(ivec2(ceil(box.xy - box.zw - 0.5)), ivec2(0)) / SPLAT_TILE;
     ivec2 tb = min(ivec2(floor(box.xy + box.zw - 0.5)), ivec2(uViewport) - 1) / SPLAT_TILE;
@@ -418,12 +436,14 @@ void scatter(uint i) {
 #ifdef OCCLUSION   // as the count pass
             if (tileOpaque(t)) continue;
 #endif
-            uint e = SPLAT_VEC4S * (tileBase[t] + atomicAdd(bins[t * uRanks + rank], 1u));
-            entries[e] = box;
-            entries[e + 1u] = conic;
-            entries[e + 2u] = colour;
+            uint e = ENTRY_TEXELS * (tileBase[t] + atomicAdd(bins[t * uRanks + rank], 1u));
+            entries[e] = vec4(box.xy, conic.xy);
+            entries[e + 1u].xyz = vec3(conic.zw, bits);
+#ifdef SPLAT_SHADING
+            entries[e + 2u].xyz = colour.rgb;
+#endif
 #ifdef FRAGMENT_SHADING
-            entries[e + 3u] = gradient;
+            entries[e + 2u].xyz = gradient;
 #endif
         }
 }
@@ -441,6 +461,7 @@ void main() {   // a grid of at most 65535 workgroups walks every splat
 // zeroes rows outside the ellipse, which lies inside the box the tiles were chosen by, and on llvmpipe
 // a masked branch costs more than the row (both sides run under a mask). Whole slices and tiles are
 // skipped by loops of at most one pass (SKIP_UNLESS): llvmpipe leaves a loop once no lane is in it.
+// Such a loop costs more than a row's composite, so an empty sheet is composited too (it adds nothing).
 const char* kTileCompositeCompMain = R"(
 #if SPLAT_TILE != 8
 #error the row macros below assume 8x8 tiles
@@ -450,6 +471,7 @@ const char* kTileCompositeCompMain = R"(
 layout(local_size_x = SPLAT_TILE) in;
 // The list through texel fetches: llvmpipe gathers those without a bounds check per lane.
 layout(binding = 0) uniform samplerBuffer entries;
+layout(binding = 1) uniform samplerBuffer lut;   // without SPLAT_SHADING: the colour by LUT class
 layout(std430, binding = 8) readonly buffer Bins { uint bins[]; };   // where each rank ends in its tile's list
 layout(std430, binding = 9) readonly buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
 // The image and heatmap so far (earlier chunks; cleared before the first), rows bottom up.
@@ -493,9 +515,9 @@ vec4 composite(vec4 image, vec4 sheet) {
 #define STORE_HEAT(r)
 #endif
 #ifdef FRAGMENT_SHADING   // towards the eye along this pixel's ray
-#define SHADE(r) vec3 colour = shade(c.rgb, gradient, uOrtho ? vec3(0.0, 0.0, -1.0) : -vec3((vec2(cx, float(y0 + r) + 0.5) - uCentrePx) / uFPx, 1.0), uShadingParams);
+#define SHADE(r) vec3 colour = shade(c, gradient, uOrtho ? vec3(0.0, 0.0, -1.0) : -vec3((vec2(cx, float(y0 + r) + 0.5) - uCentrePx) / uFPx, 1.0), uShadingParams);
 #else
-#define SHADE(r) vec3 colour = c.rgb;
+#define SHADE(r) vec3 colour = c;
 #endif
 
 // Past the image's edge imageLoad gives 0 (nothing is stored there).
@@ -505,14 +527,14 @@ vec4 composite(vec4 image, vec4 sheet) {
 #define REFRESH(r) live##r = image##r.a < uOpaqueAlpha;
 #define CLEAR(r) sheet##r = vec4(0.0); sheetHeat##r = vec4(0.0);
 #define ROW(r) { \
-        float dy = float(y0 + r) + 0.5 - a.y; \
-        float e = b.x * dx * dx + 2.0 * b.y * dx * dy + b.z * dy * dy; \
-        float tau = live##r && e <= cutoff2 ? b.w * exp(-0.5 * e) : 0.0; \
+        float dy = float(y0 + r) + 0.5 - centre.y; \
+        float e = conic.x * dx * dx + 2.0 * conic.y * dx * dy + conic.z * dy * dy; \
+        float tau = live##r && e <= cutoff2 ? amplitude * exp(-0.5 * e) : 0.0; \
         SHADE(r) \
         sheet##r += vec4(colour * tau, tau); \
         ADD_HEAT(r) \
     }
-#define COMPOSITE(r) SKIP_UNLESS(sheet##r.a > 0.0) { image##r = composite(image##r, sheet##r); COMPOSITE_HEAT(r) }
+#define COMPOSITE(r) { image##r = composite(image##r, sheet##r); COMPOSITE_HEAT(r) }
 #define STORE(r) \
     if (y0 + r < int(uViewport.y)) { \
         imageStore(outImage, ivec2(px, int(uViewport.y) - 1 - (y0 + r)), image##r); \
@@ -541,13 +563,21 @@ void main() {
             bool anyLive = live0 || live1 || live2 || live3 || live4 || live5 || live6 || live7;
             ROWS(CLEAR)
             for (uint j = start; j < (anyLive ? end : start); ++j) {
-                int i = int(SPLAT_VEC4S * (base + j));
-                vec4 a = texelFetch(entries, i), b = texelFetch(entries, i + 1), c = texelFetch(entries, i + 2);
-#ifdef FRAGMENT_SHADING
-                vec3 gradient = texelFetch(entries, i + 3).xyz;
+                int i = int(ENTRY_TEXELS * (base + j));
+                vec4 a = texelFetch(entries, i), b = texelFetch(entries, i + 1);
+                vec2 centre = a.xy;
+                vec3 conic = vec3(a.zw, b.x);
+                float amplitude = b.y;
+                uint bits = floatBitsToUint(b.z), mode = (bits >> 16) & 3u;
+#ifdef SPLAT_SHADING
+                vec3 c = texelFetch(entries, i + 2).rgb;
+#else
+                vec3 c = texelFetch(lut, int(bits >> 18)).rgb;
 #endif
-                uint mode = floatBitsToUint(c.w) >> 16;
-                float dx = cx - a.x;
+#ifdef FRAGMENT_SHADING
+                vec3 gradient = texelFetch(entries, i + 2).xyz;
+#endif
+                float dx = cx - centre.x;
                 ROWS(ROW)
             }
             ROWS(COMPOSITE)
@@ -834,6 +864,10 @@ struct AxisBuffers {
 enum SplatVariant { kCounters = 1, kSurface = 2, kSplatShading = 4, kFragmentShading = 8, kHeatmap = 16, kAdaptive = 32,
                     kOcclusion = 64 };
 
+// Tiled splatting's vec4s per splat record and per list entry (kTileSplatCompMain, kTileScatterComp).
+int recordVec4s(int bits) { return bits & kFragmentShading ? 4 : 3; }
+int entryTexels(int bits) { return bits & (kSplatShading | kFragmentShading) ? 3 : 2; }
+
 // The #defines of a variant's features.
 std::string variantDefines(int bits) {
     const std::pair<int, const char*> defines[] = {{kCounters, "COUNTERS"}, {kSurface, "SURFACE"},
@@ -854,6 +888,7 @@ struct SplatRenderer::Gl {
     GLuint splatVao = 0, emptyVao = 0;
     GLuint classTexture = 0;
     GLuint lutBuffer = 0, counterBuffer = 0, patchBuffer = 0, gradientBuffer = 0;
+    GLuint lutTexture = 0;   // buffer texture over lutBuffer (the tiles' composite)
     bool hasGradients = false;
     uint64_t gradientBytes = 0;   // of gradientBuffer, inside sceneBytes
     std::string sceneName;   // for messages
@@ -908,6 +943,7 @@ struct SplatRenderer::Gl {
         const GLuint vaos[] = {splatVao, emptyVao};
         glDeleteVertexArrays(2, vaos);
         glDeleteTextures(1, &classTexture);
+        glDeleteTextures(1, &lutTexture);
         const GLuint buffers[] = {lutBuffer, counterBuffer, patchBuffer, gradientBuffer};
         glDeleteBuffers(4, buffers);
         for (auto& a : axes) a.release();
@@ -1012,7 +1048,8 @@ struct SplatRenderer::Gl {
         if (it != tilePrograms.end()) return it->second;
         const std::string header = opaqueTileHeader() + variantDefines(bits) + (bits & kTileXRay ? "#define XRAY\n" : "") +
                                    "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n#define BUSY_ROW 4096u\n" +
-                                   "#define SPLAT_VEC4S " + ((bits & kFragmentShading) ? "4u" : "3u") + "\n";
+                                   "#define RECORD_VEC4S " + std::to_string(recordVec4s(bits)) + "u\n#define ENTRY_TEXELS " +
+                                   std::to_string(entryTexels(bits)) + "u\n";
         std::string source;
         if (pass == kTileSplat) source = header + "#define RUN_LANES " + std::to_string(runLanes) + "\n" + shadingGlsl() + kSplatCommon + kOpaqueTilesRead + kSplatFootprint + kTileSplatCompMain;
         else if (pass == kTileOffsets) source = header + kTileOffsetsComp;
@@ -1248,6 +1285,8 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     if (!g.lutBuffer) {
         glCreateBuffers(1, &g.lutBuffer);
         glNamedBufferStorage(g.lutBuffer, GLsizeiptr(kLutSize * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.lutTexture);
+        glTextureBuffer(g.lutTexture, GL_RGBA32F, g.lutBuffer);
         checkAllocation("LUT buffer", scene.name, needed, freeBytes);
     }
     g.sceneBytes = scene.classes.size() * sizeof(uint16_t) + kLutSize * sizeof(glm::vec4);
@@ -1371,9 +1410,9 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     uint64_t submitted = 0;
     for (uint32_t r = 0; r < axis.runCount; ++r) submitted += active[axis.buckets[r]] ? axis.voxels[r] : 0;
     const double tilesASide = std::ceil((2.0 * bound + 1.0) / kSplatTilePx) + 1.0;
-    const double recordTexels = settings.shading == SplatSettings::Shading::PerFragment ? 4.0 : 3.0;
+    const double texels = settings.shading == SplatSettings::Shading::None ? 2.0 : 3.0;   // entryTexels()
     const bool listsFit =
-        double(submitted) * std::max(tilesASide * tilesASide, 4.0) * recordTexels <= double(g.maxTexelBuffer);
+        double(submitted) * std::max(tilesASide * tilesASide, 4.0) * texels <= double(g.maxTexelBuffer);
     const bool tiles = settings.primitive == Primitive::Tiles || (tiledSplatting(settings) && listsFit);
     const bool points = !tiles && (settings.primitive == Primitive::Points ||
                                    (settings.primitive != Primitive::Quads && bound <= pointFits));
@@ -1521,19 +1560,20 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         const glm::ivec2 grid((plane.width + kSplatTilePx - 1) / kSplatTilePx,
                               (plane.height + kSplatTilePx - 1) / kSplatTilePx);
         const GLint tileCount = grid.x * grid.y;
-        const size_t vec4s = (variant & kFragmentShading) ? 4 : 3;
+        const size_t recordBytes = size_t(recordVec4s(variant)) * 16, texels = size_t(entryTexels(variant));
         const uint32_t chunk = (variant & kOcclusion) ? uint32_t(occlusionSlices(settings)) : kTileListChunkSlices;
         const size_t binBytes = size_t(tileCount) * std::min(chunk, slices) * 4;
-        Gl::ensureBuffer(g.tileSplats, g.tileSplatBytes, std::max<uint64_t>(submitted, 1) * vec4s * 16);
+        Gl::ensureBuffer(g.tileSplats, g.tileSplatBytes, std::max<uint64_t>(submitted, 1) * recordBytes);
         Gl::ensureBuffer(g.tileBins, g.tileBinBytes, binBytes);
         Gl::ensureBuffer(g.tileState, g.tileStateBytes, (2 + size_t(tileCount)) * 4);
         Gl::ensureBuffer(g.tileBusy, g.tileBusyBytes, (4 + size_t(tileCount)) * 4);
         if (!g.tileListTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileListTexture);
         const GLuint offsets = g.tileProgram(Gl::kTileOffsets, 0);
         const GLuint bases = g.tileProgram(Gl::kTileBases, 0);
-        const GLuint scatter = g.tileProgram(Gl::kTileScatter, variant & (kFragmentShading | kOcclusion));
+        const GLuint scatter = g.tileProgram(Gl::kTileScatter, variant & (kSplatShading | kFragmentShading | kOcclusion));
         const GLuint composite = g.tileProgram(
-            Gl::kTileComposite, (variant & (kHeatmap | kFragmentShading | kOcclusion)) | (xray ? Gl::kTileXRay : 0));
+            Gl::kTileComposite,
+            (variant & (kHeatmap | kSplatShading | kFragmentShading | kOcclusion)) | (xray ? Gl::kTileXRay : 0));
         glUniform2i(glGetUniformLocation(p, "uTiles"), grid.x, grid.y);
         glUniform1i(glGetUniformLocation(p, "uSlices"), GLint(slices));
         glUniform1i(glGetUniformLocation(p, "uRankDescending"), descending);
@@ -1597,13 +1637,13 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             GLuint counts[2] = {0, 0};
             glGetNamedBufferSubData(g.tileState, 0, sizeof(counts), counts);
             m_stats.tileEntries += counts[1];
-            if (uint64_t(counts[1]) * vec4s > uint64_t(g.maxTexelBuffer)) {
+            if (uint64_t(counts[1]) * texels > uint64_t(g.maxTexelBuffer)) {
                 refused = "tiled splatting: " + std::to_string(counts[0]) + " splats in " + std::to_string(counts[1]) +
                           " tile entries exceed GL_MAX_TEXTURE_BUFFER_SIZE (" + std::to_string(g.maxTexelBuffer) +
                           " texels); use points or quads";
                 break;
             }
-            Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * vec4s * 16);
+            Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * texels * 16);
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.tileList);
 
             glUseProgram(scatter);
@@ -1615,8 +1655,9 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             glUniform1i(glGetUniformLocation(composite, "uRank0"), GLint(k0));
             glUniform1i(glGetUniformLocation(composite, "uRanks"), GLint(ranks));
             glTextureBufferRange(g.tileListTexture, GL_RGBA32F, g.tileList, 0,
-                                 GLsizeiptr(std::max<GLuint>(counts[1], 1) * vec4s * 16));
+                                 GLsizeiptr(std::max<GLuint>(counts[1], 1) * texels * 16));
             glBindTextureUnit(0, g.tileListTexture);
+            glBindTextureUnit(1, g.lutTexture);
             // A workgroup per tile with entries (listed by the bases pass); with OCCLUSION it also leaves
             // the opaque-tile map for the next chunk.
             glDispatchComputeIndirect(0);
