@@ -1255,10 +1255,11 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     if (d.x > maxSize || d.y > maxSize || d.z > maxSize)
         throw RenderError("volume dims exceed GL_MAX_3D_TEXTURE_SIZE " + std::to_string(maxSize));
     // GPU memory: the classes (2 bytes a voxel), the LUT and per axis the entries (2 bytes each), the
-    // runs (16 + 8 bytes) and two command arrays (16 bytes a run each), against what the driver reports
-    // free (plus what the current scene holds, which is replaced) and the optional limit.
+    // runs (16 + 8 bytes) and four command arrays (16 bytes a run each: both slice orders, each also
+    // with every run read backwards), against what the driver reports free (plus what the current
+    // scene holds, which is replaced) and the optional limit.
     auto entryBytes = [](const AxisLists& l) { return std::max<size_t>((l.entries.size() + 1) / 2, 1) * 4; };
-    auto runBytes = [](const AxisLists& l) { return std::max<size_t>(l.runs.size(), 1) * (16 + 8 + 16 + 16); };
+    auto runBytes = [](const AxisLists& l) { return std::max<size_t>(l.runs.size(), 1) * (16 + 8 + 4 * 16); };
     uint64_t needed = scene.classes.size() * sizeof(uint16_t) + scene.lut.size() * sizeof(glm::vec4);
     for (const auto& l : scene.lists) needed += entryBytes(l) + runBytes(l);
     needed += std::max<size_t>(scene.gradients.size(), 1) * 4;

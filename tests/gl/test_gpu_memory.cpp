@@ -32,3 +32,21 @@ TEST_F(GpuMemory, SceneOverTheLimitIsRefusedWithSizesAndTheRendererStaysUsable) 
     gl.setMemoryLimit(gl.sceneBytes()); // exactly what it holds: replacing it fits
     gl.setScene(scene);
 }
+
+TEST_F(GpuMemory, TheCheckBeforeUploadingCountsEveryBufferTheSceneTakes) {
+    // The check must see what setScene then allocates, command arrays included (it once counted two of
+    // the four): a limit one byte short of it is refused before anything is uploaded.
+    const SplatScene scene = buildSplatScene(makeCheckerboard({48, 40, 32}, 4), builtinPreset("grey-ramp"));
+    uint64_t bytes = 0;
+    {
+        SplatRenderer measured;
+        measured.setScene(scene);
+        bytes = measured.sceneBytes();
+    }
+    SplatRenderer gl;
+    gl.setMemoryLimit(bytes - 1);
+    EXPECT_THROW(gl.setScene(scene), RenderError);
+    gl.setMemoryLimit(bytes);
+    gl.setScene(scene);
+    EXPECT_EQ(gl.sceneBytes(), bytes);
+}
