@@ -308,12 +308,23 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
     });
 
     // Occlusion culling as the GPU does it: a splat is culled when every tile under its pixel box (at
-    // most 4 x 4) was opaque at the snapshot its slice reads, taken every occlusionSlices() slices.
-    // Its pixels were all skipped above, so only the counters change.
-    const size_t occlusion = size_t(occlusionSlices(settings));
+    // most 4 x 4) was opaque at the snapshot its slice reads, taken where its chunk starts (chunks as
+    // nextOcclusionChunk() lays them out). Its pixels were all skipped above, so only the counters change.
     if (earlyTermination && counters && settings.occlusionCulling) {
-        for (size_t j = occlusion; j < slices; ++j)
-            for (size_t k = sliceStarts[j]; k < sliceStarts[j + 1]; ++k) {
+        const size_t mapSize = size_t(tilesX) * tilesY;
+        auto anyOpaque = [&](size_t group) {
+            const uint8_t* tiles = &tileSnapshots[group * mapSize];
+            return std::any_of(tiles, tiles + mapSize, [](uint8_t t) { return t != 0; });
+        };
+        std::vector<size_t> chunkStart(slices, 0);
+        for (size_t start = 0, chunk = size_t(occlusionSlices(settings)); start < slices;) {
+            std::fill(chunkStart.begin() + std::ptrdiff_t(start),
+                      chunkStart.begin() + std::ptrdiff_t(std::min(slices, start + chunk)), start);
+            start += chunk;
+            if (start < slices) chunk = size_t(nextOcclusionChunk(settings, int(start), int(chunk), anyOpaque(start / refresh)));
+        }
+        for (size_t j = 0; j < slices; ++j)
+            for (size_t k = sliceStarts[j]; k < sliceStarts[j + 1] && chunkStart[j] > 0; ++k) {
                 const SplatGeometry& g = splats[k].geometry;
                 if (g.culled) continue;
                 const glm::dvec2 lo = glm::ceil(g.centrePx - g.halfExtentPx - 0.5);
@@ -321,7 +332,7 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
                 const int ta = std::clamp(int(lo.x), 0, w - 1) / kOpaqueTilePx, tb = std::clamp(int(hi.x), 0, w - 1) / kOpaqueTilePx;
                 const int sa = std::clamp(int(lo.y), 0, h - 1) / kOpaqueTilePx, sb = std::clamp(int(hi.y), 0, h - 1) / kOpaqueTilePx;
                 if (tb - ta >= 4 || sb - sa >= 4) continue;
-                const uint8_t* tiles = &tileSnapshots[j / occlusion * (occlusion / refresh) * tilesX * tilesY];
+                const uint8_t* tiles = &tileSnapshots[chunkStart[j] / refresh * mapSize];
                 bool hidden = true;
                 for (int ty = sa; ty <= sb; ++ty)
                     for (int tx = ta; tx <= tb; ++tx) hidden = hidden && tiles[ty * tilesX + tx];

@@ -590,7 +590,10 @@ void main() {
     bool opaque = px >= int(uViewport.x) || (true ROWS(OPAQUE));
     if (!opaque) atomicOr(liveColumns, 1u);
     barrier();
-    if (gl_LocalInvocationID.x == 0u) opaqueTiles[t] = liveColumns == 0u ? 1u : 0u;
+    if (gl_LocalInvocationID.x == 0u) {
+        opaqueTiles[t] = liveColumns == 0u ? 1u : 0u;
+        if (liveColumns == 0u) opaqueTiles[uTiles.x * uTiles.y] = 1u;   // after the map: any tile opaque
+    }
 #endif
     if (px >= int(uViewport.x)) return;
     ROWS(STORE)
@@ -695,6 +698,7 @@ void main() {
         for (int x = t.x * OPAQUE_TILE; x < min((t.x + 1) * OPAQUE_TILE, size.x); ++x)
             opaque = opaque && texelFetch(image, ivec2(x, size.y - 1 - y), 0).a >= uOpaqueAlpha;
     opaqueTiles[t.y * uTiles.x + t.x] = opaque ? 1u : 0u;
+    if (opaque) opaqueTiles[uTiles.x * uTiles.y] = 1u;   // after the map: any tile opaque
 }
 )";
 
@@ -905,7 +909,8 @@ struct SplatRenderer::Gl {
     // (front-to-back early termination).
     GLuint image = 0, heat = 0, sheet = 0, sheetHeat = 0, depth = 0, displayTex = 0;
     GLuint frameFbo = 0, sheetFbo = 0, displayFbo = 0, depthFbo = 0;
-    GLuint opaqueTiles = 0;   // one word per kOpaqueTilePx tile: 1 once all its pixels are opaque
+    GLuint opaqueTiles = 0;   // one word per kOpaqueTilePx tile: 1 once all its pixels are opaque; then
+                              // one word, 1 once any is (nextOcclusionChunk())
     // Tiled splatting: programs by variant bits, and its per-frame buffers (grown, never shrunk).
     std::map<int, GLuint> tilePrograms;
     GLuint tileSplats = 0, tileBins = 0, tileState = 0, tileList = 0, tileBusy = 0;
@@ -920,6 +925,10 @@ struct SplatRenderer::Gl {
     int timerNext = 0;
     GLint maxPointSize = 1;
     GLint maxTexelBuffer = 0;   // GL_MAX_TEXTURE_BUFFER_SIZE: tiled splatting reads records through it
+    uint64_t texelLimit = 0;    // setTexelBufferLimit(); 0: none
+    uint64_t texelCap() const {
+        return texelLimit ? std::min<uint64_t>(texelLimit, uint64_t(maxTexelBuffer)) : uint64_t(maxTexelBuffer);
+    }
     // Invocations a run of voxels takes in the record pass. llvmpipe: one SIMD row (8 lanes of 256
     // bits) looping over the run, 5 % faster on bonsai than 64 (fewer idle rows, each started once);
     // a GPU keeps full warps.
@@ -1000,7 +1009,7 @@ struct SplatRenderer::Gl {
         depthFbo = makeFbo({}, depth);   // the opaque mask of splat-every-sample: reads the image
         tiles = glm::ivec2((w + kOpaqueTilePx - 1) / kOpaqueTilePx, (h + kOpaqueTilePx - 1) / kOpaqueTilePx);
         glCreateBuffers(1, &opaqueTiles);
-        glNamedBufferStorage(opaqueTiles, GLsizeiptr(size_t(tiles.x) * size_t(tiles.y) * 4), nullptr, 0);
+        glNamedBufferStorage(opaqueTiles, GLsizeiptr((size_t(tiles.x) * size_t(tiles.y) + 1) * 4), nullptr, 0);
         width = w;
         height = h;
     }
@@ -1016,6 +1025,14 @@ struct SplatRenderer::Gl {
         glBindTextureUnit(3, heat);
         glBindVertexArray(emptyVao);
         glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+
+    // Whether any tile of the opaque-tile map is opaque (a wait for the passes before it).
+    bool anyTileOpaque() {
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        GLuint flag = 0;
+        glGetNamedBufferSubData(opaqueTiles, GLintptr(size_t(tiles.x) * size_t(tiles.y) * 4), 4, &flag);
+        return flag != 0;
     }
 
     // The opaque-tile map (binding 11) from the image's alpha: what occlusion culling reads.
@@ -1413,7 +1430,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     const double tilesASide = std::ceil((2.0 * bound + 1.0) / kSplatTilePx) + 1.0;
     const double texels = settings.shading == SplatSettings::Shading::None ? 2.0 : 3.0;   // entryTexels()
     const bool listsFit =
-        double(submitted) * std::max(tilesASide * tilesASide, 4.0) * texels <= double(g.maxTexelBuffer);
+        double(submitted) * std::max(tilesASide * tilesASide, 4.0) * texels <= double(g.texelCap());
     const bool tiles = settings.primitive == Primitive::Tiles || (tiledSplatting(settings) && listsFit);
     const bool points = !tiles && (settings.primitive == Primitive::Points ||
                                    (settings.primitive != Primitive::Quads && bound <= pointFits));
@@ -1562,8 +1579,15 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                               (plane.height + kSplatTilePx - 1) / kSplatTilePx);
         const GLint tileCount = grid.x * grid.y;
         const size_t recordBytes = size_t(recordVec4s(variant)) * 16, texels = size_t(entryTexels(variant));
-        const uint32_t chunk = (variant & kOcclusion) ? uint32_t(occlusionSlices(settings)) : kTileListChunkSlices;
-        const size_t binBytes = size_t(tileCount) * std::min(chunk, slices) * 4;
+        // Chunks: occlusion ones (nextOcclusionChunk(), at most four times the first), else 64 slices.
+        const bool occlusion = variant & kOcclusion;
+        uint32_t chunk = occlusion ? uint32_t(occlusionSlices(settings)) : kTileListChunkSlices;
+        const size_t binBytes = size_t(tileCount) * std::min(occlusion ? 4 * chunk : chunk, slices) * 4;
+        bool anyOpaque = false;   // occlusion: whether the map has an opaque tile yet
+        auto advance = [&](uint32_t& k0) {
+            k0 += chunk;
+            if (occlusion) chunk = uint32_t(nextOcclusionChunk(settings, int(k0), int(chunk), anyOpaque));
+        };
         Gl::ensureBuffer(g.tileSplats, g.tileSplatBytes, std::max<uint64_t>(submitted, 1) * recordBytes);
         Gl::ensureBuffer(g.tileBins, g.tileBinBytes, binBytes);
         Gl::ensureBuffer(g.tileState, g.tileStateBytes, (2 + size_t(tileCount)) * 4);
@@ -1606,7 +1630,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, g.tileBusy);
         glBindImageTexture(0, g.image, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
         glBindImageTexture(1, g.heat, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-        for (uint32_t k0 = 0; k0 < slices && refused.empty(); k0 += chunk) {
+        for (uint32_t k0 = 0; k0 < slices && refused.empty(); advance(k0)) {
             const uint32_t k1 = std::min(slices, k0 + chunk), ranks = k1 - k0;
             // The chunk's slices, and so its runs, are contiguous (runs are sorted by slice).
             const uint32_t s0 = descending ? slices - k1 : k0, s1 = descending ? slices - k0 : k1;
@@ -1638,9 +1662,9 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             GLuint counts[2] = {0, 0};
             glGetNamedBufferSubData(g.tileState, 0, sizeof(counts), counts);
             m_stats.tileEntries += counts[1];
-            if (uint64_t(counts[1]) * texels > uint64_t(g.maxTexelBuffer)) {
+            if (uint64_t(counts[1]) * texels > g.texelCap()) {
                 refused = "tiled splatting: " + std::to_string(counts[0]) + " splats in " + std::to_string(counts[1]) +
-                          " tile entries exceed GL_MAX_TEXTURE_BUFFER_SIZE (" + std::to_string(g.maxTexelBuffer) +
+                          " tile entries exceed GL_MAX_TEXTURE_BUFFER_SIZE (" + std::to_string(g.texelCap()) +
                           " texels); use points or quads";
                 break;
             }
@@ -1663,6 +1687,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             // the opaque-tile map for the next chunk.
             glDispatchComputeIndirect(0);
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+            if (occlusion && !anyOpaque) anyOpaque = g.anyTileOpaque();
         }
         glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
@@ -1712,11 +1737,22 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glBindTextureUnit(1, g.sheetHeat);
         glBindTextureUnit(2, g.image);
         bool stale = false;   // a refresh is due before the next drawn slice
-        const uint32_t occlusion = uint32_t(occlusionSlices(settings));
-        uint32_t mapped = 0;   // the occlusion chunk the opaque-tile map was made for
+        // Occlusion chunks as tiles lay them out (nextOcclusionChunk()): the opaque-tile map is made
+        // where each starts, if anything was drawn since the last.
+        const bool occlusion = variant & kOcclusion;
+        uint32_t chunk = uint32_t(occlusionSlices(settings)), chunkEnd = chunk;
+        bool anyOpaque = false, drawnSinceMap = false;
         for (uint32_t k = 0; k < slices; ++k) {
             const uint32_t slice = descending ? slices - 1 - k : k;
             stale = stale || (earlyTermination && k > 0 && k % uint32_t(refresh) == 0);
+            for (; occlusion && k == chunkEnd; chunkEnd += chunk) {
+                if (drawnSinceMap) {
+                    refreshOpaque(g.sheetFbo, true);
+                    stale = drawnSinceMap = false;
+                    if (!anyOpaque && tiledSplatting(settings)) anyOpaque = g.anyTileOpaque();
+                }
+                chunk = uint32_t(nextOcclusionChunk(settings, int(chunkEnd), int(chunk), anyOpaque));
+            }
             const uint32_t r0 = axis.sliceRuns[slice], r1 = axis.sliceRuns[slice + 1];
             // The sheet covers only the active runs' voxels: their in-slice box, projected.
             glm::u16vec2 lo(UINT16_MAX), hi(0);
@@ -1726,11 +1762,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             ++m_stats.slicesDrawn;
             const Rect rect = sliceRect(g.origin, g.spacing, plane, trav.axis, int(slice), lo, hi, margin);
             if (rect.x0 >= rect.x1 || rect.y0 >= rect.y1) continue;
-            if (stale) {   // mark what earlier slices made opaque
-                const bool remap = k / occlusion != mapped;
-                refreshOpaque(g.sheetFbo, remap);
-                if (remap) mapped = k / occlusion;
-            }
+            if (stale) refreshOpaque(g.sheetFbo, false);   // mark what earlier slices made opaque
             stale = false;
             // GL's rows run bottom up.
             glEnable(GL_SCISSOR_TEST);
@@ -1763,6 +1795,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             glUseProgram(composite);
             glBindVertexArray(g.emptyVao);
             glDrawArrays(GL_TRIANGLES, 0, 3);
+            drawnSinceMap = true;
         }
         glDisable(GL_SCISSOR_TEST);
         glDisable(GL_DEPTH_TEST);
@@ -1876,5 +1909,6 @@ unsigned SplatRenderer::displayTexture(const float background[3], bool heatmap) 
 uint64_t SplatRenderer::sceneBytes() const { return m_gl->sceneBytes; }
 
 void SplatRenderer::setMemoryLimit(uint64_t bytes) { m_gl->memoryLimit = bytes; }
+void SplatRenderer::setTexelBufferLimit(uint64_t texels) { m_gl->texelLimit = texels; }
 
 } // namespace renderer

@@ -10,6 +10,8 @@
 #include "renderer/reference_renderer.h"
 #include "renderer/splat_renderer.h"
 
+#include <algorithm>
+
 using namespace renderer;
 
 namespace {
@@ -214,6 +216,52 @@ TEST_F(GlTest, TiledSplattingCarriesTheImageAcrossChunksLikeTheCpu) {
         r.render(plane, s);
         expectFrameMatchesCpu(r, scene, plane, s, std::string("gl_tiles_chunks_") + compositingName(mode));
     }
+}
+
+TEST_F(GlTest, TiledSplattingLengthensChunksUntilATileIsOpaqueLikeTheCpu) {
+    // 96 slices seen along z, by front-to-back rank: 36 empty; a wall over the left half (x < 20);
+    // 24 of faint fill (never opaque); a wall over the right half; 12 empty; 16 of fill. Nothing is
+    // opaque after the first
+    // two chunks (16 slices each), so the third takes 32 (nextOcclusionChunk()) and none of the fill
+    // behind the left wall is culled; then chunks of 16: the last fill is culled against both walls.
+    // Chunks of 16 throughout, or chunks that never return to 16, cull other splats: the counters differ.
+    const glm::dvec3 centre(19.5, 19.5, 47.5);
+    const double radius = std::sqrt(2.0 * 19.5 * 19.5 + 47.5 * 47.5);
+    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 10, .elevationDeg = 75}, centre, radius, 128, 128);
+    const Traversal order = chooseTraversal(plane);
+    ASSERT_EQ(order.axis, 2);
+    Volume v;
+    v.dims = {40, 40, 96};
+    v.values.assign(v.voxelCount(), 0.0f);
+    for (int rank = 0; rank < 96; ++rank) {
+        const int z = order.descending ? rank : 95 - rank;   // front to back reverses the traversal
+        for (int y = 0; y < 40; ++y)
+            for (int x = 0; x < 40; ++x) {
+                const bool wall = (rank >= 36 && rank < 40 && x < 20) || (rank >= 64 && rank < 68 && x >= 20);
+                const float fill = rank >= 40 && rank < 64 ? 0.51f : rank >= 80 ? 0.6f : 0.0f;
+                v.values[(size_t(z) * 40 + size_t(y)) * 40 + size_t(x)] = wall ? 1.0f : fill;
+            }
+    }
+    updateRange(v);
+    const TransferFunction step{"step", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.5, {0.2, 0.4, 1.0}, 0.0}, {1.0, {1.0, 0.8, 0.3}, 1.0}}};
+    const SplatScene scene = buildSplatScene(v, step);
+    ASSERT_LT(glm::length(scene.centre - centre), 1e-9) << "the plane must frame the scene";
+    ASSERT_NEAR(scene.radius, radius, 1e-9);
+    SplatRenderer r;
+    r.setScene(scene);
+    SplatSettings s = tiled(Compositing::SheetFrontToBack);
+    s.density = 8.0;
+    s.heatmap = true;
+    s.counters = true;
+    r.render(plane, s);
+    expectFrameMatchesCpu(r, scene, plane, s, "gl_tiles_lengthened_chunks");
+    EXPECT_GT(r.stats().counters.culledOccluded, 0u);
+    // Auto rasterises where the lists might not fit (here: a cap of one texel), with the same chunks.
+    r.setTexelBufferLimit(1);
+    s.primitive = SplatSettings::Primitive::Auto;
+    r.render(plane, s);
+    EXPECT_FALSE(r.stats().tiles);
+    expectFrameMatchesCpu(r, scene, plane, s, "gl_raster_lengthened_chunks");
 }
 
 TEST_F(GlTest, AutoTilesSheetsAndXRayRastersTheRestAndFallsBackWhereListsMightNotFit) {

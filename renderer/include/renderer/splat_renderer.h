@@ -66,6 +66,9 @@ public:
     // Caps the GPU memory setScene() may use, in bytes (0: no cap beyond what the driver reports). Keeps
     // room for other applications, and lets tests take the out-of-memory path without exhausting a GPU.
     void setMemoryLimit(uint64_t bytes);
+    // Caps the texels a tiled frame's lists may take (0: GL_MAX_TEXTURE_BUFFER_SIZE alone), as a GPU
+    // with a smaller limit would: auto then rasterises with tiles' semantics. For tests.
+    void setTexelBufferLimit(uint64_t texels);
 
 private:
     struct Gl;

@@ -103,6 +103,19 @@ inline int occlusionSlices(const SplatSettings& s) {
     return tiledSplatting(s) ? refresh * ((kTileChunkSlices + refresh - 1) / refresh) : refresh;
 }
 
+// The chunk that starts at slice `start` (in draw order) after one of `chunk` slices, given whether
+// any tile of the map is opaque there. The first two chunks are occlusionSlices(). With tiles'
+// semantics, while no tile is opaque after those (nothing to cull against) each chunk doubles, up
+// to four times the first, so a mostly transparent view pays for few chunks; once a tile is opaque
+// (it stays so, front to back) chunks are occlusionSlices() again. Doubling from the first chunk on
+// cost bonsai culling (617 k splats culled instead of 776 k, 4 % slower). The GPU and the CPU oracle
+// follow it alike.
+inline int nextOcclusionChunk(const SplatSettings& s, int start, int chunk, bool anyOpaque) {
+    const int first = occlusionSlices(s);
+    if (anyOpaque || !tiledSplatting(s) || start < 2 * first) return first;
+    return 2 * chunk < 4 * first ? 2 * chunk : 4 * first;
+}
+
 // Shading and surface splats read the scene's gradients.
 bool needsGradients(const SplatSettings& s);
 // Throws RenderError naming the scene when `s` needs gradients the scene lacks, or for a surface
