@@ -405,7 +405,7 @@ void main() {
 // order, where records fetched by index miss the cache (a third of bonsai's composite time on llvmpipe).
 // An entry is (centre, conic.xy), (conic.z, amplitude, bits) and, with shading, the shaded colour or the
 // gradient: without SPLAT_SHADING the composite fetches the colour from the LUT by class, so an entry
-// takes 7 stored floats instead of 11 (llvmpipe pays per stored component).
+// takes 7 stored floats instead of 12 (llvmpipe pays per stored component).
 const char* kTileScatterComp = R"(
 layout(local_size_x = 64) in;
 layout(std430, binding = 7) readonly buffer Splats { vec4 splats[]; };
