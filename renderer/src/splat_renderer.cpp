@@ -1427,10 +1427,17 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     if (settings.drawAllBuckets) active.fill(true);
     uint64_t submitted = 0;
     for (uint32_t r = 0; r < axis.runCount; ++r) submitted += active[axis.buckets[r]] ? axis.voxels[r] : 0;
+    const bool ftb = frontToBack(settings);
+    const bool earlyTermination = ftb && settings.opaqueAlpha < 1.0;
+    using Shading = SplatSettings::Shading;
+    const int variant = (settings.counters ? kCounters : 0) | (settings.surfaceFlatten > 1.0 ? kSurface : 0) |
+                        (settings.shading == Shading::PerSplat ? kSplatShading : 0) |
+                        (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
+                        (settings.heatmap ? kHeatmap : 0) | (settings.filter == FilterMode::Adaptive ? kAdaptive : 0) |
+                        (earlyTermination && settings.occlusionCulling ? kOcclusion : 0);
     const double tilesASide = std::ceil((2.0 * bound + 1.0) / kSplatTilePx) + 1.0;
-    const double texels = settings.shading == SplatSettings::Shading::None ? 2.0 : 3.0;   // entryTexels()
-    const bool listsFit =
-        double(submitted) * std::max(tilesASide * tilesASide, 4.0) * texels <= double(g.texelCap());
+    const bool listsFit = double(submitted) * std::max(tilesASide * tilesASide, 4.0) * entryTexels(variant) <=
+                          double(g.texelCap());
     const bool tiles = settings.primitive == Primitive::Tiles || (tiledSplatting(settings) && listsFit);
     const bool points = !tiles && (settings.primitive == Primitive::Points ||
                                    (settings.primitive != Primitive::Quads && bound <= pointFits));
@@ -1451,8 +1458,6 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
 
     const Compositing mode = settings.compositing;
     const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
-    const bool ftb = frontToBack(settings);
-    const bool earlyTermination = ftb && settings.opaqueAlpha < 1.0;
     const bool reversed = ftb && !sheets;   // splat-every-sample, front to back: the exact reverse
     const int refresh = opaqueRefreshSlices(settings);
     const bool xray = mode == Compositing::XRay;
@@ -1470,12 +1475,6 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glNamedFramebufferDrawBuffers(g.frameFbo, targets, bothTargets);
     glNamedFramebufferDrawBuffers(g.sheetFbo, targets, bothTargets);
 
-    using Shading = SplatSettings::Shading;
-    const int variant = (settings.counters ? kCounters : 0) | (settings.surfaceFlatten > 1.0 ? kSurface : 0) |
-                        (settings.shading == Shading::PerSplat ? kSplatShading : 0) |
-                        (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
-                        (settings.heatmap ? kHeatmap : 0) | (settings.filter == FilterMode::Adaptive ? kAdaptive : 0) |
-                        (earlyTermination && settings.occlusionCulling ? kOcclusion : 0);
     if (settings.filter == FilterMode::Adaptive) {
         g.classifyPatches(plane, settings, trav.axis);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
