@@ -730,20 +730,20 @@ void main() {
 }
 )";
 
-// Bucket selection: one indirect draw per run, in slice order both ways; inactive buckets draw 0
-// vertices. Runs only change with the volume, so a TF edit re-runs this pass and uploads nothing.
+// Bucket selection: one indirect draw per run of the frame's axis, in the frame's order; inactive
+// buckets draw 0 vertices. Runs only change with the volume, so a TF edit re-runs this pass and uploads
+// nothing; so does a turn to another axis or order (one array, not one per order: 16 bytes a run).
 const char* kCommandsComp = R"(#version 450 core
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Runs { uvec4 runs[]; };     // slice, tile, bucket|dense, count
+layout(std430, binding = 0) readonly buffer Runs { uvec4 runs[]; };     // first entry, tile, slice|bucket|dense, count
 layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
-layout(std430, binding = 2) readonly buffer Places { uvec2 places[]; }; // first entry, descending slot
-layout(std430, binding = 3) writeonly buffer Ascending { uvec4 ascending[]; };
-layout(std430, binding = 4) writeonly buffer Descending { uvec4 descending[]; };
-layout(std430, binding = 5) writeonly buffer ReversedAscending { uvec4 reversedAscending[]; };
-layout(std430, binding = 6) writeonly buffer ReversedDescending { uvec4 reversedDescending[]; };
+layout(std430, binding = 2) readonly buffer SliceRuns { uint sliceRuns[]; };   // as AxisLists::sliceRuns
+layout(std430, binding = 3) writeonly buffer Commands { uvec4 commands[]; };
 uniform uint uRuns;
 uniform uint uVertsPerSplat;
 uniform bool uAllBuckets;
+uniform bool uDescending;   // slices from the highest, each slice's runs in their own order
+uniform bool uReversed;     // the exact reverse (front-to-back splat-every-sample reverses each run too)
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= uRuns) return;
@@ -751,14 +751,12 @@ void main() {
     uint bucket = (run.z >> 16) & 0xffu;
     bool selected = uAllBuckets;
     for (uint c = bucket << 6; c < ((bucket + 1u) << 6) && !selected; ++c) selected = lut[c].a > 0.0;
-    bool dense = (run.z >> 31) != 0u;
-    // DrawArraysIndirectCommand: count, instanceCount, first, baseInstance (selects this run's aRun).
-    uvec4 command = uvec4(selected ? run.w * uVertsPerSplat : 0u, 1u, dense ? 0u : places[i].x * uVertsPerSplat, i);
-    ascending[i] = command;
-    descending[places[i].y] = command;
-    // The exact reverses (front-to-back splat-every-sample; the vertex stage reverses each run).
-    reversedAscending[uRuns - 1u - i] = command;
-    reversedDescending[uRuns - 1u - places[i].y] = command;
+    uint slice = run.z & 0xffffu;
+    uint slot = uDescending ? uRuns - sliceRuns[slice + 1u] + (i - sliceRuns[slice]) : i;
+    // DrawArraysIndirectCommand: count, instanceCount, first (0 for dense runs), baseInstance (selects
+    // this run's aRun).
+    commands[uReversed ? uRuns - 1u - slot : slot] =
+        uvec4(selected ? run.w * uVertsPerSplat : 0u, 1u, run.x * uVertsPerSplat, i);
 }
 )";
 
@@ -842,23 +840,21 @@ void checkAllocation(const char* what, const std::string& name, uint64_t needed,
 enum CounterSlot { kVisible, kTransparent, kNear, kDegenerate, kHuge, kOffscreen, kDrawn, kMode0, kOccluded = kMode0 + 3,
                    kCounterSlots };
 
-// One traversal axis on the GPU: the 16-bit entries, the runs (the vertex stage's per-draw attribute),
-// where each run's entries start and its slot in descending order, and the indirect command arrays
-// the command pass writes (slices ascending, descending, and the exact reverse of each). The CPU keeps the run buckets and slice ranges to skip empty slices.
+// One traversal axis on the GPU: the 16-bit entries, the runs (the vertex stage's per-draw attribute)
+// and where each slice's runs start (the command pass's descending order). The CPU keeps the run
+// buckets and slice ranges to skip empty slices.
 struct AxisBuffers {
-    GLuint entries = 0, runs = 0, places = 0, ascending = 0, descending = 0;
-    GLuint reversedAscending = 0, reversedDescending = 0;
+    GLuint entries = 0, runs = 0, sliceRunsBuffer = 0;
     uint32_t runCount = 0;
     std::vector<uint32_t> sliceRuns;   // as AxisLists::sliceRuns
     std::vector<uint16_t> buckets;     // per run
     std::vector<uint32_t> voxels;      // per run: voxels of its bucket
     std::vector<glm::u16vec2> lo, hi;  // per run: in-slice bounds of its voxels
-    std::vector<uint32_t> descendingSlot;
 
     void release() {
-        const GLuint b[] = {entries, runs, places, ascending, descending, reversedAscending, reversedDescending};
-        glDeleteBuffers(7, b);
-        entries = runs = places = ascending = descending = reversedAscending = reversedDescending = 0;
+        const GLuint b[] = {entries, runs, sliceRunsBuffer};
+        glDeleteBuffers(3, b);
+        entries = runs = sliceRunsBuffer = 0;
     }
 };
 
@@ -901,10 +897,16 @@ struct SplatRenderer::Gl {
                                             // grid (hysteresis reads them as last frame's)
     std::array<AxisBuffers, 3> axes;
     Lut lut;                             // CPU copy: which buckets are active, which slices are empty
-    // Command arrays are rewritten when the LUT, the primitive or drawAllBuckets changes.
-    uint64_t lutVersion = 1, commandsVersion = 0;
-    int commandsVerts = 0;
-    bool commandsAllBuckets = false;
+    // The one indirect command array (16 bytes a run of the longest axis), rewritten when the LUT, the
+    // primitive, drawAllBuckets, the axis or the order changes.
+    GLuint commands = 0;
+    uint64_t lutVersion = 1;
+    struct CommandsKey {
+        uint64_t lutVersion = 0;
+        int verts = 0, axis = -1;
+        bool allBuckets = false, descending = false, reversed = false;
+        bool operator==(const CommandsKey&) const = default;
+    } commandsKey;
     // Targets: the frame's image and heatmap, the slice sheets, and a depth buffer both FBOs share
     // (front-to-back early termination).
     GLuint image = 0, heat = 0, sheet = 0, sheetHeat = 0, depth = 0, displayTex = 0;
@@ -953,8 +955,8 @@ struct SplatRenderer::Gl {
         glDeleteVertexArrays(2, vaos);
         glDeleteTextures(1, &classTexture);
         glDeleteTextures(1, &lutTexture);
-        const GLuint buffers[] = {lutBuffer, counterBuffer, patchBuffer, gradientBuffer};
-        glDeleteBuffers(4, buffers);
+        const GLuint buffers[] = {lutBuffer, counterBuffer, patchBuffer, gradientBuffer, commands};
+        glDeleteBuffers(5, buffers);
         for (auto& a : axes) a.release();
         releaseTargets();
         glDeleteQueries(kTimerRing, timers.data());
@@ -1135,29 +1137,25 @@ struct SplatRenderer::Gl {
         glUniform1f(glGetUniformLocation(p, "uHysteresis"), float(settings.hysteresis));
     }
 
-    // Rewrites every axis's indirect commands for the current LUT (GPU only: nothing is uploaded).
-    void updateCommands(int vertsPerSplat, bool allBuckets) {
-        if (commandsVersion == lutVersion && commandsVerts == vertsPerSplat && commandsAllBuckets == allBuckets)
-            return;
+    // Rewrites the indirect commands for the current LUT, axis and order (GPU only: nothing is
+    // uploaded). Tiles read them ascending, by run.
+    void updateCommands(int axis, bool descending, bool reversed, int vertsPerSplat, bool allBuckets) {
+        const CommandsKey key{lutVersion, vertsPerSplat, axis, allBuckets, descending, reversed};
+        const AxisBuffers& a = axes[size_t(axis)];
+        if (commandsKey == key || a.runCount == 0) return;
         glUseProgram(commandsProgram);
         glUniform1ui(glGetUniformLocation(commandsProgram, "uVertsPerSplat"), GLuint(vertsPerSplat));
         glUniform1i(glGetUniformLocation(commandsProgram, "uAllBuckets"), allBuckets);
+        glUniform1i(glGetUniformLocation(commandsProgram, "uDescending"), descending);
+        glUniform1i(glGetUniformLocation(commandsProgram, "uReversed"), reversed);
+        glUniform1ui(glGetUniformLocation(commandsProgram, "uRuns"), a.runCount);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, a.runs);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, lutBuffer);
-        for (const AxisBuffers& a : axes) {
-            if (a.runCount == 0) continue;
-            glUniform1ui(glGetUniformLocation(commandsProgram, "uRuns"), a.runCount);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, a.runs);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, a.places);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, a.ascending);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, a.descending);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, a.reversedAscending);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, a.reversedDescending);
-            glDispatchCompute((a.runCount + 63) / 64, 1, 1);
-        }
-        glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
-        commandsVersion = lutVersion;
-        commandsVerts = vertsPerSplat;
-        commandsAllBuckets = allBuckets;
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, a.sliceRunsBuffer);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, commands);
+        glDispatchCompute((a.runCount + 63) / 64, 1, 1);
+        glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+        commandsKey = key;
     }
 };
 
@@ -1271,14 +1269,19 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
     if (d.x > maxSize || d.y > maxSize || d.z > maxSize)
         throw RenderError("volume dims exceed GL_MAX_3D_TEXTURE_SIZE " + std::to_string(maxSize));
-    // GPU memory: the classes (2 bytes a voxel), the LUT and per axis the entries (2 bytes each), the
-    // runs (16 + 8 bytes) and four command arrays (16 bytes a run each: both slice orders, each also
-    // with every run read backwards), against what the driver reports free (plus what the current
+    // GPU memory: the classes (2 bytes a voxel), the LUT, per axis the entries (2 bytes each), the
+    // runs (16 bytes) and where each slice's start (4 bytes a slice), and one command array (16 bytes a
+    // run of the axis with the most), against what the driver reports free (plus what the current
     // scene holds, which is replaced) and the optional limit.
     auto entryBytes = [](const AxisLists& l) { return std::max<size_t>((l.entries.size() + 1) / 2, 1) * 4; };
-    auto runBytes = [](const AxisLists& l) { return std::max<size_t>(l.runs.size(), 1) * (16 + 8 + 4 * 16); };
+    auto runCount = [](const AxisLists& l) { return std::max<size_t>(l.runs.size(), 1); };
     uint64_t needed = scene.classes.size() * sizeof(uint16_t) + scene.lut.size() * sizeof(glm::vec4);
-    for (const auto& l : scene.lists) needed += entryBytes(l) + runBytes(l);
+    size_t mostRuns = 1;
+    for (const auto& l : scene.lists) {
+        needed += entryBytes(l) + runCount(l) * 16 + l.sliceRuns.size() * 4;
+        mostRuns = std::max(mostRuns, runCount(l));
+    }
+    needed += mostRuns * 16;
     needed += std::max<size_t>(scene.gradients.size(), 1) * 4;
     std::optional<uint64_t> freeBytes = freeGpuMemoryBytes();
     if (freeBytes) *freeBytes += g.sceneBytes;
@@ -1327,38 +1330,27 @@ void SplatRenderer::setScene(const SplatScene& scene) {
 
         const size_t n = lists.runs.size();
         std::vector<glm::uvec4> runs(std::max<size_t>(n, 1), glm::uvec4(0));
-        std::vector<glm::uvec2> places(std::max<size_t>(n, 1), glm::uvec2(0));
         a.buckets.resize(n);
         a.voxels.resize(n);
         a.lo.resize(n);
         a.hi.resize(n);
-        a.descendingSlot.resize(n);
         a.sliceRuns = lists.sliceRuns;
-        // Descending order: slices from the top, each slice's runs in their own order.
-        const uint32_t slices = uint32_t(d[axis]);
-        uint32_t slot = 0;
-        for (uint32_t k = 0; k < slices; ++k) {
-            const uint32_t slice = slices - 1 - k;
-            for (uint32_t r = lists.sliceRuns[slice]; r < lists.sliceRuns[slice + 1]; ++r) a.descendingSlot[r] = slot++;
-        }
         for (size_t r = 0; r < n; ++r) {
             const SliceRun& run = lists.runs[r];
             runs[r] = glm::uvec4(run.dense ? 0u : run.first, run.tileBase,
                                  run.slice | uint32_t(run.bucket) << 16 | (run.dense ? 1u << 31 : 0u), run.count);
-            places[r] = glm::uvec2(run.first, a.descendingSlot[r]);
             a.buckets[r] = run.bucket;
             a.voxels[r] = run.voxels;
             a.lo[r] = run.lo;
             a.hi[r] = run.hi;
         }
         makeBuffer(a.runs, runs.size() * sizeof(glm::uvec4), runs.data(), "slice runs");
-        makeBuffer(a.places, places.size() * sizeof(glm::uvec2), places.data(), "slice runs");
-        makeBuffer(a.ascending, runs.size() * 16, nullptr, "draw commands");
-        makeBuffer(a.descending, runs.size() * 16, nullptr, "draw commands");
-        makeBuffer(a.reversedAscending, runs.size() * 16, nullptr, "draw commands");
-        makeBuffer(a.reversedDescending, runs.size() * 16, nullptr, "draw commands");
+        makeBuffer(a.sliceRunsBuffer, lists.sliceRuns.size() * 4, lists.sliceRuns.data(), "slice runs");
         a.runCount = uint32_t(n);
     }
+    glDeleteBuffers(1, &g.commands);
+    makeBuffer(g.commands, mostRuns * 16, nullptr, "draw commands");
+    g.commandsKey = {};   // other runs: written afresh
     g.dims = d;
     g.patchLayout.reset();   // another scene: no last frame to keep filters from
     g.origin = scene.origin;
@@ -1454,11 +1446,14 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     if (settings.counters) glBeginQuery(GL_SAMPLES_PASSED, g.fragmentQuery);
     const int verts = points ? 1 : 6;
     const float guard = points ? float(std::ceil(0.5 * g.maxPointSize) + 1.0) : 0.0f;
-    g.updateCommands(verts, settings.drawAllBuckets);
-
     const Compositing mode = settings.compositing;
     const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
     const bool reversed = ftb && !sheets;   // splat-every-sample, front to back: the exact reverse
+    // Slices walk back to front, except front to back; sheets only turn the slice order, splat-every-
+    // sample reverses everything (the vertex stage each run). Tiles read the commands by run.
+    const bool descending = trav.descending != (ftb && sheets);
+    if (tiles) g.updateCommands(trav.axis, false, false, verts, settings.drawAllBuckets);
+    else g.updateCommands(trav.axis, descending, reversed, verts, settings.drawAllBuckets);
     const int refresh = opaqueRefreshSlices(settings);
     const bool xray = mode == Compositing::XRay;
 
@@ -1521,16 +1516,13 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.counterBuffer);
     glBindVertexArray(g.splatVao);
     glVertexArrayVertexBuffer(g.splatVao, 0, axis.runs, 0, sizeof(glm::uvec4));
-    // Slices walk back to front, except front to back; every order is a command array. Sheets only
-    // turn the slice order; splat-every-sample reverses everything (the vertex stage each run).
-    const bool descending = trav.descending != (ftb && sheets);
-    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, reversed ? (descending ? axis.reversedDescending : axis.reversedAscending)
-                                                   : (descending ? axis.descending : axis.ascending));
-    // Where slice `slice`'s commands lie in the bound array, and how many there are.
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, g.commands);
+    // Where slice `slice`'s commands lie in the bound array (as kCommandsComp lays them out), and how
+    // many there are.
     const uint32_t runCount = axis.runCount;
     auto sliceCommands = [&](uint32_t slice) {
         const uint32_t r0 = axis.sliceRuns[slice], n = axis.sliceRuns[slice + 1] - r0;
-        const uint32_t first = n == 0 ? 0 : (descending ? axis.descendingSlot[r0] : r0);
+        const uint32_t first = descending ? runCount - axis.sliceRuns[slice + 1] : r0;
         return std::pair{reversed ? runCount - first - n : first, n};
     };
     // Front to back, every `refresh` slices: pixels whose alpha reached opaqueAlpha get depth 0.5,
@@ -1621,7 +1613,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glUniform1i(glGetUniformLocation(composite, "uOrtho"), plane.orthographic);
         setShadingUniforms(composite, sp);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, axis.runs);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, axis.ascending);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, g.commands);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, g.tileSplats);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, g.tileBins);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.tileState);

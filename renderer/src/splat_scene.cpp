@@ -62,7 +62,7 @@ AxisLists buildAxisLists(const SplatScene& s, int axis) {
                 r.slice = slice;
                 r.tileBase = tileBase;
                 r.bucket = uint16_t(b);
-                r.dense = 2 * count[size_t(b)] > tileSize;
+                r.dense = kDenseShare * count[size_t(b)] > tileSize;
                 r.first = r.dense ? 0 : base + listed;
                 r.count = r.dense ? tileSize : count[size_t(b)];
                 r.voxels = count[size_t(b)];

@@ -179,11 +179,16 @@ TEST_F(GlTest, TfEditUploadsOnlyTheLutAndSelectsBuckets) {
     EXPECT_GT(r.stats().uploadBytes, scene.classes.size() * 2);
     r.render(plane, SplatSettings{});
     EXPECT_EQ(r.stats().uploadBytes, 0u);   // a frame uploads uniforms only
-    // GPU bytes: classes 2 a voxel, the LUT, per axis 2 per listed voxel (whole words) and 88 per run
-    // (the run 16, where it lies 8, four command arrays 64), and one word standing in for the
-    // gradients (4 bytes a voxel once the scene has them).
+    // GPU bytes: classes 2 a voxel, the LUT, per axis 2 per listed voxel (whole words), 16 per run and
+    // 4 per slice (where its runs start), one command array of 16 bytes a run of the axis with the
+    // most, and one word standing in for the gradients (4 bytes a voxel once the scene has them).
     uint64_t expected = scene.classes.size() * 2 + kLutSize * 16 + 4;
-    for (const auto& l : scene.lists) expected += (l.entries.size() + 1) / 2 * 4 + l.runs.size() * 88;
+    size_t mostRuns = 0;
+    for (const auto& l : scene.lists) {
+        expected += (l.entries.size() + 1) / 2 * 4 + l.runs.size() * 16 + l.sliceRuns.size() * 4;
+        mostRuns = std::max(mostRuns, l.runs.size());
+    }
+    expected += mostRuns * 16;
     EXPECT_EQ(r.sceneBytes(), expected);
 
     for (const char* preset : {"ct-bone", "grey-ramp", "fire"}) {

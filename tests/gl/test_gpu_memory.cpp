@@ -34,8 +34,9 @@ TEST_F(GpuMemory, SceneOverTheLimitIsRefusedWithSizesAndTheRendererStaysUsable) 
 }
 
 TEST_F(GpuMemory, TheCheckBeforeUploadingCountsEveryBufferTheSceneTakes) {
-    // The check must see what setScene then allocates, command arrays included (it once counted two of
-    // the four): a limit one byte short of it is refused before anything is uploaded.
+    // The check must see what setScene then allocates, the command array and where slices start
+    // included (it once counted two of four command arrays): a limit one byte short of it is refused
+    // before anything is uploaded.
     const SplatScene scene = buildSplatScene(makeCheckerboard({48, 40, 32}, 4), builtinPreset("grey-ramp"));
     uint64_t bytes = 0;
     {

@@ -9,9 +9,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <numbers>
+#include <numeric>
 
 using namespace renderer;
 using ::testing::HasSubstr;
@@ -173,6 +175,38 @@ TEST(SplatScene, ListsStayCompactWhereOneValueDominatesATile) {
             EXPECT_EQ(r.hi, hi);
         }
         EXPECT_EQ(dense, 40u);
+    }
+}
+
+TEST(SplatScene, BucketsOverAnEighthOfATileAreWalkedNotListed) {
+    // 16x16x4: stripes along x of 4, 4, 4 and 3 columns (a quarter or 3/16 of every z and y slice, one
+    // value per x slice), and a last column whose value, one bucket per y, takes 1/16 of those slices.
+    // Only that column is listed, 64 entries on each axis; the stripes are walked.
+    Volume v;
+    v.dims = {16, 16, 4};
+    v.values.resize(v.voxelCount());
+    for (int z = 0; z < 4; ++z)
+        for (int y = 0; y < 16; ++y)
+            for (int x = 0; x < 16; ++x)
+                v.values[(size_t(z) * 16 + y) * 16 + x] = x == 15 ? float(y + 1.5) / 64.0f : 0.3f * float(x / 4);
+    v.range = {0.0f, 1.0f};
+    const SplatScene s = buildSplatScene(v, builtinPreset("grey-ramp"));
+    for (int axis = 0; axis < 3; ++axis) {
+        const AxisLists& lists = s.lists[size_t(axis)];
+        EXPECT_EQ(lists.entries.size(), 64u) << axis;
+        const uint32_t tile = uint32_t(v.dims[(axis + 1) % 3] * v.dims[(axis + 2) % 3]);
+        size_t walked = 0;
+        for (const SliceRun& r : lists.runs) {
+            EXPECT_EQ(r.dense, kDenseShare * r.voxels > tile) << axis;
+            walked += r.dense;
+        }
+        EXPECT_EQ(walked, axis == 0 ? 15u : axis == 1 ? 64u : 16u) << axis;
+        // Every voxel drawn once: each walk keeps its own bucket's.
+        std::vector<uint32_t> order = drawOrder(s, Traversal{axis, false}, false, true);
+        std::sort(order.begin(), order.end());
+        std::vector<uint32_t> all(v.voxelCount());
+        std::iota(all.begin(), all.end(), 0u);
+        EXPECT_EQ(order, all) << axis;
     }
 }
 
