@@ -279,6 +279,13 @@ void printCounters(const SplatCounters& c) {
                 (unsigned long long)c.culledDegenerate, (unsigned long long)c.culledOccluded);
 }
 
+// Milliseconds with three significant digits or more: 98.1, 5.02, 0.213.
+std::string formatMs(double ms) {
+    char text[32];
+    std::snprintf(text, sizeof text, ms >= 100.0 ? "%.0f" : ms >= 10.0 ? "%.1f" : ms >= 1.0 ? "%.2f" : "%.3f", ms);
+    return text;
+}
+
 int runRender(const SceneArgs& a, const RenderArgs& ra) {
     const int frames = ra.frames;
     const bool cpu = ra.cpu;
@@ -323,6 +330,12 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
             glFinish();
             ms.push_back(msSince(t0));
         }
+        gl.collectTimers();   // the last frame's, finished by its glFinish
+        std::string passes;
+        for (int i = 0; i < kGpuPasses; ++i)
+            if (const double passMs = gl.stats().passMs[size_t(i)]; passMs > 0.0)
+                passes += (passes.empty() ? "" : ", ") + std::string(gpuPassName(GpuPass(i))) + " " + formatMs(passMs);
+        std::printf("  GPU %s ms in the last frame: %s\n", formatMs(gl.stats().gpuMs).c_str(), passes.c_str());
         image = gl.readback();
         if (s.settings.heatmap) heatmap = gl.readbackHeatmap();
         if (ra.counters) {   // one more frame with the GPU's counters on (they wait for the frame)

@@ -920,7 +920,17 @@ struct SplatRenderer::Gl {
     size_t tileSplatBytes = 0, tileBinBytes = 0, tileStateBytes = 0, tileListBytes = 0, tileBusyBytes = 0;
     glm::ivec2 tiles{0};
     int width = 0, height = 0;
-    std::array<GLuint, kTimerRing> timers{};
+    // Per ring slot, a timed frame's laps: GL_TIMESTAMP queries where it starts, where each pass starts
+    // and where it ends (grown as frames need them, kept). Timestamps, not a GL_TIME_ELAPSED query:
+    // llvmpipe starts that at the first draw, so a frame of compute passes (tiles) read its clock.
+    struct Laps {
+        std::vector<GLuint> queries;
+        std::vector<std::optional<GpuPass>> passes;   // what runs from each query to the next
+        size_t used = 0;
+    };
+    std::array<Laps, kTimerRing> laps;
+    Laps* timing = nullptr;            // the frame being timed; null outside a timed frame
+    std::optional<GpuPass> lapPass;    // the pass its last lap started
     std::array<bool, kTimerRing> timerPending{};
     std::array<uint64_t, kTimerRing> timerFrame{};
     uint64_t frameCounter = 0, newestTimed = 0;
@@ -959,7 +969,7 @@ struct SplatRenderer::Gl {
         glDeleteBuffers(5, buffers);
         for (auto& a : axes) a.release();
         releaseTargets();
-        glDeleteQueries(kTimerRing, timers.data());
+        for (Laps& l : laps) glDeleteQueries(GLsizei(l.queries.size()), l.queries.data());
         glDeleteQueries(1, &fragmentQuery);
     }
 
@@ -1016,8 +1026,25 @@ struct SplatRenderer::Gl {
         height = h;
     }
 
+    // Timestamps the start of `pass` in the frame being timed (nothing when the pass goes on); no pass:
+    // the frame's start or end.
+    void lap(std::optional<GpuPass> pass) {
+        if (!timing || (pass && pass == lapPass)) return;
+        Laps& l = *timing;
+        if (l.used == l.queries.size()) {
+            GLuint q = 0;
+            glCreateQueries(GL_TIMESTAMP, 1, &q);
+            l.queries.push_back(q);
+        }
+        glQueryCounter(l.queries[l.used++], GL_TIMESTAMP);
+        l.passes.resize(l.used);
+        l.passes[l.used - 1] = pass;
+        lapPass = pass;
+    }
+
     // X-ray's sums become 1 - exp(-sum), in place (kResolveFrag).
     void resolveXRay(int w, int h) {
+        lap(GpuPass::Resolve);
         glBindFramebuffer(GL_FRAMEBUFFER, frameFbo);
         glDisable(GL_BLEND);
         glViewport(0, 0, w, h);
@@ -1091,6 +1118,7 @@ struct SplatRenderer::Gl {
 
     // The adaptive classifier once per patch (compute) into patchBuffer; returns the patch count.
     size_t classifyPatches(const ImagePlane& plane, const SplatSettings& settings, int axis) {
+        lap(GpuPass::Patches);
         const PatchGrid grid = patchGrid(dims, axis, settings.patchSize);
         const size_t n = grid.count();
         if (patchBufferBytes < n * 4) {
@@ -1143,6 +1171,7 @@ struct SplatRenderer::Gl {
         const CommandsKey key{lutVersion, vertsPerSplat, axis, allBuckets, descending, reversed};
         const AxisBuffers& a = axes[size_t(axis)];
         if (commandsKey == key || a.runCount == 0) return;
+        lap(GpuPass::Select);
         glUseProgram(commandsProgram);
         glUniform1ui(glGetUniformLocation(commandsProgram, "uVertsPerSplat"), GLuint(vertsPerSplat));
         glUniform1i(glGetUniformLocation(commandsProgram, "uAllBuckets"), allBuckets);
@@ -1248,7 +1277,6 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     glVertexArrayAttribIFormat(g.splatVao, 0, 4, GL_UNSIGNED_INT, 0);
     glVertexArrayAttribBinding(g.splatVao, 0, 0);
     glVertexArrayBindingDivisor(g.splatVao, 0, 1);
-    glCreateQueries(GL_TIME_ELAPSED, kTimerRing, g.timers.data());
     glCreateQueries(GL_SAMPLES_PASSED, 1, &g.fragmentQuery);
     glCreateBuffers(1, &g.counterBuffer);
     glNamedBufferStorage(g.counterBuffer, kCounterSlots * sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -1442,7 +1470,12 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     collectTimers();
     const size_t slot = size_t(g.timerNext);
     const bool timed = !g.timerPending[slot];   // ring full of unfinished frames: skip, never stall
-    if (timed) glBeginQuery(GL_TIME_ELAPSED, g.timers[slot]);
+    if (timed) {
+        g.timing = &g.laps[slot];
+        g.timing->used = 0;
+        g.lapPass.reset();
+        g.lap(std::nullopt);   // the frame's start
+    }
     if (settings.counters) glBeginQuery(GL_SAMPLES_PASSED, g.fragmentQuery);
     const int verts = points ? 1 : 6;
     const float guard = points ? float(std::ceil(0.5 * g.maxPointSize) + 1.0) : 0.0f;
@@ -1529,6 +1562,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     // where splats (also at 0.5) fail GL_LESS; the tile map the vertex stage culls with is redone
     // once every occlusionSlices(settings) slices (`remap`).
     auto refreshOpaque = [&](GLuint fbo, bool remap) {
+        g.lap(GpuPass::Opaque);
         glDisable(GL_SCISSOR_TEST);
         glDisable(GL_BLEND);
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);
@@ -1629,6 +1663,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             bool any = false;
             for (uint32_t r = runFirst; r < runFirst + runs && !any; ++r) any = active[axis.buckets[r]];
             if (!any) continue;
+            g.lap(GpuPass::Splats);
             glClearNamedBufferSubData(g.tileBins, GL_R32UI, 0, GLsizeiptr(size_t(tileCount) * ranks * 4), GL_RED_INTEGER,
                                       GL_UNSIGNED_INT, nullptr);
             glClearNamedBufferSubData(g.tileState, GL_R32UI, 0, 8, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
@@ -1642,6 +1677,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             glDispatchCompute(groupsX, (runs + groupsX - 1) / groupsX, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
+            g.lap(GpuPass::Offsets);
             glUseProgram(offsets);
             glUniform1i(glGetUniformLocation(offsets, "uRanks"), GLint(ranks));
             glDispatchCompute(GLuint((tileCount + 63) / 64), 1, 1);
@@ -1662,11 +1698,13 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * texels * 16);
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.tileList);
 
+            g.lap(GpuPass::Scatter);
             glUseProgram(scatter);
             glUniform1i(glGetUniformLocation(scatter, "uRanks"), GLint(ranks));
             glDispatchCompute(std::clamp<GLuint>((counts[0] + 63) / 64, 1, 65535), 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
 
+            g.lap(GpuPass::Composite);
             glUseProgram(composite);
             glUniform1i(glGetUniformLocation(composite, "uRank0"), GLint(k0));
             glUniform1i(glGetUniformLocation(composite, "uRanks"), GLint(ranks));
@@ -1704,6 +1742,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             }
             if (first >= last) continue;
             if (k0 > 0) refreshOpaque(g.depthFbo, true);
+            g.lap(GpuPass::Splats);
             glBindFramebuffer(GL_FRAMEBUFFER, g.frameFbo);
             glViewport(-guardInt, -guardInt, plane.width + 2 * guardInt, plane.height + 2 * guardInt);
             glMultiDrawArraysIndirect(primitive, reinterpret_cast<const void*>(size_t(first) * 16),
@@ -1717,6 +1756,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glDisable(GL_DEPTH_TEST);
         if (xray) glBlendFunc(GL_ONE, GL_ONE);                 // order-free sums
         else glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);     // premultiplied "over", back to front
+        g.lap(GpuPass::Splats);
         if (axis.runCount > 0) glMultiDrawArraysIndirect(primitive, nullptr, GLsizei(axis.runCount), 0);
         if (xray) g.resolveXRay(plane.width, plane.height);
     } else {
@@ -1756,6 +1796,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             if (stale) refreshOpaque(g.sheetFbo, false);   // mark what earlier slices made opaque
             stale = false;
             // GL's rows run bottom up.
+            g.lap(GpuPass::Splats);
             glEnable(GL_SCISSOR_TEST);
             glScissor(rect.x0, plane.height - rect.y1, rect.x1 - rect.x0, rect.y1 - rect.y0);
             glClearNamedFramebufferfv(g.sheetFbo, GL_COLOR, 0, zero);
@@ -1778,6 +1819,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             glMultiDrawArraysIndirect(primitive, reinterpret_cast<const void*>(size_t(firstCommand) * 16),
                                       GLsizei(commands), 0);
 
+            g.lap(GpuPass::Composite);
             glBindFramebuffer(GL_FRAMEBUFFER, g.frameFbo);
             glViewport(0, 0, plane.width, plane.height);
             glDisable(GL_DEPTH_TEST);
@@ -1797,7 +1839,8 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     if (settings.counters) glEndQuery(GL_SAMPLES_PASSED);
     if (timed) {
-        glEndQuery(GL_TIME_ELAPSED);
+        g.lap(std::nullopt);   // the frame's end
+        g.timing = nullptr;
         g.timerPending[slot] = true;
         g.timerFrame[slot] = ++g.frameCounter;
         g.timerNext = (g.timerNext + 1) % kTimerRing;
@@ -1833,6 +1876,20 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     m_stats.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
 }
 
+const char* gpuPassName(GpuPass pass) {
+    switch (pass) {
+    case GpuPass::Select: return "select buckets";
+    case GpuPass::Patches: return "classify patches";
+    case GpuPass::Splats: return "splats";
+    case GpuPass::Offsets: return "tile offsets";
+    case GpuPass::Scatter: return "tile scatter";
+    case GpuPass::Composite: return "composite";
+    case GpuPass::Opaque: return "opaque map";
+    case GpuPass::Resolve: return "resolve";
+    }
+    return "?";
+}
+
 std::vector<uint8_t> SplatRenderer::patchModes(const ImagePlane& plane, const SplatSettings& settings) {
     Gl& g = *m_gl;
     if (!g.classTexture) throw RenderError("SplatRenderer::patchModes called before setScene");
@@ -1848,16 +1905,19 @@ void SplatRenderer::collectTimers() {
     Gl& g = *m_gl;
     for (int i = 0; i < kTimerRing; ++i) {
         if (!g.timerPending[size_t(i)]) continue;
-        GLint ready = 0;
-        glGetQueryObjectiv(g.timers[size_t(i)], GL_QUERY_RESULT_AVAILABLE, &ready);
+        const Gl::Laps& laps = g.laps[size_t(i)];
+        GLint ready = 0;   // the frame's end, its last query
+        glGetQueryObjectiv(laps.queries[laps.used - 1], GL_QUERY_RESULT_AVAILABLE, &ready);
         if (!ready) continue;
-        GLuint64 ns = 0;
-        glGetQueryObjectui64v(g.timers[size_t(i)], GL_QUERY_RESULT, &ns);
         g.timerPending[size_t(i)] = false;
-        if (g.timerFrame[size_t(i)] > g.newestTimed) {   // keep the newest finished frame's time
-            g.newestTimed = g.timerFrame[size_t(i)];
-            m_stats.gpuMs = double(ns) * 1e-6;
-        }
+        if (g.timerFrame[size_t(i)] <= g.newestTimed) continue;   // keep the newest finished frame's times
+        g.newestTimed = g.timerFrame[size_t(i)];
+        std::vector<GLuint64> t(laps.used);
+        for (size_t j = 0; j < laps.used; ++j) glGetQueryObjectui64v(laps.queries[j], GL_QUERY_RESULT, &t[j]);
+        m_stats.gpuMs = double(t.back() - t.front()) * 1e-6;
+        m_stats.passMs = {};
+        for (size_t j = 0; j + 1 < laps.used; ++j)
+            if (laps.passes[j]) m_stats.passMs[size_t(*laps.passes[j])] += double(t[j + 1] - t[j]) * 1e-6;
     }
 }
 

@@ -15,6 +15,7 @@
 #include <benchmark/benchmark.h>
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -82,6 +83,13 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
         state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     const bool points = r.stats().points;
+    r.collectTimers();   // the last timed frame's GPU time per pass (finished by its glFinish)
+    for (int i = 0; i < kGpuPasses; ++i)
+        if (const double ms = r.stats().passMs[size_t(i)]; ms > 0.0) {
+            std::string name = std::string("ms_") + gpuPassName(GpuPass(i));
+            std::replace(name.begin(), name.end(), ' ', '_');
+            state.counters[name] = ms;
+        }
     s.counters = true;
     r.render(plane, s);
     const SplatCounters& c = r.stats().counters;

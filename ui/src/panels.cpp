@@ -282,6 +282,15 @@ void drawStatsPanel(const StatsView& stats) {
         ImGui::Text("render  cpu %.2f ms   gpu %.2f ms", f.cpuMs, f.gpuMs);
     else
         ImGui::Text("render  cpu %.2f ms   gpu (pending)", f.cpuMs);
+    std::string passes;   // the same frame's GPU time per pass
+    for (int i = 0; i < renderer::kGpuPasses; ++i)
+        if (f.passMs[size_t(i)] > 0.0) {
+            char part[48];
+            std::snprintf(part, sizeof part, "%s%s %.1f", passes.empty() ? "" : "  ",
+                          renderer::gpuPassName(renderer::GpuPass(i)), f.passMs[size_t(i)]);
+            passes += part;
+        }
+    if (!passes.empty()) ImGui::TextWrapped("passes  %s ms", passes.c_str());
     ImGui::Text("splats  %llu sent (%zu visible)", static_cast<unsigned long long>(f.splatsDrawn),
                 stats.visibleSplats);
     ImGui::Text("upload  %.1f KiB   %s", double(f.uploadBytes) / 1024.0, f.tiles ? "tiles" : f.points ? "point sprites" : "quads");

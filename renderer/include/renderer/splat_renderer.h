@@ -9,13 +9,24 @@
 #include "renderer/splat_scene.h"
 #include "renderer/splat_settings.h"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 
 namespace renderer {
 
+// The passes a frame's GPU time is split into (FrameStats::passMs), from GL_TIMESTAMP queries at each
+// pass's start. Splats: the rasterised splats (vertex stage, rasteriser, blending) or, tiled, the record
+// pass; Composite: the sheets into the image, rasterised or tiled; Opaque: the rasterised front-to-back
+// opaque mask and tile map.
+enum class GpuPass { Select, Patches, Splats, Offsets, Scatter, Composite, Opaque, Resolve };
+constexpr int kGpuPasses = 8;
+const char* gpuPassName(GpuPass pass);
+
 struct FrameStats {
     double gpuMs = 0.0;          // GPU time of the last frame whose timer query is ready (ring, no stall)
+    std::array<double, kGpuPasses> passMs{};   // that frame's GPU time per GpuPass, from its start to
+                                               // the next pass's (0: the pass did not run)
     double cpuMs = 0.0;          // CPU time spent issuing the frame
     uint64_t splatsDrawn = 0;    // voxels of the active buckets sent to the vertex stage
     uint64_t uploadBytes = 0;    // bytes uploaded to buffers and textures by the last call

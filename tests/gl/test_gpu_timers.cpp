@@ -1,0 +1,88 @@
+// GPU time per pass (FrameStats::passMs) from the timestamp ring: each frame's passes get time and the
+// passes it did not run get none; the parts fit in the frame's GPU time, and that in the wall time
+// around it.
+#include "gl_fixture.h"
+
+#include "renderer/procedural.h"
+#include "renderer/splat_renderer.h"
+#include "renderer/transfer_function.h"
+
+#include <epoxy/gl.h>
+
+#include <chrono>
+#include <set>
+
+using namespace renderer;
+
+namespace {
+
+// Renders one frame, waits for it and reads its timers; returns the wall time of render + finish.
+double timedFrame(SplatRenderer& r, const ImagePlane& plane, const SplatSettings& s) {
+    const auto t0 = std::chrono::steady_clock::now();
+    r.render(plane, s);
+    glFinish();
+    const double wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    r.collectTimers();
+    return wallMs;
+}
+
+// The passes with time are exactly `ran`; they add up to no more than the frame, the frame to no more
+// than the wall clock around it.
+void expectPasses(const FrameStats& f, double wallMs, const std::set<GpuPass>& ran, const std::string& name) {
+    double sum = 0.0;
+    for (int i = 0; i < kGpuPasses; ++i) {
+        const GpuPass pass = GpuPass(i);
+        if (ran.count(pass)) EXPECT_GT(f.passMs[size_t(i)], 0.0) << name << ": " << gpuPassName(pass);
+        else EXPECT_EQ(f.passMs[size_t(i)], 0.0) << name << ": " << gpuPassName(pass);
+        sum += f.passMs[size_t(i)];
+    }
+    EXPECT_GT(f.gpuMs, 0.0) << name;
+    EXPECT_LE(sum, f.gpuMs + 1e-6) << name;
+    EXPECT_LE(f.gpuMs, wallMs) << name;
+}
+
+} // namespace
+
+class GpuTimers : public GlTest {};
+
+TEST_F(GpuTimers, EachFrameTimesThePassesItRanAndNoOthers) {
+    SplatScene scene = buildSplatScene(makeCheckerboard({24, 20, 16}, 4), builtinPreset("grey-ramp"));
+    const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, 64, 64);
+    SplatRenderer r;
+    r.setScene(scene);
+    using P = GpuPass;
+    SplatSettings s;
+    s.compositing = Compositing::SheetFrontToBack;
+    s.primitive = SplatSettings::Primitive::Tiles;
+
+    // A tiled frame is compute passes only (llvmpipe's GL_TIME_ELAPSED once read its clock there). The
+    // first frame writes the bucket selection; the next reuses it; a TF edit writes it again.
+    double wall = timedFrame(r, plane, s);
+    expectPasses(r.stats(), wall, {P::Select, P::Splats, P::Offsets, P::Scatter, P::Composite}, "tiles, first");
+    wall = timedFrame(r, plane, s);
+    expectPasses(r.stats(), wall, {P::Splats, P::Offsets, P::Scatter, P::Composite}, "tiles, again");
+    setTransferFunction(scene, builtinPreset("ct-bone"));
+    r.setLut(scene.lut);
+    wall = timedFrame(r, plane, s);
+    expectPasses(r.stats(), wall, {P::Select, P::Splats, P::Offsets, P::Scatter, P::Composite}, "tiles, TF edit");
+    setTransferFunction(scene, builtinPreset("grey-ramp"));
+    r.setLut(scene.lut);
+
+    s.filter = FilterMode::Adaptive;
+    s.compositing = Compositing::XRay;
+    wall = timedFrame(r, plane, s);
+    expectPasses(r.stats(), wall,
+                 {P::Select, P::Patches, P::Splats, P::Offsets, P::Scatter, P::Composite, P::Resolve}, "tiles, X-ray");
+
+    // Rasterised: sheets back to front, then splat-every-sample front to back with its opaque map
+    // (refreshed every 4 slices, so the 16 slices need it).
+    s = SplatSettings{};
+    s.primitive = SplatSettings::Primitive::Raster;
+    s.compositing = Compositing::SheetBackToFront;
+    wall = timedFrame(r, plane, s);
+    expectPasses(r.stats(), wall, {P::Select, P::Splats, P::Composite}, "raster sheets");
+    s.compositing = Compositing::SplatEverySample;   // front to back: opaqueAlpha < 1
+    s.opaqueRefreshSlices = 4;
+    wall = timedFrame(r, plane, s);
+    expectPasses(r.stats(), wall, {P::Select, P::Splats, P::Opaque}, "raster front to back");
+}
