@@ -2,6 +2,7 @@
 #include "renderer/classifier.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace renderer {
 
@@ -33,6 +34,31 @@ FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThres
     if (t.sigmaMin * pxPerUnit > reconAbove) return FilterMode::Reconstruction;
     if (t.sigmaMax * pxPerUnit < lowPassBelow) return FilterMode::LowPass;
     return FilterMode::Ewa;
+}
+
+std::optional<FilterMode> uniformAdaptiveFilter(glm::ivec3 dims, glm::dvec3 origin, glm::dvec3 spacing,
+                                                const ImagePlane& plane, const SplatSettings& s) {
+    // Voxel centres lie in the box of the corner voxels' centres; depth is linear, so its range is
+    // the corners'. Pixels per unit fall with depth.
+    double u2min = std::numeric_limits<double>::infinity(), u2max = -u2min;
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::dvec3 ijk((corner & 1) ? dims.x - 1 : 0, (corner & 2) ? dims.y - 1 : 0, (corner & 4) ? dims.z - 1 : 0);
+        const double u2 = plane.toCamera(origin + spacing * ijk).z;
+        u2min = std::min(u2min, u2);
+        u2max = std::max(u2max, u2);
+    }
+    if (!plane.orthographic && !(u2min > plane.nearDepth)) return std::nullopt;
+    const double pxMax = plane.orthographic ? plane.fPx : plane.fPx / u2min;
+    const double pxMin = plane.orthographic ? plane.fPx : plane.fPx / u2max;
+    const AdaptiveThresholds t = adaptiveThresholds(spacing, plane, s);
+    // Each threshold as far as hysteresis can move it (classifyDepth), and 0.1 % for float rounding.
+    const double band = (1.0 + std::max(s.hysteresis, 0.0)) * 1.001;
+    const bool neverReconstruction = t.sigmaMin * pxMax <= t.reconstructionAbovePx / band;
+    const bool neverLowPass = t.sigmaMax * pxMin >= t.lowPassBelowPx * band;
+    if (t.sigmaMin * pxMin > t.reconstructionAbovePx * band) return FilterMode::Reconstruction;
+    if (neverReconstruction && t.sigmaMax * pxMax < t.lowPassBelowPx / band) return FilterMode::LowPass;
+    if (neverReconstruction && neverLowPass) return FilterMode::Ewa;
+    return std::nullopt;
 }
 
 PatchGrid patchGrid(glm::ivec3 dims, int axis, int patchSize) {

@@ -1116,8 +1116,11 @@ struct SplatRenderer::Gl {
         glNamedBufferStorage(buffer, GLsizeiptr(capacity), nullptr, 0);
     }
 
-    // The adaptive classifier once per patch (compute) into patchBuffer; returns the patch count.
-    size_t classifyPatches(const ImagePlane& plane, const SplatSettings& settings, int axis) {
+    // The adaptive classifier once per patch (compute) into patchBuffer; returns the patch count. Where
+    // uniformAdaptiveFilter() decided the view (`decided`, else Adaptive), every patch is set to that
+    // filter, what the pass would give, so hysteresis reads it next frame.
+    size_t classifyPatches(const ImagePlane& plane, const SplatSettings& settings, int axis,
+                           FilterMode decided = FilterMode::Adaptive) {
         lap(GpuPass::Patches);
         const PatchGrid grid = patchGrid(dims, axis, settings.patchSize);
         const size_t n = grid.count();
@@ -1128,14 +1131,19 @@ struct SplatRenderer::Gl {
             patchBufferBytes = n * 4;
             patchLayout.reset();
         }
-        glUseProgram(patchProgram);
-        setCommonUniforms(patchProgram, plane, settings, axis);
-        glUniform1i(glGetUniformLocation(patchProgram, "uNa"), grid.columns);
-        glUniform1i(glGetUniformLocation(patchProgram, "uNb"), grid.rows);
-        glUniform1i(glGetUniformLocation(patchProgram, "uSlices"), grid.slices);
-        glUniform1i(glGetUniformLocation(patchProgram, "uHasPrevious"), patchLayout == grid);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, patchBuffer);
-        glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
+        if (decided != FilterMode::Adaptive) {
+            const GLuint mode = GLuint(decided);
+            glClearNamedBufferSubData(patchBuffer, GL_R32UI, 0, GLsizeiptr(n * 4), GL_RED_INTEGER, GL_UNSIGNED_INT, &mode);
+        } else {
+            glUseProgram(patchProgram);
+            setCommonUniforms(patchProgram, plane, settings, axis);
+            glUniform1i(glGetUniformLocation(patchProgram, "uNa"), grid.columns);
+            glUniform1i(glGetUniformLocation(patchProgram, "uNb"), grid.rows);
+            glUniform1i(glGetUniformLocation(patchProgram, "uSlices"), grid.slices);
+            glUniform1i(glGetUniformLocation(patchProgram, "uHasPrevious"), patchLayout == grid);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, patchBuffer);
+            glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
+        }
         patchLayout = settings.filter == FilterMode::Adaptive ? std::optional(grid) : std::nullopt;
         return n;
     }
@@ -1450,10 +1458,16 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     const bool ftb = frontToBack(settings);
     const bool earlyTermination = ftb && settings.opaqueAlpha < 1.0;
     using Shading = SplatSettings::Shading;
+    // Adaptive, where the volume's depth range puts every patch in one filter: that filter's code draws
+    // the frame, and the patches are set to it without their pass (hysteresis reads them next frame).
+    const std::optional<FilterMode> oneFilter =
+        settings.filter == FilterMode::Adaptive ? uniformAdaptiveFilter(g.dims, g.origin, g.spacing, plane, settings)
+                                                : std::nullopt;
+    const FilterMode drawnFilter = oneFilter.value_or(settings.filter);
     const int variant = (settings.counters ? kCounters : 0) | (settings.surfaceFlatten > 1.0 ? kSurface : 0) |
                         (settings.shading == Shading::PerSplat ? kSplatShading : 0) |
                         (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
-                        (settings.heatmap ? kHeatmap : 0) | (settings.filter == FilterMode::Adaptive ? kAdaptive : 0) |
+                        (settings.heatmap ? kHeatmap : 0) | (drawnFilter == FilterMode::Adaptive ? kAdaptive : 0) |
                         (earlyTermination && settings.occlusionCulling ? kOcclusion : 0);
     const double tilesASide = std::ceil((2.0 * bound + 1.0) / kSplatTilePx) + 1.0;
     const bool listsFit = double(submitted) * std::max(tilesASide * tilesASide, 4.0) * entryTexels(variant) <=
@@ -1504,7 +1518,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glNamedFramebufferDrawBuffers(g.sheetFbo, targets, bothTargets);
 
     if (settings.filter == FilterMode::Adaptive) {
-        g.classifyPatches(plane, settings, trav.axis);
+        g.classifyPatches(plane, settings, trav.axis, drawnFilter);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
     const GLuint p = tiles ? g.tileProgram(Gl::kTileSplat, variant & ~kHeatmap) : g.splatProgram(variant);
@@ -1516,6 +1530,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.patchBuffer ? g.patchBuffer : g.counterBuffer);
     }
     g.setCommonUniforms(p, plane, settings, trav.axis);
+    glUniform1i(glGetUniformLocation(p, "uFilter"), int(drawnFilter));
     const glm::mat3 varCamera(kernelVarianceCamera(settings.kernelScale * g.spacing, plane.viewFromObject));
     const double meanSpacing = (g.spacing.x + g.spacing.y + g.spacing.z) / 3.0;
     const double diagonal = std::hypot(double(plane.width), double(plane.height));
@@ -1853,6 +1868,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     m_stats.splatsDrawn = submitted;
     m_stats.points = points;
     m_stats.tiles = tiles;
+    m_stats.adaptiveAs = settings.filter == FilterMode::Adaptive ? drawnFilter : FilterMode::Adaptive;
     m_stats.uploadBytes = 0;   // a frame uploads uniforms only
     m_stats.hasCounters = settings.counters;
     if (settings.counters) {   // waits for the frame: for tests, benchmarks and the stats panel's opt-in

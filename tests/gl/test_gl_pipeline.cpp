@@ -367,3 +367,50 @@ TEST_F(GlTest, HysteresisKeepsPatchFiltersAcrossASmallCameraMoveLikeTheCpu) {
     EXPECT_LT(changed(cpuFirst, cpuSecond), withoutHysteresis);
     EXPECT_IMAGES_CLOSE(gl, renderReference(scene, b, s, nullptr, nullptr, &cpuFirst), kGlVsCpu, "gl_hysteresis");
 }
+
+TEST_F(GlTest, AdaptiveFramesTheViewDecidesRunThatFilterLikeTheCpu) {
+    // At 4 radii every patch is EWA, at 40 low-pass (uniformAdaptiveFilter): those frames run that
+    // filter's code and set the patches to it without their pass. Image, heatmap and counters stay the
+    // CPU's. At 11 the view does not decide; hysteresis keeps every patch low-pass from the frame
+    // before, as from the pass's modes. Up close, patches differ.
+    const SplatScene scene = buildSplatScene(makeSphereShells(20, 5.0, 2.0), ramp());
+    SplatSettings s;
+    s.filter = FilterMode::Adaptive;
+    s.patchSize = 4;
+    s.cMin = 0.6;
+    s.hysteresis = 0.25;
+    s.heatmap = true;
+    s.counters = true;
+    SplatRenderer r;
+    r.setScene(scene);
+    const std::vector<uint8_t>* previous = nullptr;
+    std::vector<uint8_t> cpuModes;
+    using enum FilterMode;
+    struct View {
+        double distance;
+        FilterMode decided, drawn;   // drawn: the one filter every splat took, else Adaptive
+    };
+    for (const View& view : {View{4.0, Ewa, Ewa}, View{40.0, LowPass, LowPass}, View{11.0, Adaptive, LowPass},
+                             View{1.15, Adaptive, Adaptive}}) {
+        const ImagePlane plane =
+            makeImagePlane({.azimuthDeg = 20, .elevationDeg = 15, .distance = view.distance, .fovYDeg = 70},
+                           scene.centre, scene.radius, 96, 96);
+        r.render(plane, s);
+        EXPECT_EQ(r.stats().adaptiveAs, view.decided) << view.distance;
+        SplatCounters cpu;
+        Image cpuHeat;
+        const Image image = renderReference(scene, plane, s, &cpu, &cpuHeat, previous);
+        const std::string name = "gl_decided_" + std::to_string(int(view.distance));
+        EXPECT_IMAGES_CLOSE(r.readback(), image, kGlVsCpu, name);
+        EXPECT_IMAGES_CLOSE(r.readbackHeatmap(), cpuHeat, kGlVsCpu, name + "_heatmap");
+        expectCountersEqual(r.stats().counters, cpu);
+        if (view.drawn != Adaptive) {
+            EXPECT_EQ(cpu.drawnPerMode[int(view.drawn)], cpu.drawn) << view.distance;
+        } else {   // a shortcut, and EWA where corners disagree
+            EXPECT_GT(cpu.drawnPerMode[0], 0u);
+            EXPECT_GT(cpu.drawnPerMode[2], 0u);
+        }
+        cpuModes = patchModes(scene, plane, s, previous);
+        previous = &cpuModes;
+    }
+}

@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <optional>
 #include <numbers>
 
 using namespace renderer;
@@ -156,6 +158,50 @@ TEST(Classifier, PatchesTakeAShortcutOnlyWhenAllCornersAgree) {
     SplatCounters c;
     renderReference(scene, plane, s, &c);
     EXPECT_EQ(c.drawnPerMode[0] + c.drawnPerMode[1] + c.drawnPerMode[2], c.drawn);
+}
+
+TEST(Classifier, AViewDecidesEveryPatchOnlyWhereEachPatchAgrees) {
+    // A rectilinear 12x10x8 block and a 2x2x600 bar, from inside (the near plane cuts them: magnified
+    // there, minified at the bar's far end) to far away, perspective and orthographic: wherever
+    // uniformAdaptiveFilter names a filter, every patch takes it, whatever its last frame's filter and
+    // the hysteresis. Each filter is decided somewhere, and some views are left to the patches.
+    auto volume = [](glm::ivec3 dims, glm::dvec3 spacing) {
+        Volume v;
+        v.dims = dims;
+        v.spacing = spacing;
+        v.values.assign(v.voxelCount(), 1.0f);
+        v.range = {0.0f, 1.0f};
+        return buildSplatScene(v, flat(0.5));
+    };
+    std::map<std::optional<FilterMode>, int> decided;
+    for (const SplatScene& scene : {volume({12, 10, 8}, {1.0, 1.5, 0.7}), volume({2, 2, 600}, {1.0, 1.0, 1.0})})
+        for (double distance : {0.5, 1.05, 1.5, 3.0, 8.0, 30.0, 120.0})
+            for (double fov : {10.0, 40.0, 90.0})
+                for (bool ortho : {false, true})
+                    for (double h : {0.0, 0.25}) {
+                        SplatSettings s;
+                        s.filter = FilterMode::Adaptive;
+                        s.hysteresis = h;
+                        s.patchSize = 4;
+                        const Camera camera{20.0, 30.0, distance, fov, {0.0, 0.0}, {0.0, 0.0, 1.0}, ortho};
+                        const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, 256, 256);
+                        const std::optional<FilterMode> one =
+                            uniformAdaptiveFilter(scene.dims, scene.origin, scene.spacing, plane, s);
+                        ++decided[one];
+                        if (!one) continue;
+                        const AdaptiveThresholds t = adaptiveThresholds(scene.spacing, plane, s);
+                        const int axis = chooseTraversal(plane).axis;
+                        for (FilterMode previous : {FilterMode::Adaptive, FilterMode::Reconstruction,
+                                                    FilterMode::LowPass, FilterMode::Ewa})
+                            for (uint32_t voxel = 0; voxel < scene.classes.size(); ++voxel)
+                                ASSERT_EQ(classifyPatch(scene, plane, t, s.patchSize, axis, voxel, previous, h), *one)
+                                    << scene.dims.z << " slices, distance " << distance << " fov " << fov
+                                    << " ortho " << ortho << " h " << h;
+                    }
+    EXPECT_GT(decided[FilterMode::Reconstruction], 0);
+    EXPECT_GT(decided[FilterMode::LowPass], 0);
+    EXPECT_GT(decided[FilterMode::Ewa], 0);
+    EXPECT_GT(decided[std::nullopt], 0);
 }
 
 // == Compositing

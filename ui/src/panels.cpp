@@ -294,6 +294,8 @@ void drawStatsPanel(const StatsView& stats) {
     ImGui::Text("splats  %llu sent (%zu visible)", static_cast<unsigned long long>(f.splatsDrawn),
                 stats.visibleSplats);
     ImGui::Text("upload  %.1f KiB   %s", double(f.uploadBytes) / 1024.0, f.tiles ? "tiles" : f.points ? "point sprites" : "quads");
+    if (f.adaptiveAs != renderer::FilterMode::Adaptive)
+        ImGui::Text("adaptive  every patch %s at this depth range", renderer::filterModeName(f.adaptiveAs));
     if (f.hasCounters) {
         const renderer::SplatCounters& c = f.counters;
         ImGui::Text("filters recon %llu  low-pass %llu  ewa %llu", (unsigned long long)c.drawnPerMode[0],

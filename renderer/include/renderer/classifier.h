@@ -9,6 +9,8 @@
 #include "renderer/splat_scene.h"
 #include "renderer/splat_settings.h"
 
+#include <optional>
+
 namespace renderer {
 
 struct AdaptiveThresholds {
@@ -26,6 +28,13 @@ FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThres
 
 // The filter of the patch holding `voxel` in its slice along `axis` (settings.patchSize voxels a
 // side, clipped at the volume's faces), from the depths of the patch's four corner voxels.
+// The filter every patch of a dims-sized volume at origin/spacing takes in this view, whatever their
+// last frame's filters and the hysteresis, when the volume's depth range decides it with a margin for
+// the GPU's float classifier; none when patches may differ. A frame it decides can run that filter's
+// code instead of looking up each voxel's patch.
+std::optional<FilterMode> uniformAdaptiveFilter(glm::ivec3 dims, glm::dvec3 origin, glm::dvec3 spacing,
+                                                const ImagePlane& plane, const SplatSettings& s);
+
 // The patches of the slices across `axis`: `columns` along axis a1 = (axis+1)%3, `rows` along
 // a2 = (axis+2)%3, slice-major. The one layout of the CPU's and the GPU's per-patch filters.
 struct PatchGrid {
