@@ -269,6 +269,49 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
     return result;
 }
 
+namespace {
+
+// The frame's GPU time per pass: a bar of one colour per pass, its share of the bar its share of the
+// passes' time (hover for the figures), and the list with each pass's name in its colour.
+void drawPassBar(const renderer::FrameStats& f) {
+    double total = 0.0;
+    for (double ms : f.passMs) total += ms;
+    if (!(total > 0.0)) return;
+    auto colour = [](int pass) {
+        return ImColor::HSV(float(pass) / float(renderer::kGpuPasses), 0.55f, 0.85f);
+    };
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const float width = ImGui::GetContentRegionAvail().x, height = ImGui::GetFontSize() * 0.8f;
+    ImGui::InvisibleButton("##passes", ImVec2(std::max(width, 1.0f), height));
+    const bool hovered = ImGui::IsItemHovered();
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    float x = origin.x;
+    for (int i = 0; i < renderer::kGpuPasses; ++i) {
+        const double ms = f.passMs[size_t(i)];
+        if (!(ms > 0.0)) continue;
+        const float w = float(ms / total) * width;
+        draw->AddRectFilled(ImVec2(x, origin.y), ImVec2(x + w, origin.y + height), colour(i));
+        const float mouseX = ImGui::GetIO().MousePos.x;
+        if (hovered && mouseX >= x && mouseX < x + w)
+            ImGui::SetTooltip("%s: %.2f ms, %.0f %% of the passes", renderer::gpuPassName(renderer::GpuPass(i)), ms,
+                              100.0 * ms / total);
+        x += w;
+    }
+    ImGui::TextUnformatted("passes ");
+    for (int i = 0; i < renderer::kGpuPasses; ++i)
+        if (const double ms = f.passMs[size_t(i)]; ms > 0.0) {
+            char part[48];
+            std::snprintf(part, sizeof part, "%s %.1f", renderer::gpuPassName(renderer::GpuPass(i)), ms);
+            // On the line while it fits, else on the next.
+            const float needed = ImGui::CalcTextSize(part).x + ImGui::GetStyle().ItemSpacing.x;
+            ImGui::SameLine();
+            if (ImGui::GetContentRegionAvail().x < needed) ImGui::NewLine();
+            ImGui::TextColored(colour(i), "%s", part);
+        }
+}
+
+} // namespace
+
 void drawStatsPanel(const StatsView& stats) {
     if (!ImGui::BeginTable("##stats", 3, ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchSame))
         return;
@@ -282,15 +325,7 @@ void drawStatsPanel(const StatsView& stats) {
         ImGui::Text("render  cpu %.2f ms   gpu %.2f ms", f.cpuMs, f.gpuMs);
     else
         ImGui::Text("render  cpu %.2f ms   gpu (pending)", f.cpuMs);
-    std::string passes;   // the same frame's GPU time per pass
-    for (int i = 0; i < renderer::kGpuPasses; ++i)
-        if (f.passMs[size_t(i)] > 0.0) {
-            char part[48];
-            std::snprintf(part, sizeof part, "%s%s %.1f", passes.empty() ? "" : "  ",
-                          renderer::gpuPassName(renderer::GpuPass(i)), f.passMs[size_t(i)]);
-            passes += part;
-        }
-    if (!passes.empty()) ImGui::TextWrapped("passes  %s ms", passes.c_str());
+    drawPassBar(f);
     ImGui::Text("splats  %llu sent (%zu visible)", static_cast<unsigned long long>(f.splatsDrawn),
                 stats.visibleSplats);
     ImGui::Text("upload  %.1f KiB   %s", double(f.uploadBytes) / 1024.0, f.tiles ? "tiles" : f.points ? "point sprites" : "quads");
