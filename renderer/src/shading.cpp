@@ -15,11 +15,19 @@ uint32_t packGradient(glm::dvec3 gradient, double maxMagnitude) {
     const double len = glm::length(gradient);
     if (!(len > 0.0) || !std::isfinite(len) || !(maxMagnitude > 0.0)) return 0u;
     const glm::dvec3 n = gradient / len;
-    // |n_i| <= 1, so the rounded values already lie in [-127, 127] and [0, 255].
+    // Octahedral: onto |x| + |y| + |z| = 1, the lower half folded over the upper's corners.
+    const double l1 = std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
+    double u = n.x / l1, v = n.y / l1;
+    if (n.z < 0.0) {
+        const double fu = (1.0 - std::abs(v)) * (u >= 0.0 ? 1.0 : -1.0);
+        v = (1.0 - std::abs(u)) * (v >= 0.0 ? 1.0 : -1.0);
+        u = fu;
+    }
+    // |u|, |v| <= 1, so the rounded values already lie in [-127, 127] and [0, 255].
     const auto snorm = [](double x) { return uint32_t(uint8_t(int8_t(std::lround(127.0 * x)))); };
     const double r = std::min(len / maxMagnitude, 1.0);
     const uint32_t w = uint32_t(std::lround(255.0 * std::sqrt(r)));
-    return snorm(n.x) | snorm(n.y) << 8 | snorm(n.z) << 16 | w << 24;
+    return w == 0 ? 0u : snorm(u) | snorm(v) << 8 | w << 16;
 }
 
 PackedGradients packGradients(const GradientField& field) {
@@ -34,14 +42,17 @@ PackedGradients packGradients(const GradientField& field) {
 }
 
 DecodedGradient decodeGradient(uint32_t texel) {
-    // The float32 the texture unit returns (GL 4.5 eq. 2.2 for snorm, 2.1 for unorm), then widened:
-    // float division is correctly rounded, as is a conforming fixed-point -> float conversion.
-    const auto snorm = [&](int shift) {
-        return double(std::max(float(int8_t(texel >> shift)) / 127.0f, -1.0f));
-    };
-    const float a = float(texel >> 24) / 255.0f;
+    // unpackGradient() in GLSL, step for step in float: snorm c -> max(c / 127, -1) (GL 4.5 eq. 2.2),
+    // unorm c -> c / 255 (eq. 2.1); float division is correctly rounded.
+    const auto snorm = [&](int shift) { return std::max(float(int8_t(texel >> shift)) / 127.0f, -1.0f); };
+    const float a = float((texel >> 16) & 0xffu) / 255.0f;
+    float x = snorm(0), y = snorm(8);
+    const float z = 1.0f - std::abs(x) - std::abs(y), t = std::max(-z, 0.0f);
+    x += x >= 0.0f ? -t : t;
+    y += y >= 0.0f ? -t : t;
+    const float len = std::sqrt(x * x + y * y + z * z);
     DecodedGradient d;
-    d.normal = {snorm(0), snorm(8), snorm(16)};
+    if (a > 0.0f) d.normal = glm::dvec3(double(x / len), double(y / len), double(z / len));
     d.magnitude = double(a * a); // GLSL's a * a, also rounded to float
     return d;
 }
@@ -105,9 +116,15 @@ struct ShadingParams {
 // |g| / maxMagnitude from the packed w byte as an RGBA8 (unorm) fetch returns it.
 float gradientMagnitude(float unormW) { return unormW * unormW; }
 
-// (normal, |g| / maxMagnitude) of a packed texel read as a uint: what RGBA8_SNORM / RGBA8 fetches give.
+// (normal, |g| / maxMagnitude) of a packed 24-bit texel: octahedral (u, v) unfolded and normalised.
 vec4 unpackGradient(uint texel) {
-    return vec4(unpackSnorm4x8(texel).xyz, gradientMagnitude(unpackUnorm4x8(texel).w));
+    vec4 bytes = unpackSnorm4x8(texel);
+    float a = unpackUnorm4x8(texel).z;
+    vec3 n = vec3(bytes.xy, 1.0 - abs(bytes.x) - abs(bytes.y));
+    float t = max(-n.z, 0.0);
+    n.x += n.x >= 0.0 ? -t : t;
+    n.y += n.y >= 0.0 ? -t : t;
+    return vec4(a > 0.0 ? n / sqrt(dot(n, n)) : vec3(0.0), gradientMagnitude(a));
 }
 
 vec3 shade(vec3 colour, vec3 gradientCamera, vec3 toEyeCamera, ShadingParams params) {

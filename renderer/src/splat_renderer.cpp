@@ -97,7 +97,7 @@ const char* kSplatFootprint = R"(
 layout(std430, binding = 0) readonly buffer Entries { uint entries[]; };   // 16-bit offsets, two a word
 layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
 layout(std430, binding = 2) buffer Counters { uint counters[]; };
-layout(std430, binding = 3) readonly buffer Gradients { uint gradients[]; };   // packed (shading.h)
+layout(std430, binding = 3) readonly buffer Gradients { uint gradients[]; };   // 3 bytes a voxel (shading.h)
 layout(std430, binding = 4) readonly buffer PatchModes { uint patchModes[]; };
 uniform int uPatchColumns, uPatchRows;   // patches along the slice's axes a1 and a2
 layout(binding = 0) uniform usampler3D classes;      // per-voxel LUT class (R16UI)
@@ -161,7 +161,10 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
                                      u.x / l, u.y / l, u.z / l));
     uint voxel = uint(ijk.x) + uint(uDims.x) * (uint(ijk.y) + uint(uDims.y) * uint(ijk.z));
 #if defined(SURFACE) || defined(SPLAT_SHADING) || defined(FRAGMENT_SHADING)
-    vec4 grad = unpackGradient(gradients[voxel]);
+    // The voxel's 3 bytes from the two words they may span (gradientBufferBytes() pads one word).
+    uint byte = 3u * voxel, shift = (byte & 3u) * 8u;
+    uint texel = gradients[byte >> 2u] >> shift | (gradients[(byte >> 2u) + 1u] << (31u - shift)) << 1u;
+    vec4 grad = unpackGradient(texel & 0xffffffu);
 #else
     vec4 grad = vec4(0.0);
 #endif
@@ -1318,7 +1321,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         mostRuns = std::max(mostRuns, runCount(l));
     }
     needed += mostRuns * 16;
-    needed += std::max<size_t>(scene.gradients.size(), 1) * 4;
+    needed += gradientBufferBytes(scene.gradients.size());
     std::optional<uint64_t> freeBytes = freeGpuMemoryBytes();
     if (freeBytes) *freeBytes += g.sceneBytes;
     if (g.memoryLimit) freeBytes = std::min(freeBytes.value_or(g.memoryLimit), g.memoryLimit);
@@ -1404,13 +1407,14 @@ void SplatRenderer::setGradients(const SplatScene& scene) {
     Gl& g = *m_gl;
     if (!g.classTexture || scene.dims != g.dims)
         throw RenderError("SplatRenderer::setGradients: call setScene with scene '" + scene.name + "' first");
-    // Packed gradients, 4 bytes a voxel, when the scene has them (one word otherwise: a valid binding).
-    const uint32_t noGradient = 0;
-    const size_t bytes = std::max<size_t>(scene.gradients.size(), 1) * 4;
+    // Packed gradients, 3 bytes a voxel, when the scene has them (one word otherwise: a valid binding).
+    const size_t bytes = gradientBufferBytes(scene.gradients.size());
+    std::vector<uint8_t> packed(bytes, 0);
+    for (size_t v = 0; v < scene.gradients.size(); ++v)
+        for (size_t k = 0; k < 3; ++k) packed[3 * v + k] = uint8_t(scene.gradients[v] >> (8 * k));
     glDeleteBuffers(1, &g.gradientBuffer);
     glCreateBuffers(1, &g.gradientBuffer);
-    glNamedBufferStorage(g.gradientBuffer, GLsizeiptr(bytes),
-                         scene.gradients.empty() ? &noGradient : scene.gradients.data(), 0);
+    glNamedBufferStorage(g.gradientBuffer, GLsizeiptr(bytes), packed.data(), 0);
     checkAllocation("gradients", scene.name, bytes, freeGpuMemoryBytes());
     g.sceneBytes += bytes - g.gradientBytes;
     g.gradientBytes = bytes;

@@ -181,7 +181,7 @@ TEST_F(GlTest, TfEditUploadsOnlyTheLutAndSelectsBuckets) {
     EXPECT_EQ(r.stats().uploadBytes, 0u);   // a frame uploads uniforms only
     // GPU bytes: classes 2 a voxel, the LUT, per axis 2 per listed voxel (whole words), 16 per run and
     // 4 per slice (where its runs start), one command array of 16 bytes a run of the axis with the
-    // most, and one word standing in for the gradients (4 bytes a voxel once the scene has them).
+    // most, and one word standing in for the gradients (3 bytes a voxel once the scene has them).
     uint64_t expected = scene.classes.size() * 2 + kLutSize * 16 + 4;
     size_t mostRuns = 0;
     for (const auto& l : scene.lists) {

@@ -1,4 +1,4 @@
-// Shading math both renderers share: per-voxel gradients packed into 4 bytes for the GPU (000 sec.
+// Shading math both renderers share: per-voxel gradients packed into 3 bytes for the GPU (000 sec.
 // 4.2), a two-sided headlight Phong model, and flattened surface-splat kernels (001 sec. 5) with the
 // footprint floor that keeps them finite edge-on. Math only: no GL, no scene; shadingGlsl() mirrors it.
 #pragma once
@@ -10,26 +10,34 @@
 namespace renderer {
 
 // == Packed gradients
-// One uint32 a voxel, bytes in memory order (little-endian uint32: x is the low byte):
-//   | x snorm8 | y snorm8 | z snorm8 | sqrt(|g| / maxMagnitude) unorm8 |
-// x, y, z: the unit normal g/|g|, q = round(127 n); an RGBA8_SNORM fetch (or unpackSnorm4x8) yields
-// max(q/127, -1). w: q = round(255 sqrt(r)), r = |g| / maxMagnitude; an RGBA8 (unorm) fetch or
-// unpackUnorm4x8 yields a = q/255 and r = a * a. The square root spends the 256 levels where shading
-// decides (weak gradients: the no-normal fade, noise): r steps by 2 sqrt(r)/255, so r down to 1/65025
-// stays non-zero, where a linear byte zeroes everything below 1/510 of the (often outlier) maximum:
-// over a quarter of headsq's voxels (p25 of |g| / max is 0.0013).
-// A zero or non-finite gradient packs to 0: zero normal, magnitude 0.
+// 24 bits a voxel, held in the low bits of a uint32 on the CPU and as 3 bytes a voxel on the GPU
+// (gradientBufferBytes()); bytes in order (x is the low byte):
+//   | u snorm8 | v snorm8 | sqrt(|g| / maxMagnitude) unorm8 |
+// (u, v): the unit normal g/|g| in octahedral coordinates: p = n.xy / (|x| + |y| + |z|), folded
+// (1 - |p.yx|) * sign(p.xy) where n.z < 0; q = round(127 p), decoded as max(q/127, -1). The normal
+// is (u, v, 1 - |u| - |v|) unfolded where its z < 0 and normalised: within 0.96 degrees of g/|g|
+// (0.90 measured; the three snorm8 components of the 4-byte format before were within 0.39: a byte a
+// voxel bought the 8 bytes a voxel of GPU memory with gradients, and shaded images moved by 1/255
+// at most). w: q = round(255 sqrt(r)),
+// r = |g| / maxMagnitude, decoded a = q/255 and r = a * a. The square root spends the 256 levels where
+// shading decides (weak gradients: the no-normal fade, noise): r steps by 2 sqrt(r)/255, so r down to
+// 1/65025 stays non-zero, where a linear byte zeroes everything below 1/510 of the (often outlier)
+// maximum: over a quarter of headsq's voxels (p25 of |g| / max is 0.0013).
+// A zero or non-finite gradient packs to 0; a magnitude byte of 0 decodes to the zero normal.
 struct PackedGradients {
     std::vector<uint32_t> texels; // one per voxel, x fastest like Volume::values
     double maxMagnitude = 0.0;    // largest |g| in the field, data units per object unit
 };
 PackedGradients packGradients(const GradientField& field);
 uint32_t packGradient(glm::dvec3 gradient, double maxMagnitude);
+// Bytes the GPU holds for `voxels` packed gradients: 3 a voxel, whole words, and one word more so a
+// voxel's 3 bytes can always be read as two words.
+constexpr size_t gradientBufferBytes(size_t voxels) { return (3 * voxels + 3) / 4 * 4 + 4; }
 
-// Exactly what the GPU's fetch returns, in double: each value is the float32 the texture unit (or
-// unpackSnorm4x8 / unpackUnorm4x8) computes, widened, so the CPU oracle and GL shade the same normal.
+// What the GLSL unpackGradient() computes, in float, widened: the CPU oracle and GL shade the same
+// normal (to float rounding: normalize() may round differently by an ulp or two).
 struct DecodedGradient {
-    glm::dvec3 normal{0.0}; // max(q/127, -1) per component: unit to +-0.7 %, not renormalised
+    glm::dvec3 normal{0.0}; // unit (to float rounding), or zero with a zero magnitude byte
     double magnitude = 0.0; // |g| / maxMagnitude in [0, 1], to the quantisation of the w byte
     // Relative gradient to hand to shade() (after W): the normal's direction, the magnitude's length.
     glm::dvec3 gradient() const { return normal * magnitude; }
