@@ -16,9 +16,9 @@ namespace renderer {
 // (u, v): the unit normal g/|g| in octahedral coordinates: p = n.xy / (|x| + |y| + |z|), folded
 // (1 - |p.yx|) * sign(p.xy) where n.z < 0; q = round(127 p), decoded as max(q/127, -1). The normal
 // is (u, v, 1 - |u| - |v|) unfolded where its z < 0 and normalised: within 0.96 degrees of g/|g|
-// (0.90 measured; the three snorm8 components of the 4-byte format before were within 0.39: a byte a
-// voxel bought the 8 bytes a voxel of GPU memory with gradients, and shaded images moved by 1/255
-// at most). w: q = round(255 sqrt(r)),
+// (0.90 measured; the three snorm8 components of the 4-byte format before were within 0.39: the byte
+// saved keeps bonsai, engine and headsq under 8 GPU bytes a voxel with gradients, and their shaded
+// images moved by 1/255 at most). w: q = round(255 sqrt(r)),
 // r = |g| / maxMagnitude, decoded a = q/255 and r = a * a. The square root spends the 256 levels where
 // shading decides (weak gradients: the no-normal fade, noise): r steps by 2 sqrt(r)/255, so r down to
 // 1/65025 stays non-zero, where a linear byte zeroes everything below 1/510 of the (often outlier)
