@@ -1464,10 +1464,10 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     using Shading = SplatSettings::Shading;
     // Adaptive, where the volume's depth range puts every patch in one filter: that filter's code draws
     // the frame, and the patches are set to it without their pass (hysteresis reads them next frame).
-    const std::optional<FilterMode> oneFilter =
-        settings.filter == FilterMode::Adaptive ? uniformAdaptiveFilter(g.dims, g.origin, g.spacing, plane, settings)
-                                                : std::nullopt;
-    const FilterMode drawnFilter = oneFilter.value_or(settings.filter);
+    const FilterMode drawnFilter =
+        settings.filter == FilterMode::Adaptive
+            ? uniformAdaptiveFilter(g.dims, g.origin, g.spacing, plane, settings).value_or(FilterMode::Adaptive)
+            : settings.filter;
     const int variant = (settings.counters ? kCounters : 0) | (settings.surfaceFlatten > 1.0 ? kSurface : 0) |
                         (settings.shading == Shading::PerSplat ? kSplatShading : 0) |
                         (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
