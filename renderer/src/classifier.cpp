@@ -38,14 +38,11 @@ FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThres
 
 std::optional<FilterMode> uniformAdaptiveFilter(glm::ivec3 dims, glm::dvec3 origin, glm::dvec3 spacing,
                                                 const ImagePlane& plane, const SplatSettings& s) {
-    // Voxel centres lie in the box of the corner voxels' centres; depth is linear, so its range is
-    // the corners'. Pixels per unit fall with depth.
+    // The voxels' depth range is the grid corners'. Pixels per unit fall with depth.
     double u2min = std::numeric_limits<double>::infinity(), u2max = -u2min;
-    for (int corner = 0; corner < 8; ++corner) {
-        const glm::dvec3 ijk((corner & 1) ? dims.x - 1 : 0, (corner & 2) ? dims.y - 1 : 0, (corner & 4) ? dims.z - 1 : 0);
-        const double u2 = plane.toCamera(origin + spacing * ijk).z;
-        u2min = std::min(u2min, u2);
-        u2max = std::max(u2max, u2);
+    for (const glm::dvec3& u : plane.gridCorners(dims, origin, spacing)) {
+        u2min = std::min(u2min, u.z);
+        u2max = std::max(u2max, u.z);
     }
     if (!plane.orthographic && !(u2min > plane.nearDepth)) return std::nullopt;
     const double pxMax = plane.orthographic ? plane.fPx : plane.fPx / u2min;

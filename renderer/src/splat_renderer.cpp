@@ -1038,10 +1038,10 @@ struct SplatRenderer::Gl {
             GLuint q = 0;
             glCreateQueries(GL_TIMESTAMP, 1, &q);
             l.queries.push_back(q);
+            l.passes.emplace_back();
         }
-        glQueryCounter(l.queries[l.used++], GL_TIMESTAMP);
-        l.passes.resize(l.used);
-        l.passes[l.used - 1] = pass;
+        glQueryCounter(l.queries[l.used], GL_TIMESTAMP);
+        l.passes[l.used++] = pass;
         lapPass = pass;
     }
 
@@ -1208,9 +1208,7 @@ namespace {
 double maxHalfExtentBound(const glm::ivec3& dims, const glm::dvec3& origin, const glm::dvec3& spacing,
                           const ImagePlane& plane, const SplatSettings& settings) {
     double u2min = std::numeric_limits<double>::infinity(), lateral2 = 0.0;
-    for (int corner = 0; corner < 8; ++corner) {
-        const glm::dvec3 ijk((corner & 1) ? dims.x - 1 : 0, (corner & 2) ? dims.y - 1 : 0, (corner & 4) ? dims.z - 1 : 0);
-        const glm::dvec3 u = plane.toCamera(origin + spacing * ijk);
+    for (const glm::dvec3& u : plane.gridCorners(dims, origin, spacing)) {
         u2min = std::min(u2min, u.z);
         lateral2 = std::max(lateral2, u.x * u.x + u.y * u.y);
     }

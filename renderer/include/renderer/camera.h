@@ -4,6 +4,7 @@
 #pragma once
 #include "renderer/glm_config.h"
 
+#include <array>
 #include <string>
 
 namespace renderer {
@@ -35,6 +36,16 @@ struct ImagePlane {
     glm::dvec3 viewDirObject{0.0};    // unit viewing direction (towards the scene) in object space
 
     glm::dvec3 toCamera(glm::dvec3 t) const { return viewFromObject * t + translation; }
+    // Camera-space positions of the corner voxel centres of a dims-sized grid at origin/spacing. Every
+    // voxel centre lies in their box, so depth (linear) and any convex function of u take their
+    // extremes over the voxels among these eight.
+    std::array<glm::dvec3, 8> gridCorners(glm::ivec3 dims, glm::dvec3 origin, glm::dvec3 spacing) const {
+        std::array<glm::dvec3, 8> u;
+        for (int c = 0; c < 8; ++c)
+            u[size_t(c)] = toCamera(origin + spacing * glm::dvec3((c & 1) ? dims.x - 1 : 0, (c & 2) ? dims.y - 1 : 0,
+                                                                  (c & 4) ? dims.z - 1 : 0));
+        return u;
+    }
     // Pixel position of a camera-space point (x right, y down).
     glm::dvec2 project(glm::dvec3 u) const {
         return centrePx + (orthographic ? fPx * glm::dvec2(u.x, u.y) : fPx * glm::dvec2(u.x / u.z, u.y / u.z));
