@@ -232,7 +232,7 @@ int runEditor(const EditorOptions& options) {
         state.showHeatmap = state.settings.heatmap = options.heatmap;
         if (options.volumePath.empty()) return;
         doc.tf = renderer::transferFunctionFromSpec(options.tfSpec);
-        state.presetName = doc.tf.name.empty() ? options.tfSpec : doc.tf.name;
+        state.tf = doc.tf;
         renderer::Volume volume = renderer::loadVolume(options.volumePath);
         doc.histogram = renderer::computeHistogram(volume, 128);
         doc.percentile = renderer::percentileWindow(volume, 1.0, 99.0);
@@ -255,18 +255,20 @@ int runEditor(const EditorOptions& options) {
     ui::ViewportResult viewport;
     unsigned texture = 0; // the renderer's display texture; 0 until something was rendered
     int renderWidth = 0, renderHeight = 0;
-    bool tfPending = false, renderPending = true, windowChanged = false;
+    bool tfPending = false, renderPending = true, windowChanged = false, tfChanged = false;
     std::vector<float> frameMs; // recent whole-frame times for the stats plot, oldest first
     auto lastFrame = std::chrono::steady_clock::now();
     const std::vector<ui::DockPanel> panels = {
-        {"Settings", "left",
+        {"Transfer function", "left",
          [&] {
-             settingsChanges = ui::drawSettingsPanel(state);
+             tfChanged = ui::drawTransferFunctionPanel(
+                 state, {.histogram = doc.volume ? &doc.histogram : nullptr, .window = doc.scene.window});
              windowChanged = ui::drawWindowSection(state, {.volume = doc.volume ? &*doc.volume : nullptr,
                                                            .histogram = &doc.histogram,
                                                            .percentile = doc.percentile,
                                                            .window = doc.scene.window});
          }},
+        {"Settings", "left", [&] { settingsChanges = ui::drawSettingsPanel(state); }},
         {"Viewport", "viewport", [&] { viewport = ui::drawViewportPanel(state, texture); }},
         {"Stats", "bottom",
          [&] {
@@ -290,7 +292,7 @@ int runEditor(const EditorOptions& options) {
         if (splats && tfPending) {
             tfPending = false;
             guarded([&] {
-                doc.tf = renderer::builtinPreset(state.presetName);
+                doc.tf = state.tf;
                 renderer::setTransferFunction(doc.scene, doc.tf);
                 splats->setLut(doc.scene.lut);   // the lists stay; only the LUT travels
             });
@@ -337,6 +339,7 @@ int runEditor(const EditorOptions& options) {
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
         settingsChanges = {};
+        tfChanged = windowChanged = false;
         viewport.cameraChanged = false;
         ui::drawDockSpace(layout, panels);
         ui::drawErrorModal(state);
@@ -346,8 +349,8 @@ int runEditor(const EditorOptions& options) {
                                   gradientJob ? gradientJob->fraction.load() : 1.0, gradientJob != nullptr))
             gradientJob->cancel = true;
         ImGui::Render();
-        tfPending |= settingsChanges.tfChanged;
-        renderPending |= settingsChanges.any() || viewport.cameraChanged;
+        tfPending |= tfChanged;
+        renderPending |= settingsChanges.any() || tfChanged || viewport.cameraChanged;
         if (viewport.widthPx != renderWidth || viewport.heightPx != renderHeight) {
             renderWidth = viewport.widthPx, renderHeight = viewport.heightPx;
             renderPending = true;

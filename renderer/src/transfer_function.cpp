@@ -58,24 +58,22 @@ std::string validate(TransferFunction& tf) {
 
 } // namespace
 
+glm::dvec4 evaluate(const TransferFunction& tf, double value) {
+    const auto& pts = tf.points;
+    if (pts.empty()) return glm::dvec4(0.0);
+    auto hi = std::lower_bound(pts.begin(), pts.end(), value,
+                               [](const ControlPoint& p, double x) { return p.value < x; });
+    if (hi == pts.begin()) return glm::dvec4(hi->colour, hi->opacity);
+    if (hi == pts.end()) return glm::dvec4(pts.back().colour, pts.back().opacity);
+    const auto& lo = *(hi - 1);
+    const double w = (hi->value > lo.value) ? (value - lo.value) / (hi->value - lo.value) : 1.0;
+    return glm::mix(glm::dvec4(lo.colour, lo.opacity), glm::dvec4(hi->colour, hi->opacity), w);
+}
+
 Lut bakeLut(const TransferFunction& tf) {
     Lut lut(kLutSize, glm::vec4(0.0f));
-    const auto& pts = tf.points;
-    if (pts.empty()) return lut;
-    for (int i = 0; i < kLutSize; ++i) {
-        const double v = (i + 0.5) / kLutSize;   // the value at the centre of class i
-        auto hi = std::lower_bound(pts.begin(), pts.end(), v,
-                                   [](const ControlPoint& p, double x) { return p.value < x; });
-        glm::dvec4 c;
-        if (hi == pts.begin()) c = glm::dvec4(hi->colour, hi->opacity);
-        else if (hi == pts.end()) c = glm::dvec4(pts.back().colour, pts.back().opacity);
-        else {
-            const auto& lo = *(hi - 1);
-            const double w = (hi->value > lo.value) ? (v - lo.value) / (hi->value - lo.value) : 1.0;
-            c = glm::mix(glm::dvec4(lo.colour, lo.opacity), glm::dvec4(hi->colour, hi->opacity), w);
-        }
-        lut[i] = glm::vec4(c);
-    }
+    for (int i = 0; i < kLutSize; ++i)
+        lut[i] = glm::vec4(evaluate(tf, (i + 0.5) / kLutSize));   // the value at the centre of class i
     return lut;
 }
 
@@ -141,14 +139,23 @@ void saveTransferFunction(const TransferFunction& tf, const std::filesystem::pat
         j["points"].push_back({{"value", p.value},
                                {"colour", {p.colour.r, p.colour.g, p.colour.b}},
                                {"opacity", p.opacity}});
-    // Atomic: a crash mid-write leaves the old file, never a truncated one.
+    // Atomic: a crash mid-write leaves the old file, never a truncated one. Errors name the user's
+    // file; a failed write leaves no temp file behind.
     const auto tmp = std::filesystem::path(path.string() + ".tmp");
-    {
-        std::ofstream out(tmp);
-        out << j.dump(2) << "\n";
-        if (!out) throw LoadError(tmp.string(), "", "cannot write");
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    out.close();
+    std::error_code ec;
+    if (!out) {
+        std::filesystem::remove(tmp, ec);
+        throw LoadError(path.string(), "", "cannot write (" + tmp.string() + ")");
     }
-    std::filesystem::rename(tmp, path);
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        const std::string reason = "cannot replace: " + ec.message();
+        std::filesystem::remove(tmp, ec);
+        throw LoadError(path.string(), "", reason);
+    }
 }
 
 TransferFunction transferFunctionFromSpec(const std::string& spec) {

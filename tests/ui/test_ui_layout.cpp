@@ -1,5 +1,6 @@
 // ui layer: the dock layout math and the orbit rule as pure functions, then the panels and the dock
 // space driven through ImGui with no renderer backend (mouse events in, settings structs out; no pixels).
+#include "imgui_null.h"
 #include "ui/dock_layout.h"
 #include "ui/panels.h"
 
@@ -172,55 +173,9 @@ TEST(OrbitInput, PanMovesOrbitCentreWithTheMouseAndNoInputChangesNothing) {
 
 namespace {
 
-class ImGuiNull : public testing::Test {
-  protected:
-    void SetUp() override {
-        ImGui::CreateContext();
-        ImGuiIO& io = ImGui::GetIO();
-        io.DisplaySize = ImVec2(1280, 800);
-        io.DeltaTime = 1.0f / 60.0f;
-        io.IniFilename = nullptr;
-        unsigned char* pixels = nullptr;
-        int w = 0, h = 0;
-        io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h); // builds the atlas; nothing uploads it
-    }
-    void TearDown() override { ImGui::DestroyContext(); }
-
-    // One frame with `body` inside a fixed 400x700 window at the origin.
-    void frame(const std::function<void()>& body) {
-        ImGui::NewFrame();
-        ImGui::SetNextWindowPos(ImVec2(0, 0));
-        ImGui::SetNextWindowSize(ImVec2(400, 700));
-        ImGui::Begin("Panel", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
-        body();
-        ImGui::End();
-        ImGui::Render();
-    }
-    void mouse(float x, float y, bool down) {
-        ImGui::GetIO().MousePos = ImVec2(x, y);
-        ImGui::GetIO().MouseDown[0] = down;
-    }
-    // Presses and releases the left button at (x, y), a frame each.
-    void click(float x, float y, const std::function<void()>& body) {
-        mouse(x, y, true);
-        frame(body);
-        mouse(x, y, false);
-        frame(body);
-    }
-    // Moves the mouse down the column x = `x` between y0 and y1 until the item `id` is hovered; returns
-    // the y where it was, or -1. Widget positions come from ImGui's own layout, not from constants.
-    float findItem(ImGuiID id, float x, float y0, float y1, const std::function<void()>& body) {
-        for (float y = y0; y < y1; y += 2.0f) {
-            mouse(x, y, false);
-            frame(body);
-            if (ImGui::GetCurrentContext()->HoveredId == id) return y;
-        }
-        return -1.0f;
-    }
-};
-
 void expectSameState(const ui::EditorState& a, const ui::EditorState& b) {
-    EXPECT_EQ(a.presetName, b.presetName);
+    EXPECT_EQ(a.tf.name, b.tf.name);
+    EXPECT_EQ(a.tf.points.size(), b.tf.points.size());
     EXPECT_EQ(a.settings.kernelScale, b.settings.kernelScale);
     EXPECT_EQ(a.settings.cutoffSigmas, b.settings.cutoffSigmas);
     EXPECT_EQ(a.settings.density, b.settings.density);
@@ -251,7 +206,7 @@ TEST_F(ImGuiNull, ClickingCompositingComboAndXrayItemSelectsXray) {
         comboId = ImGui::GetID("Compositing");
         const ui::SettingsChanges c = ui::drawSettingsPanel(state);
         changes.settingsChanged |= c.settingsChanged;
-        changes.tfChanged |= c.tfChanged;
+        changes.cameraChanged |= c.cameraChanged;
     };
     frame(body); // lay the panel out once so the id is known
 
@@ -274,7 +229,7 @@ TEST_F(ImGuiNull, ClickingCompositingComboAndXrayItemSelectsXray) {
 
     EXPECT_EQ(state.settings.compositing, renderer::Compositing::XRay);
     EXPECT_TRUE(changes.settingsChanged);
-    EXPECT_FALSE(changes.tfChanged);
+    EXPECT_FALSE(changes.cameraChanged);
 }
 
 TEST_F(ImGuiNull, TiledSplattingCheckboxSwitchesSheetsBetweenTilesAndTheRasteriser) {

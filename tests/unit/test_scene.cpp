@@ -119,6 +119,45 @@ TEST(TransferFunction, JsonRoundTripsAndRejectsBadFiles) {
     EXPECT_THROW(transferFunctionFromSpec("no-such-preset"), RenderError);
 }
 
+TEST(TransferFunction, SavingReplacesTheFileWholeOrFailsNamingItAndLeavesNoTempFile) {
+    const auto dir = testing_support::testOutputDir();
+    const auto path = dir / "saved_tf.json";
+    saveTransferFunction(builtinPreset("fire"), path);
+    saveTransferFunction(builtinPreset("grey-ramp"), path);   // over an existing file
+    EXPECT_EQ(loadTransferFunction(path).points.size(), builtinPreset("grey-ramp").points.size());
+    EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
+
+    const auto missing = dir / "no_such_dir" / "tf.json";
+    try {
+        saveTransferFunction(builtinPreset("fire"), missing);
+        ADD_FAILURE() << "saved into a folder that does not exist";
+    } catch (const LoadError& e) {
+        EXPECT_THAT(e.what(), HasSubstr(missing.string()));
+        EXPECT_THAT(e.what(), HasSubstr("cannot write"));
+    }
+    // A folder where the file should be: the temp file is written, the rename fails, nothing is left.
+    const auto folder = dir / "tf_is_a_folder.json";
+    std::filesystem::create_directories(folder);
+    EXPECT_THROW(saveTransferFunction(builtinPreset("fire"), folder), LoadError);
+    EXPECT_FALSE(std::filesystem::exists(folder.string() + ".tmp"));
+    EXPECT_TRUE(std::filesystem::is_directory(folder));
+}
+
+TEST(TransferFunction, EvaluateInterpolatesAndHoldsTheEndsOutsideThePoints) {
+    const TransferFunction tf{"t", {{0.2, {1, 0, 0}, 0.1}, {0.6, {0, 1, 0}, 0.9}}};
+    EXPECT_EQ(evaluate(tf, 0.0), glm::dvec4(1, 0, 0, 0.1));   // before the first point: the first
+    EXPECT_EQ(evaluate(tf, 1.0), glm::dvec4(0, 1, 0, 0.9));   // after the last: the last
+    const glm::dvec4 mid = evaluate(tf, 0.5);
+    EXPECT_NEAR(mid.r, 0.25, 1e-12);
+    EXPECT_NEAR(mid.g, 0.75, 1e-12);
+    EXPECT_NEAR(mid.a, 0.1 + 0.75 * 0.8, 1e-12);
+    EXPECT_EQ(evaluate(TransferFunction{}, 0.5), glm::dvec4(0.0));
+    // Two points at one value make a step: the later one holds from there on.
+    const TransferFunction step{"s", {{0.0, {0, 0, 0}, 0.0}, {0.5, {0, 0, 0}, 0.0}, {0.5, {1, 1, 1}, 1.0}}};
+    EXPECT_EQ(evaluate(step, 0.49).a, 0.0);
+    EXPECT_EQ(evaluate(step, 0.51).a, 1.0);
+}
+
 TEST(SplatScene, DrawOrderListsEachVoxelOfTheActiveBucketsOnceInSliceOrder) {
     Volume v = makeSphereShells(12, 4.0, 1.5);
     const TransferFunction tf{"t", {{0.0, {1, 1, 1}, 0.0}, {0.4, {1, 1, 1}, 0.0}, {0.6, {1, 1, 1}, 1.0}}};

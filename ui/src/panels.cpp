@@ -3,6 +3,7 @@
 #include "ui/panels.h"
 
 #include "renderer/transfer_function.h"
+#include "widgets.h"
 
 #include <imgui.h>
 
@@ -15,17 +16,6 @@
 namespace ui {
 
 namespace {
-
-// A tooltip on the item just drawn: says what a setting does, not what it is called.
-void hint(const char* text) {
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
-}
-
-void sectionTitle(const char* title) {
-    ImGui::Spacing();
-    ImGui::TextDisabled("%s", title);
-    ImGui::Separator();
-}
 
 bool sliderDouble(const char* label, double& value, double lo, double hi, const char* format,
                   ImGuiSliderFlags flags = 0) {
@@ -82,18 +72,6 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     SettingsChanges changes;
     renderer::SplatSettings& s = state.settings;
     ImGui::PushItemWidth(-ImGui::GetFontSize() * 7.0f); // leaves room for the labels on the right
-
-    sectionTitle("Transfer function");
-    if (ImGui::BeginCombo("Preset", state.presetName.c_str())) {
-        for (const std::string& name : renderer::builtinPresetNames()) {
-            const bool selected = name == state.presetName;
-            if (ImGui::Selectable(name.c_str(), selected) && !selected)
-                state.presetName = name, changes.tfChanged = true;
-            if (selected) ImGui::SetItemDefaultFocus();
-        }
-        ImGui::EndCombo();
-    }
-    hint("Built-in transfer functions: value -> colour and extinction");
 
     sectionTitle("Splatting");
     changes.settingsChanged |= sliderDouble("Kernel scale", s.kernelScale, 0.3, 2.0, "%.2f");
@@ -375,6 +353,7 @@ void drawHelpPanel() {
     ImGui::BulletText("Right or middle drag: pan");
     ImGui::BulletText("Wheel: zoom (distance %.2f to %.0f bounding radii)", kMinDistance, kMaxDistance);
     ImGui::BulletText("Drag the bars between regions to resize them");
+    ImGui::BulletText("Transfer function curve: drag a point, click empty space to add one, right-click to remove");
 }
 
 void drawErrorModal(EditorState& state) {

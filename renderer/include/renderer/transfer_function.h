@@ -26,6 +26,9 @@ struct TransferFunction {
 constexpr int kLutSize = 4096;
 using Lut = std::vector<glm::vec4>;     // kLutSize entries: rgb colour, a = opacity
 
+// Colour (rgb) and opacity (a) at normalised `value`: linear between the points around it, the end
+// points' own outside them (black and transparent with no points). bakeLut samples it per class.
+glm::dvec4 evaluate(const TransferFunction& tf, double value);
 Lut bakeLut(const TransferFunction& tf);
 // Class of a value: which LUT entry it reads. Normalises over [lo, hi] and clamps; NaN gets class 0.
 uint16_t classOf(float value, float lo, float hi);

@@ -3,6 +3,7 @@
 #pragma once
 #include "renderer/camera.h"
 #include "renderer/splat_settings.h"
+#include "renderer/transfer_function.h"
 #include "renderer/window.h"
 
 #include <array>
@@ -13,7 +14,12 @@ namespace ui {
 struct EditorState {
     renderer::Camera camera; // orbit camera; "Reset camera" restores renderer::Camera{}, keeping `up`
     renderer::SplatSettings settings;        // what every render of the viewport uses
-    std::string presetName = "ct-skin-bone"; // built-in TF preset, or the file name of a TF loaded from disk
+    // The transfer function the scene is classified with; the Transfer function panel edits it.
+    renderer::TransferFunction tf = renderer::builtinPreset("ct-skin-bone");
+    bool tfEdited = false;             // points changed since the preset or file was loaded or saved
+    int tfSelected = -1;               // the control point the panel edits; -1: none
+    float tfGrabDx = 0, tfGrabDy = 0;  // while dragging: point minus mouse at the press, pixels
+    std::string tfFile = "transfer_function.json";   // the panel's Load / Save path
     std::array<float, 3> background{0.055f, 0.060f, 0.075f}; // linear RGB behind the volume
     std::string errorMessage; // shown in a modal until dismissed; empty when none
     renderer::WindowSettings window; // which data values map onto the TF (custom: data units)

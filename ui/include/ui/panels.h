@@ -14,14 +14,28 @@ namespace ui {
 // == Settings
 
 struct SettingsChanges {
-    bool tfChanged = false;       // presetName changed: re-bake the LUT and rebuild the visible lists
     bool settingsChanged = false; // a SplatSettings field changed
     bool cameraChanged = false;   // field of view, up axis or "Reset camera"
-    bool any() const { return tfChanged || settingsChanged || cameraChanged; }
+    bool any() const { return settingsChanged || cameraChanged; }
 };
 
-// TF preset, kernel scale, cutoff, density, filter mode, compositing, field of view, up axis, camera reset.
+// Kernel scale, cutoff, density, filter mode, compositing, shading, heatmap, field of view, up axis,
+// camera reset.
 SettingsChanges drawSettingsPanel(EditorState& state);
+
+// == Transfer function
+
+struct TransferFunctionView {
+    const renderer::Histogram* histogram = nullptr; // of the whole volume, drawn behind the curve; null: none
+    renderer::ValueRange window;                    // the data values the TF's 0..1 spans (the scene's window)
+};
+
+// Preset; the curve over the histogram (drag a point to move it, click empty space to add one,
+// right-click a point to remove it) and the colour bar; the selected point's value in data units,
+// opacity and colour; Load and Save of TF files (JSON, written atomically). A file that fails to load
+// or save sets state.errorMessage. Returns whether state.tf changed: the app then re-bakes the LUT,
+// which is all a TF edit uploads.
+bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& view);
 
 // == Window and histogram
 

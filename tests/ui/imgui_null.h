@@ -1,0 +1,55 @@
+// A test fixture that drives panels through ImGui with no renderer backend: mouse events in, the
+// panels' structs out, no pixels. Widget positions come from ImGui's own layout, found by hovering.
+#pragma once
+#include <gtest/gtest.h>
+#include <imgui.h>
+#include <imgui_internal.h>
+
+#include <functional>
+
+class ImGuiNull : public testing::Test {
+  protected:
+    void SetUp() override {
+        ImGui::CreateContext();
+        ImGuiIO& io = ImGui::GetIO();
+        io.DisplaySize = ImVec2(1280, 800);
+        io.DeltaTime = 1.0f / 60.0f;
+        io.IniFilename = nullptr;
+        unsigned char* pixels = nullptr;
+        int w = 0, h = 0;
+        io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h); // builds the atlas; nothing uploads it
+    }
+    void TearDown() override { ImGui::DestroyContext(); }
+
+    // One frame with `body` inside a fixed 400x700 window at the origin.
+    void frame(const std::function<void()>& body) {
+        ImGui::NewFrame();
+        ImGui::SetNextWindowPos(ImVec2(0, 0));
+        ImGui::SetNextWindowSize(ImVec2(400, 700));
+        ImGui::Begin("Panel", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
+        body();
+        ImGui::End();
+        ImGui::Render();
+    }
+    void mouse(float x, float y, bool down) {
+        ImGui::GetIO().MousePos = ImVec2(x, y);
+        ImGui::GetIO().MouseDown[0] = down;
+    }
+    // Presses and releases the left button at (x, y), a frame each.
+    void click(float x, float y, const std::function<void()>& body) {
+        mouse(x, y, true);
+        frame(body);
+        mouse(x, y, false);
+        frame(body);
+    }
+    // Moves the mouse down the column x = `x` between y0 and y1 until the item `id` is hovered; returns
+    // the y where it was, or -1. Widget positions come from ImGui's own layout, not from constants.
+    float findItem(ImGuiID id, float x, float y0, float y1, const std::function<void()>& body) {
+        for (float y = y0; y < y1; y += 2.0f) {
+            mouse(x, y, false);
+            frame(body);
+            if (ImGui::GetCurrentContext()->HoveredId == id) return y;
+        }
+        return -1.0f;
+    }
+};

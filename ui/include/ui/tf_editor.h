@@ -1,0 +1,37 @@
+// The rules behind the Transfer function panel's curve, as pure functions (tests drive them with no
+// ImGui): where a control point sits on the canvas, which one the mouse picks, and the edits. Values
+// are the TF's normalised domain (0..1 over the window), opacity 0..1 upwards; the points stay sorted.
+#pragma once
+#include "renderer/transfer_function.h"
+#include "renderer/volume.h"
+#include "ui/dock_layout.h"
+
+namespace ui {
+
+struct CanvasPoint {
+    float x = 0, y = 0;   // display pixels, y down
+};
+
+// (value, opacity) -> canvas pixels and back; canvasToTf clamps to the domain.
+CanvasPoint tfToCanvas(const Rect& canvas, double value, double opacity);
+void canvasToTf(const Rect& canvas, CanvasPoint p, double& value, double& opacity);
+
+// The control point drawn nearest to `mouse`, if within radiusPx; -1 when none is.
+int pickControlPoint(const renderer::TransferFunction& tf, const Rect& canvas, CanvasPoint mouse, float radiusPx);
+
+// Adds a point at `value` with `opacity` and the colour the TF already has there, so the colours do
+// not change; returns its index.
+int insertControlPoint(renderer::TransferFunction& tf, double value, double opacity);
+
+// Moves point `index`: its value stays between its neighbours' (the order never changes under a
+// drag), opacity within 0..1. Non-finite inputs leave that coordinate as it was.
+void moveControlPoint(renderer::TransferFunction& tf, int index, double value, double opacity);
+
+// Removes point `index` unless only two are left (a TF needs a start and an end); returns whether it did.
+bool removeControlPoint(renderer::TransferFunction& tf, int index);
+
+// Data units <-> the TF's normalised domain over `window` (what the panel shows and types).
+double toDataUnits(double value, renderer::ValueRange window);
+double fromDataUnits(double data, renderer::ValueRange window);
+
+} // namespace ui

@@ -1,0 +1,62 @@
+// The Transfer function panel's curve rules (tf_editor.h).
+#include "ui/tf_editor.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ui {
+
+CanvasPoint tfToCanvas(const Rect& canvas, double value, double opacity) {
+    return {canvas.x + float(value) * canvas.w, canvas.bottom() - float(opacity) * canvas.h};
+}
+
+void canvasToTf(const Rect& canvas, CanvasPoint p, double& value, double& opacity) {
+    value = canvas.w > 0 ? std::clamp(double(p.x - canvas.x) / canvas.w, 0.0, 1.0) : 0.0;
+    opacity = canvas.h > 0 ? std::clamp(double(canvas.bottom() - p.y) / canvas.h, 0.0, 1.0) : 0.0;
+}
+
+int pickControlPoint(const renderer::TransferFunction& tf, const Rect& canvas, CanvasPoint mouse, float radiusPx) {
+    int best = -1;
+    float bestD2 = radiusPx * radiusPx;
+    for (size_t i = 0; i < tf.points.size(); ++i) {
+        const CanvasPoint c = tfToCanvas(canvas, tf.points[i].value, tf.points[i].opacity);
+        const float dx = c.x - mouse.x, dy = c.y - mouse.y, d2 = dx * dx + dy * dy;
+        if (d2 <= bestD2) best = int(i), bestD2 = d2;   // ties: the later point, drawn on top
+    }
+    return best;
+}
+
+int insertControlPoint(renderer::TransferFunction& tf, double value, double opacity) {
+    value = std::clamp(value, 0.0, 1.0);
+    const glm::dvec4 here = renderer::evaluate(tf, value);
+    auto at = std::upper_bound(tf.points.begin(), tf.points.end(), value,
+                               [](double v, const renderer::ControlPoint& p) { return v < p.value; });
+    at = tf.points.insert(at, {value, glm::dvec3(here), std::clamp(opacity, 0.0, 1.0)});
+    return int(at - tf.points.begin());
+}
+
+void moveControlPoint(renderer::TransferFunction& tf, int index, double value, double opacity) {
+    if (index < 0 || size_t(index) >= tf.points.size()) return;
+    renderer::ControlPoint& p = tf.points[size_t(index)];
+    const double lo = index > 0 ? tf.points[size_t(index) - 1].value : 0.0;
+    const double hi = size_t(index) + 1 < tf.points.size() ? tf.points[size_t(index) + 1].value : 1.0;
+    if (std::isfinite(value)) p.value = std::clamp(value, lo, hi);
+    if (std::isfinite(opacity)) p.opacity = std::clamp(opacity, 0.0, 1.0);
+}
+
+bool removeControlPoint(renderer::TransferFunction& tf, int index) {
+    if (tf.points.size() <= 2 || index < 0 || size_t(index) >= tf.points.size()) return false;
+    tf.points.erase(tf.points.begin() + index);
+    return true;
+}
+
+double toDataUnits(double value, renderer::ValueRange window) {
+    return double(window.lo) + value * (double(window.hi) - double(window.lo));
+}
+
+double fromDataUnits(double data, renderer::ValueRange window) {
+    const double span = double(window.hi) - double(window.lo);
+    return span > 0 ? std::clamp((data - window.lo) / span, 0.0, 1.0) : 0.0;
+}
+
+} // namespace ui
