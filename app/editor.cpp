@@ -16,6 +16,7 @@
 #include "ui/dock_layout.h"
 #include "ui/editor_state.h"
 #include "ui/panels.h"
+#include "ui/space_mouse.h"
 
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
@@ -281,11 +282,30 @@ int runEditor(const EditorOptions& options) {
         {"Help", "bottom", [] { ui::drawHelpPanel(); }},
     };
 
+    // A 3D mouse, if one is plugged in. Scripted runs show its status but never move with it: their
+    // frames stay reproducible.
+    ui::SpaceMouse spaceMouse(ui::makeHidapiBackend());
+    double lastPoll = glfwGetTime();
+    auto knobDeflected = [&] {
+        if (scripted || !spaceMouse.connected() || !state.spaceMouse.enabled) return false;
+        const ui::SpaceMouseState& s = spaceMouse.state();
+        return s.translation != std::array<int, 3>{} || s.rotation != std::array<int, 3>{};
+    };
+
     for (int frame = 1; !glfwWindowShouldClose(glfw.window); ++frame) {
-        // Idle: sleep until an event (or 50 ms for the GPU timer); busy or scripted: keep going.
-        if (scripted || renderPending || tfPending) glfwPollEvents();
-        else glfwWaitEventsTimeout(0.05);
+        // Idle: sleep until an event (or 50 ms for the GPU timer, 16 ms to read a 3D mouse); busy,
+        // scripted or the knob deflected: keep going.
+        if (scripted || renderPending || tfPending || knobDeflected()) glfwPollEvents();
+        else glfwWaitEventsTimeout(spaceMouse.connected() ? 0.016 : 0.05);
         if (splats) splats->collectTimers();
+        const double pollTime = glfwGetTime();
+        spaceMouse.poll(pollTime);
+        state.spaceMouseStatus = spaceMouse.status();
+        if (knobDeflected() && ui::applyOrbitInput(state.camera, ui::spaceMouseOrbit(spaceMouse.state(),
+                                                                                     pollTime - lastPoll,
+                                                                                     state.spaceMouse)))
+            renderPending = true;
+        lastPoll = pollTime;
 
         // 5a. Renderer work for last frame's edits. A failed step waits for the next edit instead of
         //     repeating (and re-opening the error modal) every frame.

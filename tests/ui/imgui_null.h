@@ -21,11 +21,12 @@ class ImGuiNull : public testing::Test {
     }
     void TearDown() override { ImGui::DestroyContext(); }
 
-    // One frame with `body` inside a fixed 400x700 window at the origin.
+    float windowHeight = 700;
+    // One frame with `body` inside a fixed 400 x windowHeight window at the origin.
     void frame(const std::function<void()>& body) {
         ImGui::NewFrame();
         ImGui::SetNextWindowPos(ImVec2(0, 0));
-        ImGui::SetNextWindowSize(ImVec2(400, 700));
+        ImGui::SetNextWindowSize(ImVec2(400, windowHeight));
         ImGui::Begin("Panel", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
         body();
         ImGui::End();

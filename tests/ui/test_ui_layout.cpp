@@ -400,3 +400,21 @@ TEST_F(ImGuiNull, ProgressModalCancelButtonReportsOnceAndTheModalClosesWhenWorkE
     });
     EXPECT_FALSE(open);
 }
+
+TEST_F(ImGuiNull, SpaceMouseCheckboxTurnsNavigationOff) {
+    ui::EditorState state;
+    state.spaceMouseStatus = "SpaceNavigator (046d:c626)";
+    ImGuiID boxId = 0;
+    auto body = [&] {
+        boxId = ImGui::GetID("Navigate with it");
+        ui::drawSettingsPanel(state);
+    };
+    ImGui::GetIO().DisplaySize = ImVec2(1280, 1100);
+    windowHeight = 1100;   // the whole panel, no scrolling
+    frame(body);
+    const float y = findItem(boxId, 20.0f, 0.0f, 1100.0f, body);
+    ASSERT_GE(y, 0.0f) << "no 'Navigate with it' checkbox";
+    ASSERT_TRUE(state.spaceMouse.enabled);
+    click(20.0f, y, body);
+    EXPECT_FALSE(state.spaceMouse.enabled);
+}

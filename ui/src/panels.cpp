@@ -182,6 +182,20 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     ImGui::TextDisabled("azimuth %.1f  elevation %.1f  distance %.2f", c.azimuthDeg, c.elevationDeg,
                         c.distance);
 
+    sectionTitle("3D mouse");
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("%s", state.spaceMouseStatus.empty() ? "not looked for" : state.spaceMouseStatus.c_str());
+    ImGui::PopStyleColor();
+    SpaceMouseMapping& m = state.spaceMouse;
+    ImGui::Checkbox("Navigate with it", &m.enabled);
+    hint("Twist: orbit around; tilt forward or back: look from above or below; push or pull: zoom;\n"
+         "slide sideways or lift: pan. The knob's deflection sets the speed");
+    sliderDouble("Speed", m.speed, 0.1, 10.0, "%.2f", ImGuiSliderFlags_Logarithmic);
+    ImGui::Checkbox("Invert rotation", &m.invertRotation);
+    ImGui::SameLine();
+    ImGui::Checkbox("Invert moves", &m.invertTranslation);
+    hint("Off: the knob turns and moves the object. On: it turns or moves the camera instead");
+
     ImGui::PopItemWidth();
     return changes;
 }
@@ -354,6 +368,7 @@ void drawHelpPanel() {
     ImGui::BulletText("Wheel: zoom (distance %.2f to %.0f bounding radii)", kMinDistance, kMaxDistance);
     ImGui::BulletText("Drag the bars between regions to resize them");
     ImGui::BulletText("Transfer function curve: drag a point, click empty space to add one, right-click to remove");
+    ImGui::BulletText("3D mouse: twist to orbit, tilt to look from above or below, push or pull to zoom, slide to pan");
 }
 
 void drawErrorModal(EditorState& state) {

@@ -11,6 +11,14 @@
 
 namespace ui {
 
+// How a 3D mouse's knob moves the camera (space_mouse.h).
+struct SpaceMouseMapping {
+    bool enabled = true;
+    double speed = 1.0;              // multiplies every rate
+    bool invertRotation = false;     // turn the camera, not the object
+    bool invertTranslation = false;  // move the camera, not the object
+};
+
 struct EditorState {
     renderer::Camera camera; // orbit camera; "Reset camera" restores renderer::Camera{}, keeping `up`
     renderer::SplatSettings settings;        // what every render of the viewport uses
@@ -26,6 +34,8 @@ struct EditorState {
     bool histogramLog = true;        // the Window section's histogram: log-scale counts
     bool gradientsReady = false;     // the scene has gradients: shading and surface splats can be on
     bool showHeatmap = false;        // the viewport shows the filter-mode heatmap instead of the image
+    SpaceMouseMapping spaceMouse;
+    std::string spaceMouseStatus;    // the device found, or why there is none (set by the app)
 };
 
 } // namespace ui
