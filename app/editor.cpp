@@ -16,6 +16,7 @@
 #include "ui/dock_layout.h"
 #include "ui/editor_state.h"
 #include "ui/panels.h"
+#include "ui/session.h"
 #include "ui/space_mouse.h"
 
 #include <epoxy/gl.h>
@@ -162,9 +163,7 @@ int runEditor(const EditorOptions& options) {
 #ifndef NDEBUG
     glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, GLFW_TRUE);
 #endif
-    const std::string volumeName = options.volumePath.empty() ? "" : options.volumePath.stem().string();
-    const std::string title = volumeName.empty() ? "SplatLab" : "SplatLab \xE2\x80\x94 " + volumeName;
-    glfw.window = glfwCreateWindow(options.width, options.height, title.c_str(), nullptr, nullptr);
+    glfw.window = glfwCreateWindow(options.width, options.height, "SplatLab", nullptr, nullptr);
     if (!glfw.window) {
         std::fprintf(stderr,
                      "splatlab editor: cannot open a %dx%d window with an OpenGL 4.5 core context: %s\n",
@@ -221,6 +220,33 @@ int runEditor(const EditorOptions& options) {
     //    Declared after the ImGui and GLFW sessions, so the renderer's GL objects go first.
     Document doc;
     std::unique_ptr<renderer::SplatRenderer> splats;
+    std::unique_ptr<GradientJob> gradientJob;
+    // Loads `path`, classified with state.tf over state.window, into a new document and scene; its
+    // gradients start on a worker thread (a scripted run waits for them: deterministic frames). On
+    // failure the document shown stays.
+    auto openVolume = [&](const std::filesystem::path& path) {
+        return guarded([&] {
+            Document next;
+            next.tf = state.tf;
+            renderer::Volume volume = renderer::loadVolume(path);
+            next.histogram = renderer::computeHistogram(volume, 128);
+            next.percentile = renderer::percentileWindow(volume, 1.0, 99.0);
+            next.scene = renderer::buildSplatScene(volume, next.tf, renderer::windowFor(volume, state.window));
+            next.volume = std::move(volume);
+            auto fresh = splats ? nullptr : std::make_unique<renderer::SplatRenderer>();
+            (splats ? *splats : *fresh).setScene(next.scene);
+            if (fresh) splats = std::move(fresh);
+            gradientJob.reset();   // cancels the gradients of the volume going away
+            doc = std::move(next);
+            state.gradientsReady = false;
+            state.loadedVolume = path;
+            state.volumeFile = path.string();
+            glfwSetWindowTitle(glfw.window, ("SplatLab \xE2\x80\x94 " + path.stem().string()).c_str());
+            gradientJob = std::make_unique<GradientJob>(*doc.volume);
+            if (scripted) gradientJob->thread.join();
+        });
+    };
+    std::filesystem::path volumePath = options.volumePath;
     guarded([&] {
         state.camera = options.camera;
         state.camera.up = renderer::axisFromName(options.upAxis);
@@ -231,23 +257,15 @@ int runEditor(const EditorOptions& options) {
             state.settings.compositing == renderer::Compositing::SplatEverySample)
             throw renderer::RenderError("--primitive tiles needs sheet or X-ray compositing (--compositing)");
         state.showHeatmap = state.settings.heatmap = options.heatmap;
-        if (options.volumePath.empty()) return;
-        doc.tf = renderer::transferFunctionFromSpec(options.tfSpec);
-        state.tf = doc.tf;
-        renderer::Volume volume = renderer::loadVolume(options.volumePath);
-        doc.histogram = renderer::computeHistogram(volume, 128);
-        doc.percentile = renderer::percentileWindow(volume, 1.0, 99.0);
-        doc.scene = renderer::buildSplatScene(volume, doc.tf, renderer::windowFor(volume, state.window));
-        doc.volume = std::move(volume);
-        splats = std::make_unique<renderer::SplatRenderer>();
-        splats->setScene(doc.scene);
+        state.tf = renderer::transferFunctionFromSpec(options.tfSpec);
+        if (options.sessionPath.empty()) return;
+        // The session replaces what the flags set; a volume argument replaces the session's volume.
+        const std::filesystem::path sessionVolume = ui::loadSession(options.sessionPath, state);
+        state.sessionFile = options.sessionPath.string();
+        if (volumePath.empty()) volumePath = sessionVolume;
     });
+    if (exitCode == 0 && !volumePath.empty()) openVolume(volumePath);
     if (exitCode != 0) return exitCode;
-    if (!splats) doc.volume.reset();
-    // Gradients on a worker thread; a scripted run waits for them so its frames are deterministic.
-    std::unique_ptr<GradientJob> gradientJob;
-    if (doc.volume) gradientJob = std::make_unique<GradientJob>(*doc.volume);
-    if (scripted && gradientJob) gradientJob->thread.join();
 
     // 5. Frame loop. Edits made in frame N are rendered at the top of frame N+1, at the viewport size
     //    frame N measured; the first frame only measures.
@@ -309,6 +327,18 @@ int runEditor(const EditorOptions& options) {
 
         // 5a. Renderer work for last frame's edits. A failed step waits for the next edit instead of
         //     repeating (and re-opening the error modal) every frame.
+        if (settingsChanges.openVolume) {
+            openVolume(state.volumeFile);
+            renderPending = true;
+        }
+        if (settingsChanges.sessionOpened) {
+            // Another volume: load it with the session's window and TF; the same one: re-classify it.
+            const std::filesystem::path& v = settingsChanges.sessionVolume;
+            std::error_code ec;
+            if (!v.empty() && !std::filesystem::equivalent(v, state.loadedVolume, ec)) openVolume(v);
+            else tfPending = windowChanged = true;
+            renderPending = true;
+        }
         if (splats && tfPending) {
             tfPending = false;
             guarded([&] {
@@ -348,7 +378,10 @@ int runEditor(const EditorOptions& options) {
             const bool rendered = guarded([&] {
                 const renderer::ImagePlane plane = renderer::makeImagePlane(
                     state.camera, doc.scene.centre, doc.scene.radius, renderWidth, renderHeight);
-                splats->render(plane, state.settings);
+                // Shading waits for the gradients (computed after a volume loads); until then, unshaded.
+                renderer::SplatSettings drawn = state.settings;
+                if (!state.gradientsReady) drawn.shading = renderer::SplatSettings::Shading::None, drawn.surfaceFlatten = 1.0;
+                splats->render(plane, drawn);
                 texture = splats->displayTexture(state.background.data(), state.showHeatmap);
             });
             if (!rendered) texture = 0;

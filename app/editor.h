@@ -8,7 +8,8 @@
 #include <string>
 
 struct EditorOptions {
-    std::filesystem::path volumePath;     // empty: start with no volume
+    std::filesystem::path volumePath;     // empty: start with no volume (or the session's)
+    std::filesystem::path sessionPath;    // non-empty: open this session (after the flags, replacing them)
     std::string tfSpec = "ct-skin-bone";  // preset name or TF JSON file
     renderer::Camera camera;              // the starting view (its `up` is replaced by upAxis)
     std::string upAxis = "z";             // object axis shown upwards: x, y, z, -x, -y, -z (headsq: -z)

@@ -74,7 +74,20 @@ Camera parseCamera(const std::string& text) {
     return c;
 }
 
-FilterMode parseFilter(const std::string& s) { return filterModeFromName(s); }
+// A flag's value through a renderer parser: its RenderError (which lists the known names) becomes an
+// error naming the flag.
+template <class Parse>
+auto flagValue(const char* flag, Parse parse) {
+    try {
+        return parse();
+    } catch (const RenderError& e) {
+        throw CLI::ValidationError(flag, e.what());
+    }
+}
+
+FilterMode parseFilter(const std::string& s) {
+    return flagValue("--filter", [&] { return filterModeFromName(s); });
+}
 
 struct RawFlags {
     std::string dims, type, endian = "little";
@@ -211,21 +224,14 @@ Scene buildScene(const SceneArgs& a) {
     camera.up = axisFromName(a.up);
     camera.orthographic = a.orthographic;
     Scene s;
-    s.settings.compositing = compositingFromName(a.compositing);
+    s.settings.compositing = flagValue("--compositing", [&] { return compositingFromName(a.compositing); });
     s.settings.filter = parseFilter(a.filter);
     if (!(a.kernelScale > 0.05 && a.kernelScale <= 10))
         throw CLI::ValidationError("--kernel-scale", "must be in (0.05, 10] voxel spacings");
     if (!(a.density > 0)) throw CLI::ValidationError("--density", "must be > 0");
     s.settings.kernelScale = a.kernelScale;
     s.settings.density = a.density;
-    const std::pair<const char*, SplatSettings::Shading> shadings[] = {{"none", SplatSettings::Shading::None},
-                                                                       {"per-splat", SplatSettings::Shading::PerSplat},
-                                                                       {"per-fragment", SplatSettings::Shading::PerFragment}};
-    bool knownShading = false;
-    for (auto [name, mode] : shadings)
-        if (a.shading == name) s.settings.shading = mode, knownShading = true;
-    if (!knownShading)
-        throw CLI::ValidationError("--shading", "'" + a.shading + "': expected none, per-splat or per-fragment");
+    s.settings.shading = flagValue("--shading", [&] { return shadingFromName(a.shading); });
     if (!(a.surfaceFlatten >= 1.0 && a.surfaceFlatten <= 1e6))
         throw CLI::ValidationError("--surface", "must be in [1, 1e6] (1: volume kernels)");
     if (!(a.surfaceGradient >= 0.0 && a.surfaceGradient <= 1.0))
@@ -253,12 +259,7 @@ const char* kPrimitiveHelp = "How splats reach pixels: auto (tiles for sheets an
                              "and X-ray only)";
 
 SplatSettings::Primitive parsePrimitive(const std::string& name) {
-    using P = SplatSettings::Primitive;
-    const std::pair<const char*, P> names[] = {{"auto", P::Auto}, {"raster", P::Raster}, {"points", P::Points},
-                                               {"quads", P::Quads}, {"tiles", P::Tiles}};
-    for (auto [n, p] : names)
-        if (name == n) return p;
-    throw CLI::ValidationError("--primitive", "'" + name + "': expected auto, raster, points, quads or tiles");
+    return flagValue("--primitive", [&] { return primitiveFromName(name); });
 }
 
 struct RenderArgs {
@@ -464,10 +465,14 @@ int main(int argc, char** argv) {
 
     EditorOptions e;
     e.volumePath = std::filesystem::path(SPLATLAB_ASSET_DIR) / "volumes" / "headsq.nhdr";
-    std::string editorSize = "1280x800", editorVolume, screenshot, editorUp, editorCamera, editorPrimitive = "auto";
+    std::string editorSize = "1280x800", editorVolume, screenshot, editorUp, editorCamera, editorPrimitive = "auto",
+                editorSession;
     auto* editor = app.add_subcommand("editor", "Open the editor window (default: the bundled headsq)");
     editor->add_option("volume", editorVolume, "Volume file");
     editor->add_option("--tf", e.tfSpec, "Transfer function: a preset name or a JSON file")->capture_default_str();
+    editor->add_option("--session", editorSession,
+                       "Open a saved session (JSON): its settings replace the other flags'; a volume argument "
+                       "replaces its volume");
     editor->add_option("--screenshot", screenshot, "Write a PNG of the window after --frames frames, then exit");
     editor->add_option("--frames", e.frames, "Exit after this many frames (0: run until closed)");
     editor->add_option("--size", editorSize, "Window size WxH")->capture_default_str();
@@ -496,6 +501,8 @@ int main(int argc, char** argv) {
         e.primitive = parsePrimitive(editorPrimitive);
         if (!editorUp.empty()) e.upAxis = (axisFromName(editorUp), editorUp);
         if (!editorVolume.empty()) e.volumePath = editorVolume;
+        else if (!editorSession.empty()) e.volumePath.clear();   // the session's volume
+        e.sessionPath = editorSession;
         if (!screenshot.empty()) e.screenshotPath = screenshot;
         const glm::ivec2 s = parseSize(editorSize, "--size");
         e.width = s.x;

@@ -2,6 +2,7 @@
 // Jacobian; we use 001 eq. (25), whose determinant is |u| / u2^3 (times fPx^2 in pixel units).
 #include "renderer/ewa.h"
 
+#include "renderer/enum_names.h"
 #include "renderer/errors.h"
 
 #include <cassert>
@@ -22,9 +23,8 @@ const char* filterModeName(FilterMode m) {
 }
 
 FilterMode filterModeFromName(const std::string& name) {
-    for (auto m : {FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Ewa, FilterMode::Adaptive})
-        if (name == filterModeName(m)) return m;
-    throw RenderError("unknown filter '" + name + "' (known: reconstruction, low-pass, ewa, adaptive)");
+    return enumFromName(name, {FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Ewa, FilterMode::Adaptive},
+                        &filterModeName, "filter");
 }
 
 glm::dmat3 rayJacobianPx(glm::dvec3 u, double fPx) {

@@ -1,6 +1,7 @@
 // Names of the settings' enums, shared by the CLI, the editor and the benchmark output.
 #include "renderer/splat_settings.h"
 
+#include "renderer/enum_names.h"
 #include "renderer/errors.h"
 
 namespace renderer {
@@ -16,11 +17,39 @@ const char* compositingName(Compositing c) {
 }
 
 Compositing compositingFromName(const std::string& name) {
-    for (auto c : {Compositing::SplatEverySample, Compositing::XRay, Compositing::SheetBackToFront,
-                   Compositing::SheetFrontToBack})
-        if (name == compositingName(c)) return c;
-    throw RenderError("unknown compositing '" + name +
-                      "' (known: splat-every-sample, xray, sheet-back-to-front, sheet-front-to-back)");
+    return enumFromName(name, {Compositing::SplatEverySample, Compositing::XRay, Compositing::SheetBackToFront,
+                               Compositing::SheetFrontToBack},
+                        &compositingName, "compositing");
+}
+
+const char* shadingName(SplatSettings::Shading s) {
+    switch (s) {
+    case SplatSettings::Shading::None: return "none";
+    case SplatSettings::Shading::PerSplat: return "per-splat";
+    case SplatSettings::Shading::PerFragment: return "per-fragment";
+    }
+    return "?";
+}
+
+SplatSettings::Shading shadingFromName(const std::string& name) {
+    using S = SplatSettings::Shading;
+    return enumFromName(name, {S::None, S::PerSplat, S::PerFragment}, &shadingName, "shading");
+}
+
+const char* primitiveName(SplatSettings::Primitive p) {
+    switch (p) {
+    case SplatSettings::Primitive::Auto: return "auto";
+    case SplatSettings::Primitive::Raster: return "raster";
+    case SplatSettings::Primitive::Points: return "points";
+    case SplatSettings::Primitive::Quads: return "quads";
+    case SplatSettings::Primitive::Tiles: return "tiles";
+    }
+    return "?";
+}
+
+SplatSettings::Primitive primitiveFromName(const std::string& name) {
+    using P = SplatSettings::Primitive;
+    return enumFromName(name, {P::Auto, P::Raster, P::Points, P::Quads, P::Tiles}, &primitiveName, "primitive");
 }
 
 bool frontToBack(const SplatSettings& s) {

@@ -1,6 +1,7 @@
 // Transfer functions: piecewise-linear control points, the baked LUT, built-in presets and JSON I/O.
 #include "renderer/transfer_function.h"
 
+#include "renderer/atomic_file.h"
 #include "renderer/errors.h"
 
 #include <nlohmann/json.hpp>
@@ -97,6 +98,44 @@ TransferFunction builtinPreset(const std::string& name) {
     throw RenderError("unknown transfer-function preset '" + name + "' (known: " + known + ")");
 }
 
+nlohmann::json toJson(const TransferFunction& tf) {
+    nlohmann::json j;
+    j["version"] = 1;
+    j["name"] = tf.name;
+    j["points"] = nlohmann::json::array();
+    for (const auto& p : tf.points)
+        j["points"].push_back({{"value", p.value},
+                               {"colour", {p.colour.r, p.colour.g, p.colour.b}},
+                               {"opacity", p.opacity}});
+    return j;
+}
+
+TransferFunction transferFunctionFromJson(const nlohmann::json& j, const std::string& source,
+                                          const std::string& defaultName) {
+    TransferFunction tf;
+    tf.name = defaultName;
+    try {
+        if (!j.is_object()) throw LoadError(source, "", "expected a JSON object");
+        if (j.contains("name")) tf.name = j.at("name").get<std::string>();
+        if (!j.contains("points") || !j["points"].is_array())
+            throw LoadError(source, "points", "missing, expected an array of control points");
+        for (const auto& p : j["points"]) {
+            ControlPoint c;
+            c.value = p.at("value").get<double>();
+            const auto col = p.at("colour").get<std::vector<double>>();
+            if (col.size() != 3) throw LoadError(source, "colour", "has " + std::to_string(col.size()) +
+                                                                      " values, expected 3 (r, g, b)");
+            c.colour = {col[0], col[1], col[2]};
+            c.opacity = p.at("opacity").get<double>();
+            tf.points.push_back(c);
+        }
+    } catch (const nlohmann::json::exception& e) {
+        throw LoadError(source, "points", std::string("expected {value, colour[3], opacity}: ") + e.what());
+    }
+    if (auto err = validate(tf); !err.empty()) throw LoadError(source, "points", err);
+    return tf;
+}
+
 TransferFunction loadTransferFunction(const std::filesystem::path& path) {
     std::ifstream in(path);
     if (!in) throw LoadError(path.string(), "", "cannot open");
@@ -106,56 +145,11 @@ TransferFunction loadTransferFunction(const std::filesystem::path& path) {
     } catch (const nlohmann::json::exception& e) {
         throw LoadError(path.string(), "", std::string("not valid JSON: ") + e.what());
     }
-    TransferFunction tf;
-    tf.name = path.stem().string();
-    try {
-        if (!j.is_object()) throw LoadError(path.string(), "", "expected a JSON object");
-        if (j.contains("name")) tf.name = j.at("name").get<std::string>();
-        if (!j.contains("points") || !j["points"].is_array())
-            throw LoadError(path.string(), "points", "missing, expected an array of control points");
-        for (const auto& p : j["points"]) {
-            ControlPoint c;
-            c.value = p.at("value").get<double>();
-            const auto col = p.at("colour").get<std::vector<double>>();
-            if (col.size() != 3) throw LoadError(path.string(), "colour", "has " + std::to_string(col.size()) +
-                                                                               " values, expected 3 (r, g, b)");
-            c.colour = {col[0], col[1], col[2]};
-            c.opacity = p.at("opacity").get<double>();
-            tf.points.push_back(c);
-        }
-    } catch (const nlohmann::json::exception& e) {
-        throw LoadError(path.string(), "points", std::string("expected {value, colour[3], opacity}: ") + e.what());
-    }
-    if (auto err = validate(tf); !err.empty()) throw LoadError(path.string(), "points", err);
-    return tf;
+    return transferFunctionFromJson(j, path.string(), path.stem().string());
 }
 
 void saveTransferFunction(const TransferFunction& tf, const std::filesystem::path& path) {
-    nlohmann::json j;
-    j["version"] = 1;
-    j["name"] = tf.name;
-    j["points"] = nlohmann::json::array();
-    for (const auto& p : tf.points)
-        j["points"].push_back({{"value", p.value},
-                               {"colour", {p.colour.r, p.colour.g, p.colour.b}},
-                               {"opacity", p.opacity}});
-    // Atomic: a crash mid-write leaves the old file, never a truncated one. Errors name the user's
-    // file; a failed write leaves no temp file behind.
-    const auto tmp = std::filesystem::path(path.string() + ".tmp");
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    out.close();
-    std::error_code ec;
-    if (!out) {
-        std::filesystem::remove(tmp, ec);
-        throw LoadError(path.string(), "", "cannot write (" + tmp.string() + ")");
-    }
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        const std::string reason = "cannot replace: " + ec.message();
-        std::filesystem::remove(tmp, ec);
-        throw LoadError(path.string(), "", reason);
-    }
+    writeFileAtomically(path, toJson(tf).dump(2) + "\n");
 }
 
 TransferFunction transferFunctionFromSpec(const std::string& spec) {

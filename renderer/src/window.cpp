@@ -1,6 +1,7 @@
 // Window/level choices (see window.h).
 #include "renderer/window.h"
 
+#include "renderer/enum_names.h"
 #include "renderer/errors.h"
 
 #include <algorithm>
@@ -19,6 +20,11 @@ const char* windowModeName(WindowMode mode) {
         return "custom";
     }
     return "unknown";
+}
+
+WindowMode windowModeFromName(const std::string& name) {
+    return enumFromName(name, {WindowMode::DataRange, WindowMode::Percentile, WindowMode::Custom}, &windowModeName,
+                        "window mode");
 }
 
 ValueRange percentileWindow(const Volume& volume, double loPercent, double hiPercent) {

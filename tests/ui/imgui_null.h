@@ -53,4 +53,13 @@ class ImGuiNull : public testing::Test {
         }
         return -1.0f;
     }
+    // The same along the row y = `y` (items laid out side by side); returns the x, or -1.
+    float findItemInRow(ImGuiID id, float y, const std::function<void()>& body) {
+        for (float x = 0.0f; x < 400.0f; x += 2.0f) {
+            mouse(x, y, false);
+            frame(body);
+            if (ImGui::GetCurrentContext()->HoveredId == id) return x;
+        }
+        return -1.0f;
+    }
 };

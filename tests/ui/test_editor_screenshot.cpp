@@ -4,6 +4,7 @@
 #include "renderer/image.h"
 #include "test_paths.h"
 #include "ui/dock_layout.h"
+#include "ui/session.h"
 
 #include <gtest/gtest.h>
 
@@ -34,6 +35,15 @@ double fractionBrighterThan(const renderer::Image& image, const ui::Rect& r, dou
     return all ? double(bright) / double(all) : 0.0;
 }
 
+// The largest difference of any colour channel between two screenshots inside `r`.
+double largestDifference(const renderer::Image& a, const renderer::Image& b, const ui::Rect& r) {
+    double worst = 0.0;
+    for (int y = int(r.y); y < int(r.bottom()); ++y)
+        for (int x = int(r.x); x < int(r.right()); ++x)
+            for (int c = 0; c < 3; ++c) worst = std::max(worst, double(std::abs(a.pixel(x, y)[c] - b.pixel(x, y)[c])));
+    return worst;
+}
+
 ui::Rect shrink(const ui::Rect& r, float top, float fraction) {
     const ui::Rect body{r.x, r.y + top, r.w, r.h - top};
     return {body.x + body.w * fraction, body.y + body.h * fraction, body.w * (1 - 2 * fraction),
@@ -44,14 +54,15 @@ ui::Rect shrink(const ui::Rect& r, float top, float fraction) {
 // test_out/<name> and returns it. Leak checking is off for the child only: Mesa and libX11 leak from
 // a driver module they have already unloaded, which no suppression can name (a bare GLFW window
 // leaks 5 KB the same way).
-renderer::Image editorScreenshot(const std::string& flags, const std::string& name) {
+renderer::Image editorScreenshot(const std::string& flags, const std::string& name, bool withVolume = true) {
     const std::filesystem::path volume = testing_support::assetDir() / "volumes" / "headsq.nhdr";
     EXPECT_TRUE(std::filesystem::exists(volume)) << volume << " is missing from the bundled assets";
     const std::filesystem::path shot = testing_support::testOutputDir() / name;
     std::filesystem::remove(shot);
     const std::string command = "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" "
-                                "xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor \"" +
-                                volume.string() + "\" " + flags + " --screenshot \"" + shot.string() +
+                                "xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor " +
+                                (withVolume ? "\"" + volume.string() + "\" " : std::string()) + flags +
+                                " --screenshot \"" + shot.string() +
                                 "\" --frames 5 --size 1280x800";
     EXPECT_EQ(std::system(command.c_str()), 0) << command;
     return renderer::readImage(shot);
@@ -122,10 +133,34 @@ TEST(EditorScreenshot, TiledSheetsShowTheSameViewportAsRasterisedSheets) {
     const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
     const ui::Rect viewport = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.0f);
     const ui::Rect centre = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.25f);
-    double worst = 0.0;
-    for (int y = int(viewport.y); y < int(viewport.bottom()); ++y)
-        for (int x = int(viewport.x); x < int(viewport.right()); ++x)
-            for (int c = 0; c < 3; ++c) worst = std::max(worst, double(std::abs(raster.pixel(x, y)[c] - tiled.pixel(x, y)[c])));
-    EXPECT_LE(worst, 1.5 / 255.0) << "see editor_sheets.png and editor_tiles.png";
+    EXPECT_LE(largestDifference(raster, tiled, viewport), 1.5 / 255.0) << "see editor_sheets.png and editor_tiles.png";
     EXPECT_GT(fractionBrighterThan(tiled, centre, modalLuminance(tiled, viewport) + 0.08), 0.5) << "see editor_tiles.png";
+}
+
+TEST(EditorScreenshot, ASessionOpensTheViewTheFlagsItStandsForWouldOpen) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    // The session names the volume, TF, camera and compositing; the editor opens it with no other flag.
+    ui::EditorState state;
+    state.tf = renderer::builtinPreset("fire");
+    state.camera.azimuthDeg = 200.0;
+    state.camera.elevationDeg = 10.0;
+    state.camera.distance = 2.2;
+    state.camera.fovYDeg = 40.0;
+    state.camera.up = {0.0, 0.0, -1.0};
+    state.settings.compositing = renderer::Compositing::SheetFrontToBack;
+    const auto session = testing_support::testOutputDir("session") / "editor_session.json";
+    ui::saveSession(state, testing_support::assetDir() / "volumes" / "headsq.nhdr", session);
+    const renderer::Image opened =
+        editorScreenshot("--session \"" + session.string() + "\"", "editor_session.png", false);
+    const renderer::Image flags = editorScreenshot(
+        "--tf fire --camera 200,10,2.2,40 --up -z --compositing sheet-front-to-back", "editor_session_flags.png");
+    ASSERT_FALSE(::testing::Test::HasFailure());
+    const ui::DockLayout layout = ui::makeEditorLayout();
+    const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    const ui::Rect viewport = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.0f);
+    const ui::Rect centre = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.25f);
+    EXPECT_LE(largestDifference(opened, flags, viewport), 1.5 / 255.0) << "see editor_session.png and editor_session_flags.png";
+    EXPECT_GT(fractionBrighterThan(opened, centre, modalLuminance(opened, viewport) + 0.08), 0.3)
+        << "see editor_session.png";
 }

@@ -242,12 +242,7 @@ TEST_F(TfPanel, SaveWritesAFileThatLoadsBackAndBadFilesNameThemselves) {
     frame(withButtons);
     const float y = findItem(loadId, 20.0f, 0.0f, 700.0f, withButtons);
     ASSERT_GE(y, 0.0f) << "the Load button was never hovered";
-    float saveX = -1;
-    for (float x = 20; x < 400 && saveX < 0; x += 2) {
-        mouse(x, y, false);
-        frame(withButtons);
-        if (ImGui::GetCurrentContext()->HoveredId == saveId) saveX = x;
-    }
+    const float saveX = findItemInRow(saveId, y, withButtons);
     ASSERT_GE(saveX, 0.0f) << "the Save button was never hovered";
 
     // Save: the file holds the points and names the TF after itself.

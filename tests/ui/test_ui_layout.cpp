@@ -364,12 +364,7 @@ TEST_F(ImGuiNull, WindowSectionPercentileRadioSelectsThePercentileWindow) {
     EXPECT_FALSE(changed);
     const float y = findItem(dataId, 20.0f, 0.0f, 700.0f, body);
     ASSERT_GE(y, 0.0f) << "the data range radio was never hovered";
-    float x = -1.0f;   // the percentile radio sits to its right on the same line
-    for (float tx = 20.0f; tx < 400.0f && x < 0; tx += 4.0f) {
-        mouse(tx, y, false);
-        frame(body);
-        if (ImGui::GetCurrentContext()->HoveredId == percentileId) x = tx;
-    }
+    const float x = findItemInRow(percentileId, y, body);   // to its right on the same line
     ASSERT_GE(x, 0.0f) << "the percentile radio was never hovered";
     click(x, y, body);
     EXPECT_TRUE(changed);

@@ -2,7 +2,9 @@
 // what the app hands them; they never call GL or touch renderer objects beyond reading their stats.
 #include "ui/panels.h"
 
+#include "renderer/errors.h"
 #include "renderer/transfer_function.h"
+#include "ui/session.h"
 #include "widgets.h"
 
 #include <imgui.h>
@@ -59,19 +61,34 @@ bool drawUpAxisCombo(glm::dvec3& up) {
 
 } // namespace
 
-static const char* shadingName(renderer::SplatSettings::Shading s) {
-    switch (s) {
-    case renderer::SplatSettings::Shading::None: return "none";
-    case renderer::SplatSettings::Shading::PerSplat: return "per splat";
-    case renderer::SplatSettings::Shading::PerFragment: return "per fragment";
-    }
-    return "?";
-}
-
 SettingsChanges drawSettingsPanel(EditorState& state) {
     SettingsChanges changes;
     renderer::SplatSettings& s = state.settings;
     ImGui::PushItemWidth(-ImGui::GetFontSize() * 7.0f); // leaves room for the labels on the right
+
+    sectionTitle("Files");
+    inputPath("Volume", state.volumeFile);
+    hint("A volume file: .nrrd/.nhdr, .mhd/.mha, .nii(.gz), .slc, .dat, .tif, .raw (dims and type in the name),\n"
+         "or a folder of slices");
+    if (ImGui::Button("Open volume")) changes.openVolume = true;
+    inputPath("Session", state.sessionFile);
+    hint("A session (JSON): the volume's path, transfer function, window, camera and every setting");
+    if (ImGui::Button("Open session")) {
+        try {
+            changes.sessionVolume = loadSession(state.sessionFile, state);
+            changes.sessionOpened = changes.settingsChanged = changes.cameraChanged = true;
+        } catch (const renderer::LoadError& e) {
+            state.errorMessage = e.what();
+        }
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Save session")) {
+        try {
+            saveSession(state, state.loadedVolume, state.sessionFile);
+        } catch (const renderer::LoadError& e) {
+            state.errorMessage = e.what();
+        }
+    }
 
     sectionTitle("Splatting");
     changes.settingsChanged |= sliderDouble("Kernel scale", s.kernelScale, 0.3, 2.0, "%.2f");
@@ -135,7 +152,7 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
                                          std::array{renderer::SplatSettings::Shading::None,
                                                     renderer::SplatSettings::Shading::PerSplat,
                                                     renderer::SplatSettings::Shading::PerFragment},
-                                         &shadingName);
+                                         &renderer::shadingName);
     hint("Headlight Phong from the gradients: per splat (vertex stage) or per fragment");
     changes.settingsChanged |= sliderDouble("Flatten", s.surfaceFlatten, 1.0, 50.0, "%.1f",
                                             ImGuiSliderFlags_Logarithmic);

@@ -23,20 +23,6 @@ ImU32 colourOf(const glm::dvec3& c, float alpha = 1.0f) {
     return ImGui::GetColorU32(ImVec4(float(c.r), float(c.g), float(c.b), alpha));
 }
 
-// ImGui 1.86's InputText takes a fixed buffer; this grows the std::string as the user types.
-bool inputPath(const char* label, std::string& text) {
-    auto resize = [](ImGuiInputTextCallbackData* data) {
-        if (data->EventFlag == ImGuiInputTextFlags_CallbackResize) {
-            auto* s = static_cast<std::string*>(data->UserData);
-            s->resize(size_t(data->BufTextLen));
-            data->Buf = s->data();
-        }
-        return 0;
-    };
-    return ImGui::InputText(label, text.data(), text.capacity() + 1, ImGuiInputTextFlags_CallbackResize, resize,
-                            &text);
-}
-
 // The histogram's bins inside the window, log counts, behind the curve.
 void drawHistogram(ImDrawList* draw, const Rect& canvas, const renderer::Histogram& h, renderer::ValueRange window) {
     const size_t bins = h.counts.size();

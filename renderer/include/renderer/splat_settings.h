@@ -70,6 +70,13 @@ struct SplatSettings {
 };
 
 // Side of the square pixel tiles of the opaque-tile map behind occlusion culling.
+// The names the command line and sessions use: "none", "per-splat", "per-fragment"; "auto", "raster",
+// "points", "quads", "tiles". FromName throws RenderError listing them.
+const char* shadingName(SplatSettings::Shading s);
+SplatSettings::Shading shadingFromName(const std::string& name);
+const char* primitiveName(SplatSettings::Primitive p);
+SplatSettings::Primitive primitiveFromName(const std::string& name);
+
 constexpr int kOpaqueTilePx = 8;
 // Side of the square screen tiles of tiled splatting (one compute workgroup each).
 constexpr int kSplatTilePx = 8;

@@ -4,6 +4,8 @@
 #pragma once
 #include "renderer/glm_config.h"
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <array>
 #include <filesystem>
 #include <string>
@@ -38,6 +40,11 @@ std::vector<std::string> builtinPresetNames();
 TransferFunction builtinPreset(const std::string& name);          // throws RenderError if unknown
 TransferFunction loadTransferFunction(const std::filesystem::path& path);   // throws LoadError
 void saveTransferFunction(const TransferFunction& tf, const std::filesystem::path& path);  // atomic
+// The JSON of a TF file, and back (sessions embed it): `source` names the file in errors, and
+// `defaultName` is the name when the JSON gives none. Throws LoadError naming the field.
+nlohmann::json toJson(const TransferFunction& tf);
+TransferFunction transferFunctionFromJson(const nlohmann::json& j, const std::string& source,
+                                          const std::string& defaultName);
 // A preset name or a JSON file path, whichever `spec` is.
 TransferFunction transferFunctionFromSpec(const std::string& spec);
 

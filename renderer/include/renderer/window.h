@@ -4,6 +4,8 @@
 #pragma once
 #include "renderer/volume.h"
 
+#include <string>
+
 namespace renderer {
 
 enum class WindowMode {
@@ -12,6 +14,7 @@ enum class WindowMode {
     Custom,     // lo..hi given in data units
 };
 const char* windowModeName(WindowMode mode); // "data range", "percentile 1-99", "custom"
+WindowMode windowModeFromName(const std::string& name);   // throws RenderError listing the names
 
 struct WindowSettings {
     WindowMode mode = WindowMode::DataRange;

@@ -7,6 +7,7 @@
 #include "renderer/window.h"
 
 #include <array>
+#include <filesystem>
 #include <string>
 
 namespace ui {
@@ -34,6 +35,10 @@ struct EditorState {
     bool histogramLog = true;        // the Window section's histogram: log-scale counts
     bool gradientsReady = false;     // the scene has gradients: shading and surface splats can be on
     bool showHeatmap = false;        // the viewport shows the filter-mode heatmap instead of the image
+    // Files: the volume shown (set by the app once it loaded), and the Files section's path fields.
+    std::filesystem::path loadedVolume;
+    std::string volumeFile;
+    std::string sessionFile = "session.json";
     SpaceMouseMapping spaceMouse;
     std::string spaceMouseStatus;    // the device found, or why there is none (set by the app)
 };

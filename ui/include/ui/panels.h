@@ -6,6 +6,7 @@
 #include "renderer/volume.h"
 #include "ui/editor_state.h"
 
+#include <filesystem>
 #include <span>
 #include <string>
 
@@ -16,11 +17,17 @@ namespace ui {
 struct SettingsChanges {
     bool settingsChanged = false; // a SplatSettings field changed
     bool cameraChanged = false;   // field of view, up axis or "Reset camera"
+    bool openVolume = false;      // "Open" beside the volume's path: the app loads state.volumeFile
+    // A session was opened into the state: the app loads sessionVolume (when it is not the volume shown)
+    // or re-classifies the one it has with the session's window and transfer function.
+    bool sessionOpened = false;
+    std::filesystem::path sessionVolume;
     bool any() const { return settingsChanged || cameraChanged; }
 };
 
-// Kernel scale, cutoff, density, filter mode, compositing, shading, heatmap, field of view, up axis,
-// camera reset.
+// Files (open a volume; open and save sessions), kernel scale, cutoff, density, filter mode,
+// compositing, shading, heatmap, field of view, up axis, camera reset, 3D mouse. Session files that
+// fail to open or save set state.errorMessage and change nothing else.
 SettingsChanges drawSettingsPanel(EditorState& state);
 
 // == Transfer function

@@ -1,0 +1,239 @@
+// Sessions as JSON (session.h). Loading reads into a copy of the state, section by section, and
+// checks every value it finds; the copy replaces the state only once the whole file passed.
+#include "ui/session.h"
+
+#include "renderer/atomic_file.h"
+#include "renderer/errors.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+
+namespace ui {
+
+namespace {
+
+using nlohmann::json;
+
+// One section of a session file being read: each accessor leaves its output alone when the key is
+// absent and throws LoadError ("section.key", what was expected) when it holds something else.
+class Section {
+  public:
+    Section(const json& root, const char* name, const std::string& file) : m_file(file), m_name(name) {
+        if (!root.contains(name)) return;
+        if (!root[name].is_object()) fail("", "expected an object");
+        m_json = &root[name];
+    }
+
+    void number(const char* key, double& out, double lo, double hi) const {
+        if (const json* v = find(key)) {
+            if (!v->is_number() || !std::isfinite(v->get<double>()) || v->get<double>() < lo || v->get<double>() > hi)
+                fail(key, "expected a number in [" + text(lo) + ", " + text(hi) + "]");
+            out = v->get<double>();
+        }
+    }
+    void integer(const char* key, int& out, int lo, int hi) const {
+        if (const json* v = find(key)) {
+            if (!v->is_number_integer() || v->get<long long>() < lo || v->get<long long>() > hi)
+                fail(key, "expected a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+            out = v->get<int>();
+        }
+    }
+    void boolean(const char* key, bool& out) const {
+        if (const json* v = find(key)) {
+            if (!v->is_boolean()) fail(key, "expected true or false");
+            out = v->get<bool>();
+        }
+    }
+    // An enum by the renderer's name for it (its FromName lists the names it knows).
+    template <class E>
+    void name(const char* key, E& out, E (*fromName)(const std::string&)) const {
+        if (const json* v = find(key)) {
+            if (!v->is_string()) fail(key, "expected a name (a string)");
+            try {
+                out = fromName(v->get<std::string>());
+            } catch (const renderer::RenderError& e) {
+                fail(key, e.what());
+            }
+        }
+    }
+    template <int N>
+    void numbers(const char* key, double (&out)[N], double lo, double hi) const {
+        if (const json* v = find(key)) {
+            const std::string expected =
+                "expected " + std::to_string(N) + " numbers in [" + text(lo) + ", " + text(hi) + "]";
+            if (!v->is_array() || v->size() != size_t(N)) fail(key, expected);
+            for (int i = 0; i < N; ++i) {
+                const json& x = (*v)[size_t(i)];
+                if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < lo || x.get<double>() > hi)
+                    fail(key, expected);
+                out[i] = x.get<double>();
+            }
+        }
+    }
+    const json* find(const char* key) const { return m_json && m_json->contains(key) ? &(*m_json)[key] : nullptr; }
+    [[noreturn]] void fail(const char* key, const std::string& expected) const {
+        throw renderer::LoadError(m_file, *key ? m_name + "." + key : m_name, expected);
+    }
+
+  private:
+    static std::string text(double x) {
+        char s[32];
+        std::snprintf(s, sizeof s, "%g", x);
+        return s;
+    }
+    std::string m_file, m_name;
+    const json* m_json = nullptr;
+};
+
+} // namespace
+
+void saveSession(const EditorState& state, const std::filesystem::path& volume, const std::filesystem::path& file) {
+    json j;
+    j["splatlab_session"] = kSessionVersion;
+    if (!volume.empty()) {
+        // Relative to the session's folder where the two share a root; else as it is.
+        const auto base = std::filesystem::absolute(file).parent_path();
+        const auto relative = std::filesystem::absolute(volume).lexically_relative(base);
+        j["volume"] = (relative.empty() ? volume : relative).generic_string();
+    }
+    j["transfer_function"] = renderer::toJson(state.tf);
+    j["window"] = {{"mode", renderer::windowModeName(state.window.mode)},
+                   {"lo", state.window.custom.lo},
+                   {"hi", state.window.custom.hi}};
+    const renderer::Camera& c = state.camera;
+    j["camera"] = {{"azimuth", c.azimuthDeg}, {"elevation", c.elevationDeg}, {"distance", c.distance},
+                   {"fov", c.fovYDeg},        {"pan", {c.panPx.x, c.panPx.y}}, {"up", {c.up.x, c.up.y, c.up.z}},
+                   {"orthographic", c.orthographic}};
+    const renderer::SplatSettings& s = state.settings;
+    j["splatting"] = {{"kernel_scale", s.kernelScale},
+                      {"cutoff", s.cutoffSigmas},
+                      {"density", s.density},
+                      {"filter", renderer::filterModeName(s.filter)},
+                      {"c_min", s.cMin},
+                      {"c_max", s.cMax},
+                      {"patch_size", s.patchSize},
+                      {"hysteresis", s.hysteresis},
+                      {"compositing", renderer::compositingName(s.compositing)},
+                      {"primitive", renderer::primitiveName(s.primitive)},
+                      {"opaque_alpha", s.opaqueAlpha},
+                      {"opaque_refresh_slices", s.opaqueRefreshSlices},
+                      {"shading", renderer::shadingName(s.shading)},
+                      {"ambient", s.shadingParams.ambient},
+                      {"diffuse", s.shadingParams.diffuse},
+                      {"specular", s.shadingParams.specular},
+                      {"shininess", s.shadingParams.shininess},
+                      {"surface_flatten", s.surfaceFlatten},
+                      {"surface_gradient", s.surfaceGradient},
+                      {"counters", s.counters}};
+    j["view"] = {{"heatmap", state.showHeatmap},
+                 {"histogram_log", state.histogramLog},
+                 {"background", {state.background[0], state.background[1], state.background[2]}}};
+    j["space_mouse"] = {{"enabled", state.spaceMouse.enabled},
+                        {"speed", state.spaceMouse.speed},
+                        {"invert_rotation", state.spaceMouse.invertRotation},
+                        {"invert_moves", state.spaceMouse.invertTranslation}};
+    renderer::writeFileAtomically(file, j.dump(2) + "\n");
+}
+
+std::filesystem::path loadSession(const std::filesystem::path& file, EditorState& state) {
+    const std::string name = file.string();
+    std::ifstream in(file);
+    if (!in) throw renderer::LoadError(name, "", "cannot open");
+    json j;
+    try {
+        j = json::parse(in);
+    } catch (const json::exception& e) {
+        throw renderer::LoadError(name, "", std::string("not valid JSON: ") + e.what());
+    }
+    if (!j.is_object()) throw renderer::LoadError(name, "", "expected a JSON object");
+    if (!j.contains("splatlab_session") || !j["splatlab_session"].is_number_integer())
+        throw renderer::LoadError(name, "splatlab_session", "missing: not a SplatLab session");
+    if (j["splatlab_session"].get<long long>() > kSessionVersion)
+        throw renderer::LoadError(name, "splatlab_session",
+                                  "version " + j["splatlab_session"].dump() + " is newer than this SplatLab reads (" +
+                                      std::to_string(kSessionVersion) + ")");
+
+    EditorState next = state;
+    std::filesystem::path volume;
+    if (j.contains("volume")) {
+        if (!j["volume"].is_string() || j["volume"].get<std::string>().empty())
+            throw renderer::LoadError(name, "volume", "expected the volume's path (a string)");
+        volume = j["volume"].get<std::string>();
+        if (volume.is_relative()) volume = (std::filesystem::absolute(file).parent_path() / volume).lexically_normal();
+    }
+    if (j.contains("transfer_function")) {
+        next.tf = renderer::transferFunctionFromJson(j["transfer_function"], name + " (transfer_function)",
+                                                     next.tf.name);
+        next.tfSelected = -1;
+        next.tfEdited = false;
+    }
+
+    const Section window(j, "window", name);
+    window.name("mode", next.window.mode, &renderer::windowModeFromName);
+    double lo = next.window.custom.lo, hi = next.window.custom.hi;
+    window.number("lo", lo, -3.4e38, 3.4e38);
+    window.number("hi", hi, -3.4e38, 3.4e38);
+    if (next.window.mode == renderer::WindowMode::Custom && !(lo < hi)) window.fail("hi", "expected hi > lo");
+    next.window.custom = {float(lo), float(hi)};
+
+    const Section camera(j, "camera", name);
+    renderer::Camera& c = next.camera;
+    camera.number("azimuth", c.azimuthDeg, -360.0, 360.0);
+    camera.number("elevation", c.elevationDeg, -90.0, 90.0);
+    camera.number("distance", c.distance, 1e-3, 1e3);
+    camera.number("fov", c.fovYDeg, 1.0, 170.0);
+    double pan[2] = {c.panPx.x, c.panPx.y}, up[3] = {c.up.x, c.up.y, c.up.z};
+    camera.numbers("pan", pan, -1e6, 1e6);
+    camera.numbers("up", up, -1.0, 1.0);
+    c.panPx = {pan[0], pan[1]};
+    const glm::dvec3 upVector(up[0], up[1], up[2]);
+    if (!(glm::length(upVector) > 1e-6)) camera.fail("up", "expected a direction (not all zero)");
+    c.up = glm::normalize(upVector);
+    camera.boolean("orthographic", c.orthographic);
+
+    const Section splatting(j, "splatting", name);
+    renderer::SplatSettings& s = next.settings;
+    splatting.number("kernel_scale", s.kernelScale, 0.05, 10.0);
+    splatting.number("cutoff", s.cutoffSigmas, 0.5, 10.0);
+    splatting.number("density", s.density, 1e-6, 1e6);
+    splatting.name("filter", s.filter, &renderer::filterModeFromName);
+    splatting.number("c_min", s.cMin, 0.01, 10.0);
+    splatting.number("c_max", s.cMax, 0.0, 100.0);
+    splatting.integer("patch_size", s.patchSize, 1, 256);
+    splatting.number("hysteresis", s.hysteresis, 0.0, 10.0);
+    splatting.name("compositing", s.compositing, &renderer::compositingFromName);
+    splatting.name("primitive", s.primitive, &renderer::primitiveFromName);
+    if (s.compositing == renderer::Compositing::SplatEverySample && s.primitive == renderer::SplatSettings::Primitive::Tiles)
+        splatting.fail("primitive", "tiles need sheet or X-ray compositing");
+    splatting.number("opaque_alpha", s.opaqueAlpha, 0.5, 1.0);
+    splatting.integer("opaque_refresh_slices", s.opaqueRefreshSlices, 0, 4096);
+    splatting.name("shading", s.shading, &renderer::shadingFromName);
+    splatting.number("ambient", s.shadingParams.ambient, 0.0, 10.0);
+    splatting.number("diffuse", s.shadingParams.diffuse, 0.0, 10.0);
+    splatting.number("specular", s.shadingParams.specular, 0.0, 10.0);
+    splatting.number("shininess", s.shadingParams.shininess, 0.0, 1e4);
+    splatting.number("surface_flatten", s.surfaceFlatten, 1.0, 1e6);
+    splatting.number("surface_gradient", s.surfaceGradient, 0.0, 1.0);
+    splatting.boolean("counters", s.counters);
+
+    const Section view(j, "view", name);
+    view.boolean("heatmap", next.showHeatmap);
+    s.heatmap = next.showHeatmap;
+    view.boolean("histogram_log", next.histogramLog);
+    double background[3] = {next.background[0], next.background[1], next.background[2]};
+    view.numbers("background", background, 0.0, 1.0);
+    for (int i = 0; i < 3; ++i) next.background[size_t(i)] = float(background[i]);
+
+    const Section mouse(j, "space_mouse", name);
+    mouse.boolean("enabled", next.spaceMouse.enabled);
+    mouse.number("speed", next.spaceMouse.speed, 0.01, 100.0);
+    mouse.boolean("invert_rotation", next.spaceMouse.invertRotation);
+    mouse.boolean("invert_moves", next.spaceMouse.invertTranslation);
+
+    state = std::move(next);
+    return volume;
+}
+
+} // namespace ui
