@@ -276,6 +276,11 @@ int runEditor(const EditorOptions& options) {
     int renderWidth = 0, renderHeight = 0;
     bool tfPending = false, renderPending = true, windowChanged = false, tfChanged = false;
     std::vector<float> frameMs; // recent whole-frame times for the stats plot, oldest first
+    // The Filters panel: the last render's view, and the patches per filter the classifier gives it
+    // (read back from the GPU after a render, while the panel is shown).
+    std::optional<renderer::ImagePlane> lastPlane;
+    std::optional<std::array<uint64_t, 3>> patchCounts;
+    bool filtersShown = false, filtersChanged = false, patchCountsStale = true;
     auto lastFrame = std::chrono::steady_clock::now();
     const std::vector<ui::DockPanel> panels = {
         {"Transfer function", "left",
@@ -296,6 +301,17 @@ int runEditor(const EditorOptions& options) {
                                  .visibleSplats = doc.scene.visibleCount(),
                                  .glRenderer = glRenderer,
                                  .frameMsHistory = frameMs});
+         }},
+        {"Filters", "bottom",
+         [&] {
+             filtersShown = true;
+             filtersChanged = ui::drawFiltersPanel(state, {.plane = lastPlane && doc.volume ? &*lastPlane : nullptr,
+                                                           .dims = doc.scene.dims,
+                                                           .origin = doc.scene.origin,
+                                                           .spacing = doc.scene.spacing,
+                                                           .radius = doc.scene.radius,
+                                                           .frame = splats ? splats->stats() : renderer::FrameStats{},
+                                                           .patches = patchCounts});
          }},
         {"Help", "bottom", [] { ui::drawHelpPanel(); }},
     };
@@ -383,8 +399,20 @@ int runEditor(const EditorOptions& options) {
                 if (!state.gradientsReady) drawn.shading = renderer::SplatSettings::Shading::None, drawn.surfaceFlatten = 1.0;
                 splats->render(plane, drawn);
                 texture = splats->displayTexture(state.background.data(), state.showHeatmap);
+                lastPlane = plane;
+                patchCountsStale = true;
             });
             if (!rendered) texture = 0;
+        }
+        if (splats && lastPlane && filtersShown && patchCountsStale) {
+            patchCountsStale = false;
+            guarded([&] {
+                renderer::SplatSettings adaptive = state.settings;
+                adaptive.filter = renderer::FilterMode::Adaptive;
+                std::array<uint64_t, 3> counts{};
+                for (uint8_t mode : splats->patchModes(*lastPlane, adaptive)) ++counts[std::min<size_t>(mode, 2)];
+                patchCounts = counts;
+            });
         }
 
         // 5b. The UI: layout, panels, error modal.
@@ -392,7 +420,7 @@ int runEditor(const EditorOptions& options) {
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
         settingsChanges = {};
-        tfChanged = windowChanged = false;
+        tfChanged = windowChanged = filtersShown = filtersChanged = false;
         viewport.cameraChanged = false;
         ui::drawDockSpace(layout, panels);
         ui::drawErrorModal(state);
@@ -403,7 +431,7 @@ int runEditor(const EditorOptions& options) {
             gradientJob->cancel = true;
         ImGui::Render();
         tfPending |= tfChanged;
-        renderPending |= settingsChanges.any() || tfChanged || viewport.cameraChanged;
+        renderPending |= settingsChanges.any() || tfChanged || filtersChanged || viewport.cameraChanged;
         if (viewport.widthPx != renderWidth || viewport.heightPx != renderHeight) {
             renderWidth = viewport.widthPx, renderHeight = viewport.heightPx;
             renderPending = true;

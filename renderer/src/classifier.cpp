@@ -38,12 +38,9 @@ FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThres
 
 std::optional<FilterMode> uniformAdaptiveFilter(glm::ivec3 dims, glm::dvec3 origin, glm::dvec3 spacing,
                                                 const ImagePlane& plane, const SplatSettings& s) {
-    // The voxels' depth range is the grid corners'. Pixels per unit fall with depth.
-    double u2min = std::numeric_limits<double>::infinity(), u2max = -u2min;
-    for (const glm::dvec3& u : plane.gridCorners(dims, origin, spacing)) {
-        u2min = std::min(u2min, u.z);
-        u2max = std::max(u2max, u.z);
-    }
+    // Pixels per unit fall with depth.
+    const glm::dvec2 depths = plane.depthRange(dims, origin, spacing);
+    const double u2min = depths.x, u2max = depths.y;
     if (!plane.orthographic && !(u2min > plane.nearDepth)) return std::nullopt;
     const double pxMax = plane.orthographic ? plane.fPx : plane.fPx / u2min;
     const double pxMin = plane.orthographic ? plane.fPx : plane.fPx / u2max;
@@ -56,6 +53,17 @@ std::optional<FilterMode> uniformAdaptiveFilter(glm::ivec3 dims, glm::dvec3 orig
     if (neverReconstruction && t.sigmaMax * pxMax < t.lowPassBelowPx / band) return FilterMode::LowPass;
     if (neverReconstruction && neverLowPass) return FilterMode::Ewa;
     return std::nullopt;
+}
+
+FilterDepths filterDepths(const AdaptiveThresholds& t, const ImagePlane& plane) {
+    const double inf = std::numeric_limits<double>::infinity();
+    if (plane.orthographic) {   // pixels per unit do not change with depth: one filter for the view
+        if (t.sigmaMin * plane.fPx > t.reconstructionAbovePx) return {inf, inf};
+        if (t.sigmaMax * plane.fPx < t.lowPassBelowPx) return {0.0, 0.0};
+        return {0.0, inf};
+    }
+    return {std::max(t.sigmaMin * plane.fPx / t.reconstructionAbovePx, plane.nearDepth),
+            t.sigmaMax * plane.fPx / t.lowPassBelowPx};
 }
 
 PatchGrid patchGrid(glm::ivec3 dims, int axis, int patchSize) {

@@ -17,6 +17,7 @@ if [ -d "$shared" ]; then
     metaimage) cp -n "$shared/originals/LIDC2.mha" "$shared/originals/HeadMRVolume.mhd" "$work/corpus/" ;;
     nifti) cp -n "$shared/originals/avg152T1_RL_nifti.nii.gz" "$work/corpus/" ;;
     slc) cp -n "$shared/originals/neghip.slc" "$work/corpus/" ;;
+    tf) cp -n "$here/../../assets/presets/"*.json "$work/corpus/" ;;
   esac
 fi
 # rss/malloc limits: a loader must refuse a lying header before allocating gigabytes.

@@ -413,3 +413,32 @@ TEST_F(ImGuiNull, SpaceMouseCheckboxTurnsNavigationOff) {
     click(20.0f, y, body);
     EXPECT_FALSE(state.spaceMouse.enabled);
 }
+
+TEST_F(ImGuiNull, FiltersPanelTogglesTheHeatmapWithOrWithoutAVolume) {
+    ui::EditorState state;
+    renderer::Camera camera;
+    camera.distance = 1.2;
+    const renderer::ImagePlane plane = renderer::makeImagePlane(camera, {32, 32, 46}, 60.0, 512, 512);
+    for (bool withVolume : {false, true}) {
+        SCOPED_TRACE(withVolume ? "with a volume" : "without a volume");
+        state.showHeatmap = state.settings.heatmap = false;
+        bool changed = false;
+        auto body = [&] {
+            ui::FiltersView view;
+            if (withVolume) {
+                view.plane = &plane;
+                view.dims = {64, 64, 93};
+                view.radius = 60.0;
+                view.patches = std::array<uint64_t, 3>{10, 0, 30};
+            }
+            changed |= ui::drawFiltersPanel(state, view);
+        };
+        frame(body);
+        EXPECT_FALSE(changed);
+        // The checkbox is the panel's first widget (inside a table, so found by clicking down the panel).
+        for (float y = 0.0f; y < 120.0f && !changed; y += 2.0f) click(20.0f, y, body);
+        EXPECT_TRUE(changed);
+        EXPECT_TRUE(state.showHeatmap);
+        EXPECT_TRUE(state.settings.heatmap) << "the renderer would not draw the heatmap shown";
+    }
+}

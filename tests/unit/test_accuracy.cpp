@@ -204,6 +204,39 @@ TEST(Classifier, AViewDecidesEveryPatchOnlyWhereEachPatchAgrees) {
     EXPECT_GT(decided[std::nullopt], 0);
 }
 
+TEST(Classifier, FilterDepthsAreWhereClassifyDepthChangesItsAnswer) {
+    // Perspective and orthographic, several fields of view, distances and c values: just inside each
+    // depth classifyDepth gives one filter, just outside the next; orthographic views give one filter.
+    for (bool ortho : {false, true})
+        for (double fov : {10.0, 30.0, 90.0})
+            for (double cMin : {0.3, 1.0})
+                for (double distance : {1.05, 3.0, 20.0}) {
+                    SplatSettings s;
+                    s.cMin = cMin;
+                    const Camera camera{20.0, 30.0, distance, fov, {0.0, 0.0}, {0.0, 0.0, 1.0}, ortho};
+                    const ImagePlane plane = makeImagePlane(camera, {0.0, 0.0, 0.0}, 40.0, 512, 512);
+                    const glm::dvec3 spacing(1.0, 1.5, 0.8);
+                    const AdaptiveThresholds t = adaptiveThresholds(spacing, plane, s);
+                    const FilterDepths d = filterDepths(t, plane);
+                    SCOPED_TRACE(testing::Message() << "ortho " << ortho << " fov " << fov << " cMin " << cMin
+                                                    << " distance " << distance);
+                    ASSERT_LE(d.reconstructionNearer, d.lowPassFarther);
+                    if (ortho) {
+                        const FilterMode everywhere = classifyDepth(1.0, plane, t);
+                        EXPECT_EQ(classifyDepth(1e4, plane, t), everywhere);
+                        EXPECT_EQ(d.reconstructionNearer > 0.0, everywhere == FilterMode::Reconstruction);
+                        EXPECT_EQ(std::isinf(d.lowPassFarther), everywhere != FilterMode::LowPass);
+                        continue;
+                    }
+                    EXPECT_EQ(classifyDepth(d.reconstructionNearer * 0.999, plane, t), FilterMode::Reconstruction);
+                    EXPECT_EQ(classifyDepth(d.lowPassFarther * 1.001, plane, t), FilterMode::LowPass);
+                    if (d.lowPassFarther > d.reconstructionNearer * 1.01) {
+                        EXPECT_EQ(classifyDepth(d.reconstructionNearer * 1.001, plane, t), FilterMode::Ewa);
+                        EXPECT_EQ(classifyDepth(d.lowPassFarther * 0.999, plane, t), FilterMode::Ewa);
+                    }
+                }
+}
+
 // == Compositing
 
 TEST(SheetBuffer, FrontToBackEqualsBackToFront) {

@@ -163,25 +163,6 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     if (!state.gradientsReady) ImGui::TextDisabled("(gradients not computed yet)");
 
     sectionTitle("Inspect");
-    if (ImGui::Checkbox("Filter heatmap", &state.showHeatmap)) {
-        s.heatmap = state.showHeatmap;
-        changes.settingsChanged = true;
-    }
-    hint("Red: reconstruction only, green: low-pass only, blue: full EWA, weighted by opacity");
-    if (state.showHeatmap) {   // the legend, and why a patch gets each filter (classifier.h)
-        const double spread = std::pow(std::tan(state.camera.fovYDeg * 0.5 * 3.14159265358979 / 180.0), 2.0);
-        const double cMax = s.cMax > 0.0 ? s.cMax : 2.0 * (1.0 + 2.0 * (state.camera.orthographic ? 0.0 : spread));
-        ImGui::TextColored(ImVec4(1.0f, 0.3f, 0.3f, 1.0f), "reconstruction");
-        ImGui::SameLine();
-        ImGui::TextDisabled("sigma > %.2f px (1/c_min)", 1.0 / s.cMin);
-        ImGui::TextColored(ImVec4(0.3f, 1.0f, 0.3f, 1.0f), "low-pass");
-        ImGui::SameLine();
-        ImGui::TextDisabled("sigma < %.2f px (1/c_max)", 1.0 / cMax);
-        ImGui::TextColored(ImVec4(0.4f, 0.5f, 1.0f, 1.0f), "EWA");
-        ImGui::SameLine();
-        ImGui::TextDisabled("between, or patch corners disagree");
-        if (s.filter != renderer::FilterMode::Adaptive) ImGui::TextDisabled("(filter is forced: one colour)");
-    }
     changes.settingsChanged |= ImGui::Checkbox("GPU counters", &s.counters);
     hint("Count splats per filter and per cull on the GPU (waits for each frame)");
 

@@ -4,7 +4,9 @@
 #pragma once
 #include "renderer/glm_config.h"
 
+#include <algorithm>
 #include <array>
+#include <limits>
 #include <string>
 
 namespace renderer {
@@ -45,6 +47,12 @@ struct ImagePlane {
             u[size_t(c)] = toCamera(origin + spacing * glm::dvec3((c & 1) ? dims.x - 1 : 0, (c & 2) ? dims.y - 1 : 0,
                                                                   (c & 4) ? dims.z - 1 : 0));
         return u;
+    }
+    // The nearest and farthest camera depth of any voxel centre of such a grid (from its corners).
+    glm::dvec2 depthRange(glm::ivec3 dims, glm::dvec3 origin, glm::dvec3 spacing) const {
+        glm::dvec2 range(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity());
+        for (const glm::dvec3& u : gridCorners(dims, origin, spacing)) range = {std::min(range.x, u.z), std::max(range.y, u.z)};
+        return range;
     }
     // Pixel position of a camera-space point (x right, y down).
     glm::dvec2 project(glm::dvec3 u) const {

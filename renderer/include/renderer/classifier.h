@@ -26,8 +26,14 @@ AdaptiveThresholds adaptiveThresholds(glm::dvec3 spacing, const ImagePlane& plan
 FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThresholds& t,
                          FilterMode previous = FilterMode::Adaptive, double hysteresis = 0.0);
 
-// The filter of the patch holding `voxel` in its slice along `axis` (settings.patchSize voxels a
-// side, clipped at the volume's faces), from the depths of the patch's four corner voxels.
+// Where the filter changes with depth (no hysteresis): a kernel nearer than reconstructionNearer
+// takes reconstruction only; else one farther than lowPassFarther takes low-pass only; else EWA.
+// Orthographic views have no such depth, one filter holds everywhere: the two are then 0 or infinity.
+struct FilterDepths {
+    double reconstructionNearer = 0.0, lowPassFarther = 0.0;
+};
+FilterDepths filterDepths(const AdaptiveThresholds& t, const ImagePlane& plane);
+
 // The filter every patch of a dims-sized volume at origin/spacing takes in this view, whatever their
 // last frame's filters and the hysteresis, when the volume's depth range decides it with a margin for
 // the GPU's float classifier; none when patches may differ. A frame it decides can run that filter's
@@ -48,6 +54,8 @@ struct PatchGrid {
 };
 PatchGrid patchGrid(glm::ivec3 dims, int axis, int patchSize);
 
+// The filter of the patch holding `voxel` in its slice along `axis` (settings.patchSize voxels a
+// side, clipped at the volume's faces), from the depths of the patch's four corner voxels.
 // `previous`/`hysteresis`: the patch's filter last frame, as for classifyDepth.
 FilterMode classifyPatch(const SplatScene& scene, const ImagePlane& plane, const AdaptiveThresholds& t,
                          int patchSize, int axis, uint32_t voxel, FilterMode previous = FilterMode::Adaptive,

@@ -6,7 +6,9 @@
 #include "renderer/volume.h"
 #include "ui/editor_state.h"
 
+#include <array>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -91,6 +93,24 @@ struct ViewportResult {
 // Shows `texture` (a GL texture name, 0 for none) stretched over the panel's whole content region;
 // mouse drags and the wheel inside it move state.camera.
 ViewportResult drawViewportPanel(EditorState& state, unsigned texture);
+
+// == Filters
+
+struct FiltersView {
+    const renderer::ImagePlane* plane = nullptr;   // the view of the last render; null: no volume
+    glm::ivec3 dims{0};                            // the volume's grid
+    glm::dvec3 origin{0.0}, spacing{1.0};
+    double radius = 1.0;                           // bounding radius: depths are shown in it
+    renderer::FrameStats frame;                    // the last render (per-filter splats with counters)
+    std::optional<std::array<uint64_t, 3>> patches;   // patches per filter the adaptive classifier
+                                                      // gives this view (renderer's patchModes)
+};
+
+// Which filter each part of the view takes and why: the heatmap toggle, the filter in force, the
+// shares of patches (and of splats, with GPU counters) per filter, and a depth axis from the eye
+// coloured by the filter a kernel takes there, with the volume's depths over it. Returns whether a
+// setting changed (the heatmap toggle).
+bool drawFiltersPanel(EditorState& state, const FiltersView& view);
 
 // == Stats and help
 

@@ -1,0 +1,153 @@
+// The Filters panel: which filter each part of the view takes, how much of it, and why (the depths
+// where a kernel's size on screen crosses the adaptive thresholds, beside the volume's own depths).
+#include "renderer/classifier.h"
+#include "ui/panels.h"
+#include "widgets.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace ui {
+
+namespace {
+
+// The heatmap's colours (red reconstruction, green low-pass, blue EWA).
+const ImVec4 kModeColour[3] = {ImVec4(1.0f, 0.3f, 0.3f, 1.0f), ImVec4(0.3f, 1.0f, 0.3f, 1.0f),
+                               ImVec4(0.4f, 0.5f, 1.0f, 1.0f)};
+const char* const kModeName[3] = {"reconstruction", "low-pass", "EWA"};
+
+// Shares of the three filters as one bar, each in its colour.
+void shareBar(const std::array<uint64_t, 3>& counts) {
+    const double total = double(counts[0] + counts[1] + counts[2]);
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const float width = std::max(ImGui::GetContentRegionAvail().x, 1.0f), height = ImGui::GetFontSize() * 0.7f;
+    ImGui::Dummy(ImVec2(width, height));
+    if (!(total > 0.0)) return;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    float x = origin.x;
+    for (int m = 0; m < 3; ++m) {
+        const float w = float(double(counts[size_t(m)]) / total) * width;
+        draw->AddRectFilled(ImVec2(x, origin.y), ImVec2(x + w, origin.y + height), ImGui::GetColorU32(kModeColour[m]));
+        x += w;
+    }
+}
+
+void shareText(const char* what, const std::array<uint64_t, 3>& counts) {
+    const double total = double(counts[0] + counts[1] + counts[2]);
+    ImGui::Text("%s", what);
+    for (int m = 0; m < 3; ++m) {
+        ImGui::SameLine();
+        ImGui::TextColored(kModeColour[m], "%s %.0f %%", kModeName[m],
+                           total > 0.0 ? 100.0 * double(counts[size_t(m)]) / total : 0.0);
+    }
+    shareBar(counts);
+}
+
+// The depth axis (log scale: the thresholds lie far apart) from just before the nearest of the volume
+// and the reconstruction depth to just past the farthest of the volume and the low-pass depth, each
+// depth in the colour of the filter a kernel takes there, and the volume's depths bracketed above it.
+void drawDepthBar(const renderer::FilterDepths& d, glm::dvec2 volume, double radius) {
+    const double lo = std::max(std::min(volume.x, d.reconstructionNearer), volume.y * 1e-3) / 1.3;
+    const double hi = std::max(volume.y, d.lowPassFarther) * 1.3;
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const float width = std::max(ImGui::GetContentRegionAvail().x, 1.0f), font = ImGui::GetFontSize();
+    ImGui::Dummy(ImVec2(width, font * 2.6f));
+    if (!(lo > 0.0) || !(hi > lo)) return;
+    const bool hovered = ImGui::IsItemHovered();
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    auto xOf = [&](double depth) {
+        const double t = (std::log(std::max(depth, lo)) - std::log(lo)) / (std::log(hi) - std::log(lo));
+        return origin.x + float(std::clamp(t, 0.0, 1.0)) * width;
+    };
+    const float barTop = origin.y + font * 0.5f, barBottom = origin.y + font * 1.2f;
+    const double edges[4] = {lo, d.reconstructionNearer, d.lowPassFarther, hi};
+    const int order[3] = {0, 2, 1};   // nearest first: reconstruction, EWA, low-pass
+    for (int i = 0; i < 3; ++i)
+        draw->AddRectFilled(ImVec2(xOf(edges[i]), barTop), ImVec2(xOf(edges[i + 1]), barBottom),
+                            ImGui::GetColorU32(kModeColour[order[i]]));
+    const ImU32 white = IM_COL32(240, 240, 240, 255);
+    const float x0 = xOf(volume.x), x1 = xOf(volume.y), y = origin.y + font * 0.15f;
+    draw->AddLine(ImVec2(x0, y), ImVec2(x1, y), white, 2.0f);
+    draw->AddLine(ImVec2(x0, y), ImVec2(x0, barBottom), white, 1.5f);
+    draw->AddLine(ImVec2(x1, y), ImVec2(x1, barBottom), white, 1.5f);
+    char text[64];
+    const ImU32 grey = ImGui::GetColorU32(ImGuiCol_TextDisabled);
+    std::snprintf(text, sizeof text, "%.2f", lo / radius);
+    draw->AddText(ImVec2(origin.x, barBottom + font * 0.1f), grey, text);
+    std::snprintf(text, sizeof text, "%.2f", hi / radius);
+    draw->AddText(ImVec2(origin.x + width - ImGui::CalcTextSize(text).x, barBottom + font * 0.1f), grey, text);
+    const char* label = "depth from the eye, log scale";
+    draw->AddText(ImVec2(origin.x + (width - ImGui::CalcTextSize(label).x) * 0.5f, barBottom + font * 0.1f), grey, label);
+    if (hovered) {
+        const double t = double(ImGui::GetIO().MousePos.x - origin.x) / width;
+        const double depth = lo * std::pow(hi / lo, std::clamp(t, 0.0, 1.0));
+        const char* mode = depth < d.reconstructionNearer ? kModeName[0] : depth > d.lowPassFarther ? kModeName[1] : kModeName[2];
+        ImGui::SetTooltip("depth %.3f bounding radii: a kernel there takes %s", depth / radius, mode);
+    }
+}
+
+} // namespace
+
+bool drawFiltersPanel(EditorState& state, const FiltersView& view) {
+    renderer::SplatSettings& s = state.settings;
+    bool changed = false;
+    if (!ImGui::BeginTable("##filters", 2, ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchSame)) return false;
+    ImGui::TableNextRow();
+
+    // What: the toggle, the legend, the filter in force, and the shares of patches and splats.
+    ImGui::TableNextColumn();
+    if (ImGui::Checkbox("Show in the viewport", &state.showHeatmap)) {
+        s.heatmap = state.showHeatmap;
+        changed = true;
+    }
+    hint("The filter-mode heatmap instead of the image: each pixel's colour is the opacity-weighted share\n"
+         "of the splats of each filter (red reconstruction, green low-pass, blue full EWA)");
+    if (s.filter == renderer::FilterMode::Adaptive)
+        ImGui::Text("filter  adaptive, per patch of %d x %d slice voxels", s.patchSize, s.patchSize);
+    else
+        ImGui::Text("filter  %s for every splat (forced); adaptive would choose:", renderer::filterModeName(s.filter));
+    if (view.patches) shareText("patches", *view.patches);
+    else ImGui::TextDisabled("patches  (no volume)");
+    if (view.frame.hasCounters) {
+        const auto& c = view.frame.counters;
+        shareText("splats drawn", {c.drawnPerMode[0], c.drawnPerMode[1], c.drawnPerMode[2]});
+    } else {
+        ImGui::TextDisabled("splats per filter: turn on Settings > GPU counters");
+    }
+
+    // Why: the depths where the filter changes, against the volume's depths.
+    ImGui::TableNextColumn();
+    if (!view.plane) {
+        ImGui::TextDisabled("no volume loaded");
+        ImGui::EndTable();
+        return changed;
+    }
+    const renderer::AdaptiveThresholds t = renderer::adaptiveThresholds(view.spacing, *view.plane, s);
+    const renderer::FilterDepths d = renderer::filterDepths(t, *view.plane);
+    const glm::dvec2 depths = view.plane->depthRange(view.dims, view.origin, view.spacing);
+    const double r = std::max(view.radius, 1e-12);
+    ImGui::TextWrapped("A kernel of sigma %.3g covers sigma x f / depth pixels: reconstruction only above %.2f px "
+                       "(1 / c_min), low-pass only below %.2f px (1 / c_max), full EWA between.",
+                       t.sigmaMin, t.reconstructionAbovePx, t.lowPassBelowPx);
+    if (view.plane->orthographic) {
+        const renderer::FilterMode one = renderer::classifyDepth(1.0, *view.plane, t);
+        ImGui::Text("orthographic: %.2f px a kernel at every depth, so %s everywhere", t.sigmaMin * view.plane->fPx,
+                    renderer::filterModeName(one));
+    } else {
+        ImGui::Text("volume (bracket): %.2f .. %.2f bounding radii from the eye", depths.x / r, depths.y / r);
+        drawDepthBar(d, depths, r);
+        ImGui::TextColored(kModeColour[0], "reconstruction nearer than %.2f", d.reconstructionNearer / r);
+        ImGui::SameLine();
+        ImGui::TextColored(kModeColour[1], "  low-pass farther than %.2f", d.lowPassFarther / r);
+    }
+    if (s.hysteresis > 0.0)
+        ImGui::TextDisabled("hysteresis %.2f: a patch keeps its filter until a threshold is passed by %.0f %%",
+                            s.hysteresis, 100.0 * s.hysteresis);
+    ImGui::EndTable();
+    return changed;
+}
+
+} // namespace ui
