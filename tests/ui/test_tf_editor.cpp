@@ -117,6 +117,30 @@ TEST(TfCurve, PickingFindsTheNearestPointWithinTheRadius) {
     EXPECT_EQ(ui::pickControlPoint(tf, canvas, {99, 50}, 8), 1);
 }
 
+TEST(TfCurve, HistoryUndoesAndRedoesAndForgetsRedoOnANewEdit) {
+    ui::TfHistory h;
+    TransferFunction tf = threePoints();
+    EXPECT_FALSE(h.undoInto(tf));
+    const TransferFunction a = tf;
+    h.record(tf);
+    ui::moveControlPoint(tf, 1, 0.7, 0.2);
+    const TransferFunction b = tf;
+    h.record(tf);
+    ui::removeControlPoint(tf, 1);
+    ASSERT_TRUE(h.undoInto(tf));
+    EXPECT_EQ(tf, b);
+    ASSERT_TRUE(h.undoInto(tf));
+    EXPECT_EQ(tf, a);
+    EXPECT_FALSE(h.undoInto(tf));
+    ASSERT_TRUE(h.redoInto(tf));
+    EXPECT_EQ(tf, b);
+    h.record(tf);   // a new edit: the redone-away future is gone
+    ui::insertControlPoint(tf, 0.1, 0.1);
+    EXPECT_FALSE(h.redoInto(tf));
+    for (size_t i = 0; i < 3 * ui::kTfHistorySteps; ++i) h.record(tf);
+    EXPECT_EQ(h.undo.size(), ui::kTfHistorySteps);
+}
+
 TEST(TfCurve, DataUnitsMapOntoTheWindow) {
     const renderer::ValueRange window{-1000.0f, 3000.0f};
     EXPECT_DOUBLE_EQ(ui::toDataUnits(0.25, window), 0.0);
@@ -305,4 +329,40 @@ TEST_F(TfPanel, PickingAPresetReplacesTheCurveAndClearsTheSelection) {
     EXPECT_EQ(state.tf.name, "fire");
     EXPECT_EQ(state.tf.points.size(), renderer::builtinPreset("fire").points.size());
     EXPECT_EQ(state.tfSelected, -1);
+}
+
+TEST_F(TfPanel, ADragIsOneUndoStepAndCtrlZCtrlYWalkTheHistory) {
+    const Rect canvas = findCanvas();
+    const TransferFunction before = state.tf;
+    const CanvasPoint at = ui::tfToCanvas(canvas, 0.5, 0.5);
+    press(at, 0);
+    for (int i = 1; i <= 5; ++i) press({at.x + 4.0f * float(i), at.y - 3.0f * float(i)}, 0);   // one drag
+    release(0);
+    const TransferFunction dragged = state.tf;
+    ASSERT_NE(dragged, before);
+    ASSERT_EQ(state.tfHistory.undo.size(), 1u) << "a drag of 5 moves must be one step";
+
+    // Ctrl+Z: back to before the drag; Ctrl+Y: the drag again. (ImGui 1.86's legacy key map.)
+    ImGuiIO& io = ImGui::GetIO();
+    io.KeyMap[ImGuiKey_Z] = 'Z';
+    io.KeyMap[ImGuiKey_Y] = 'Y';
+    auto chord = [&](int key) {
+        io.KeyCtrl = true;
+        io.KeysDown[key] = true;
+        frame(body());
+        io.KeysDown[key] = false;
+        io.KeyCtrl = false;
+        frame(body());
+    };
+    changed = false;
+    chord('Z');
+    EXPECT_EQ(state.tf, before);
+    EXPECT_TRUE(changed);
+    chord('Y');
+    EXPECT_EQ(state.tf, dragged);
+    chord('Z');
+    EXPECT_EQ(state.tf, before);
+    EXPECT_TRUE(state.tfHistory.undo.empty());
+    chord('Z');   // nothing more to undo
+    EXPECT_EQ(state.tf, before);
 }

@@ -50,6 +50,28 @@ bool removeControlPoint(renderer::TransferFunction& tf, int index) {
     return true;
 }
 
+void TfHistory::record(const renderer::TransferFunction& before) {
+    undo.push_back(before);
+    if (undo.size() > kTfHistorySteps) undo.erase(undo.begin());
+    redo.clear();
+}
+
+bool TfHistory::undoInto(renderer::TransferFunction& tf) {
+    if (undo.empty()) return false;
+    redo.push_back(std::move(tf));
+    tf = std::move(undo.back());
+    undo.pop_back();
+    return true;
+}
+
+bool TfHistory::redoInto(renderer::TransferFunction& tf) {
+    if (redo.empty()) return false;
+    undo.push_back(std::move(tf));
+    tf = std::move(redo.back());
+    redo.pop_back();
+    return true;
+}
+
 double toDataUnits(double value, renderer::ValueRange window) {
     return double(window.lo) + value * (double(window.hi) - double(window.lo));
 }

@@ -81,6 +81,7 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
         changed = true;
     };
     if (state.tfSelected >= int(tf.points.size())) state.tfSelected = -1;
+    if (!state.tfGestureStart) state.tfGestureStart = tf;
 
     // 1. Preset.
     sectionTitle("Transfer function");
@@ -213,10 +214,37 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
         try {
             renderer::saveTransferFunction(named, state.tfFile);
             tf.name = named.name;
+            state.tfGestureStart->name = named.name;   // naming is not an edit to undo
             state.tfEdited = false;
         } catch (const renderer::LoadError& e) {
             state.errorMessage = e.what();
         }
+    }
+    // 5. Undo and redo: the buttons, and Ctrl+Z / Ctrl+Y (or Ctrl+Shift+Z) while the panel has focus.
+    ImGui::SameLine();
+    const ImGuiIO& keys = ImGui::GetIO();
+    const bool focused = ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows) && !keys.WantTextInput;
+    const bool ctrlZ = focused && keys.KeyCtrl && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Z), false);
+    const bool ctrlY = focused && keys.KeyCtrl && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Y), false);
+    auto step = [&](bool redo) {
+        if (redo ? state.tfHistory.redoInto(tf) : state.tfHistory.undoInto(tf)) {
+            state.tfGestureStart = tf;
+            state.tfSelected = -1;
+            state.tfEdited = changed = true;
+        }
+    };
+    ImGui::BeginDisabled(state.tfHistory.undo.empty());
+    if (ImGui::Button("Undo") || (ctrlZ && !keys.KeyShift)) step(false);
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(state.tfHistory.redo.empty());
+    if (ImGui::Button("Redo") || ctrlY || (ctrlZ && keys.KeyShift)) step(true);
+    ImGui::EndDisabled();
+    // A gesture ends when no widget is held: a drag released, a field left, or an instant edit (a
+    // preset, a file, a removal). What it changed becomes one undo step.
+    if (!ImGui::IsAnyItemActive()) {
+        if (tf != *state.tfGestureStart) state.tfHistory.record(*state.tfGestureStart);
+        state.tfGestureStart = tf;
     }
     ImGui::PopItemWidth();
     return changed;

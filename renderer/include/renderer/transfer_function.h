@@ -17,11 +17,13 @@ struct ControlPoint {
     double value = 0.0;        // normalised data value in [0,1] (0 = range.lo, 1 = range.hi)
     glm::dvec3 colour{1.0};    // linear RGB in [0,1]
     double opacity = 0.0;      // in [0,1]; 0 makes voxels of this value invisible (never drawn)
+    bool operator==(const ControlPoint&) const = default;
 };
 
 struct TransferFunction {
     std::string name;
     std::vector<ControlPoint> points;   // sorted by value; piecewise linear between them
+    bool operator==(const TransferFunction&) const = default;
 };
 
 // Entries of the lookup table both the CPU oracle and the GL path index with a voxel's class.

@@ -5,9 +5,11 @@
 #include "renderer/splat_settings.h"
 #include "renderer/transfer_function.h"
 #include "renderer/window.h"
+#include "ui/tf_editor.h"
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 namespace ui {
@@ -29,6 +31,8 @@ struct EditorState {
     int tfSelected = -1;               // the control point the panel edits; -1: none
     float tfGrabDx = 0, tfGrabDy = 0;  // while dragging: point minus mouse at the press, pixels
     std::string tfFile = "transfer_function.json";   // the panel's Load / Save path
+    TfHistory tfHistory;                             // undo / redo, a step per gesture
+    std::optional<renderer::TransferFunction> tfGestureStart;   // the TF before the gesture under way
     std::array<float, 3> background{0.055f, 0.060f, 0.075f}; // linear RGB behind the volume
     std::string errorMessage; // shown in a modal until dismissed; empty when none
     renderer::WindowSettings window; // which data values map onto the TF (custom: data units)

@@ -6,6 +6,8 @@
 #include "renderer/volume.h"
 #include "ui/dock_layout.h"
 
+#include <vector>
+
 namespace ui {
 
 struct CanvasPoint {
@@ -29,6 +31,18 @@ void moveControlPoint(renderer::TransferFunction& tf, int index, double value, d
 
 // Removes point `index` unless only two are left (a TF needs a start and an end); returns whether it did.
 bool removeControlPoint(renderer::TransferFunction& tf, int index);
+
+// Undo and redo of TF edits, a step per gesture (a drag, a typed field, a preset, a file).
+constexpr size_t kTfHistorySteps = 100;
+struct TfHistory {
+    std::vector<renderer::TransferFunction> undo, redo;
+    // Before an edit: `before` becomes the step undo returns to; redo is forgotten. Keeps the newest
+    // kTfHistorySteps.
+    void record(const renderer::TransferFunction& before);
+    // Swap `tf` for the previous (next) state; false when there is none.
+    bool undoInto(renderer::TransferFunction& tf);
+    bool redoInto(renderer::TransferFunction& tf);
+};
 
 // Data units <-> the TF's normalised domain over `window` (what the panel shows and types).
 double toDataUnits(double value, renderer::ValueRange window);
