@@ -321,9 +321,7 @@ int runEditor(const EditorOptions& options) {
     ui::SpaceMouse spaceMouse(ui::makeHidapiBackend());
     double lastPoll = glfwGetTime();
     auto knobDeflected = [&] {
-        if (scripted || !spaceMouse.connected() || !state.spaceMouse.enabled) return false;
-        const ui::SpaceMouseState& s = spaceMouse.state();
-        return s.translation != std::array<int, 3>{} || s.rotation != std::array<int, 3>{};
+        return !scripted && spaceMouse.connected() && state.spaceMouse.enabled && spaceMouse.state().deflected();
     };
 
     for (int frame = 1; !glfwWindowShouldClose(glfw.window); ++frame) {

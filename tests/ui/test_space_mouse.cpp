@@ -96,6 +96,11 @@ TEST(SpaceMouseMotion, PushZoomsTiltRaisesSlidePansAndRestNoiseDoesNothing) {
     s.rotation = {-15, 17, 9};
     renderer::Camera c = start;
     EXPECT_FALSE(ui::applyOrbitInput(c, ui::spaceMouseOrbit(s, 0.05, {})));
+    EXPECT_FALSE(s.deflected()) << "rest noise would keep the editor polling";
+    s.rotation[1] = 300;   // roll: nothing follows it
+    EXPECT_FALSE(s.deflected());
+    s.rotation[0] = 18;
+    EXPECT_TRUE(s.deflected());
 
     // Push away for one second: the distance halves (kSpaceMouseZoomPerSec), within the clamps.
     s = {};

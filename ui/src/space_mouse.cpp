@@ -38,6 +38,12 @@ double deflection(int raw) {
 
 } // namespace
 
+bool SpaceMouseState::deflected() const {
+    for (int a = 0; a < 3; ++a)
+        if (deflection(translation[size_t(a)]) != 0.0) return true;
+    return deflection(rotation[0]) != 0.0 || deflection(rotation[2]) != 0.0;   // roll (about y) moves nothing
+}
+
 bool applySpaceMouseReport(SpaceMouseState& state, std::span<const uint8_t> report) {
     if (report.empty()) return false;
     switch (report[0]) {

@@ -20,6 +20,8 @@ namespace ui {
 struct SpaceMouseState {
     std::array<int, 3> translation{}, rotation{};
     uint32_t buttons = 0;   // bit i: button i held
+    // Any axis the camera follows (all but roll) past the dead zone: the knob asks for motion.
+    bool deflected() const;
 };
 
 // 3Dconnexion's six-axis products, under Logitech's vendor id (older ones) and 3Dconnexion's own.
