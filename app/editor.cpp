@@ -5,6 +5,8 @@
 #include "editor.h"
 
 #include "renderer/errors.h"
+#include "renderer/filter_comparison.h"
+#include "renderer/ground_truth.h"
 #include "renderer/gl_context.h"
 #include "renderer/gradients.h"
 #include "renderer/image.h"
@@ -97,6 +99,46 @@ struct GradientJob {
         });
     }
     ~GradientJob() {
+        cancel = true;
+        if (thread.joinable()) thread.join();
+    }
+};
+
+// The Filters panel's "Measure": the ground truth of the view's centre crop on a worker thread (cached
+// on disk), then, one filter a UI frame, each filter timed on the whole view and compared on the crop.
+// It works on a copy of the scene: a TF edit changes the document's while the worker reads. Destroying
+// the job cancels and joins it.
+struct FilterComparisonJob {
+    static constexpr int kCropPx = 96;   // ground truth of 96 x 96 px: about a minute for headsq on 2 cores
+    static constexpr std::array<renderer::FilterMode, 4> kFilters{
+        renderer::FilterMode::Reconstruction, renderer::FilterMode::LowPass, renderer::FilterMode::Ewa,
+        renderer::FilterMode::Adaptive};
+    renderer::SplatScene scene;
+    renderer::ImagePlane view, crop;
+    renderer::SplatSettings settings;
+    std::thread thread;
+    std::atomic<double> fraction{0.0};
+    std::atomic<bool> cancel{false}, done{false};
+    std::optional<renderer::Image> truth;   // written before `done`
+    std::string error;
+    size_t measured = 0;                    // filters of kFilters measured so far
+
+    FilterComparisonJob(const renderer::SplatScene& s, const renderer::ImagePlane& v, const renderer::SplatSettings& set)
+        : scene(s), view(v), crop(renderer::centreCrop(v, kCropPx)), settings(set) {
+        thread = std::thread([this] {
+            try {
+                truth = renderer::cachedGroundTruth(scene, crop, settings, {}, renderer::defaultGroundTruthCacheDir(),
+                                                    [this](double f) {
+                                                        fraction = f;
+                                                        return !cancel.load();
+                                                    });
+            } catch (const std::exception& e) {
+                error = e.what();
+            }
+            done = true;
+        });
+    }
+    ~FilterComparisonJob() {
         cancel = true;
         if (thread.joinable()) thread.join();
     }
@@ -280,7 +322,11 @@ int runEditor(const EditorOptions& options) {
     // (read back from the GPU after a render, while the panel is shown).
     std::optional<renderer::ImagePlane> lastPlane;
     std::optional<std::array<uint64_t, 3>> patchCounts;
-    bool filtersShown = false, filtersChanged = false, patchCountsStale = true;
+    bool filtersShown = false, patchCountsStale = true;
+    ui::FiltersChanges filtersChanges;
+    std::unique_ptr<FilterComparisonJob> comparison;
+    std::vector<renderer::FilterMeasurement> measurements;
+    bool measurementsStale = false;
     auto lastFrame = std::chrono::steady_clock::now();
     const std::vector<ui::DockPanel> panels = {
         {"Transfer function", "left",
@@ -305,13 +351,19 @@ int runEditor(const EditorOptions& options) {
         {"Filters", "bottom",
          [&] {
              filtersShown = true;
-             filtersChanged = ui::drawFiltersPanel(state, {.plane = lastPlane && doc.volume ? &*lastPlane : nullptr,
-                                                           .dims = doc.scene.dims,
-                                                           .origin = doc.scene.origin,
-                                                           .spacing = doc.scene.spacing,
-                                                           .radius = doc.scene.radius,
-                                                           .frame = splats ? splats->stats() : renderer::FrameStats{},
-                                                           .patches = patchCounts});
+             filtersChanges =
+                 ui::drawFiltersPanel(state, {.plane = lastPlane && doc.volume ? &*lastPlane : nullptr,
+                                              .dims = doc.scene.dims,
+                                              .origin = doc.scene.origin,
+                                              .spacing = doc.scene.spacing,
+                                              .radius = doc.scene.radius,
+                                              .frame = splats ? splats->stats() : renderer::FrameStats{},
+                                              .patches = patchCounts,
+                                              .measurements = measurements,
+                                              .cropPx = FilterComparisonJob::kCropPx,
+                                              .measuring = comparison != nullptr,
+                                              .measurementsStale = measurementsStale,
+                                              .truthProgress = comparison ? comparison->fraction.load() : 0.0});
          }},
         {"Help", "bottom", [] { ui::drawHelpPanel(); }},
     };
@@ -387,6 +439,29 @@ int runEditor(const EditorOptions& options) {
                 renderPending = true;
             }
         }
+        // The Filters panel's measurement: start it, cancel it, or measure one more filter.
+        if (filtersChanges.cancel) comparison.reset();
+        if (filtersChanges.measure && splats && lastPlane && !comparison) {
+            measurements.clear();
+            measurementsStale = false;
+            comparison = std::make_unique<FilterComparisonJob>(doc.scene, *lastPlane, state.settings);
+        }
+        if (comparison && comparison->done) {
+            if (comparison->thread.joinable()) comparison->thread.join();
+            if (!comparison->error.empty()) {
+                state.errorMessage = "measuring the filters: " + comparison->error;
+                comparison.reset();
+            } else if (comparison->measured < FilterComparisonJob::kFilters.size()) {
+                guarded([&] {
+                    measurements.push_back(renderer::measureFilter(
+                        *splats, comparison->view, comparison->crop, *comparison->truth, comparison->settings,
+                        FilterComparisonJob::kFilters[comparison->measured++], 3));
+                });
+                renderPending = true;   // re-rendered below: the crop replaced the view's targets
+            } else {
+                comparison.reset();
+            }
+        }
         if (splats && renderPending && renderWidth > 0) {
             renderPending = false;
             const bool rendered = guarded([&] {
@@ -418,7 +493,8 @@ int runEditor(const EditorOptions& options) {
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
         settingsChanges = {};
-        tfChanged = windowChanged = filtersShown = filtersChanged = false;
+        tfChanged = windowChanged = filtersShown = false;
+        filtersChanges = {};
         viewport.cameraChanged = false;
         ui::drawDockSpace(layout, panels);
         ui::drawErrorModal(state);
@@ -429,7 +505,14 @@ int runEditor(const EditorOptions& options) {
             gradientJob->cancel = true;
         ImGui::Render();
         tfPending |= tfChanged;
-        renderPending |= settingsChanges.any() || tfChanged || filtersChanged || viewport.cameraChanged;
+        // Any edit of the view ends a measurement under way and dates the last one.
+        const bool viewEdited = settingsChanges.any() || tfChanged || windowChanged || filtersChanges.settingsChanged ||
+                                viewport.cameraChanged || settingsChanges.openVolume || settingsChanges.sessionOpened;
+        if (viewEdited) {
+            comparison.reset();
+            measurementsStale = true;
+        }
+        renderPending |= viewEdited;
         if (viewport.widthPx != renderWidth || viewport.heightPx != renderHeight) {
             renderWidth = viewport.widthPx, renderHeight = viewport.heightPx;
             renderPending = true;

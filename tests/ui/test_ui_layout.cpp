@@ -431,7 +431,7 @@ TEST_F(ImGuiNull, FiltersPanelTogglesTheHeatmapWithOrWithoutAVolume) {
                 view.radius = 60.0;
                 view.patches = std::array<uint64_t, 3>{10, 0, 30};
             }
-            changed |= ui::drawFiltersPanel(state, view);
+            changed |= ui::drawFiltersPanel(state, view).settingsChanged;
         };
         frame(body);
         EXPECT_FALSE(changed);
@@ -441,4 +441,48 @@ TEST_F(ImGuiNull, FiltersPanelTogglesTheHeatmapWithOrWithoutAVolume) {
         EXPECT_TRUE(state.showHeatmap);
         EXPECT_TRUE(state.settings.heatmap) << "the renderer would not draw the heatmap shown";
     }
+}
+
+TEST_F(ImGuiNull, FiltersPanelAsksToMeasureAndToCancelAndShowsEachFiltersRow) {
+    ui::EditorState state;
+    renderer::Camera camera;
+    const renderer::ImagePlane plane = renderer::makeImagePlane(camera, {32, 32, 46}, 60.0, 512, 512);
+    ui::FiltersView view;
+    view.plane = &plane;
+    view.dims = {64, 64, 93};
+    view.radius = 60.0;
+    view.cropPx = 96;
+    ui::FiltersChanges seen;
+    auto body = [&] {
+        const ui::FiltersChanges c = ui::drawFiltersPanel(state, view);
+        seen.measure |= c.measure;
+        seen.cancel |= c.cancel;
+        seen.settingsChanged |= c.settingsChanged;
+    };
+    // The cost column is the rightmost third of the panel: click down it until a button answers.
+    auto clickInCostColumn = [&](bool ui::FiltersChanges::*answer) {
+        for (float y = 0.0f; y < 160.0f && !(seen.*answer); y += 3.0f)
+            for (float x = 280.0f; x < 395.0f && !(seen.*answer); x += 12.0f) click(x, y, body);
+    };
+    frame(body);
+    clickInCostColumn(&ui::FiltersChanges::measure);
+    EXPECT_TRUE(seen.measure) << "no Measure button";
+    EXPECT_FALSE(seen.settingsChanged);
+
+    view.measuring = true;
+    view.truthProgress = 0.4;
+    view.measurements = {{renderer::FilterMode::Reconstruction, 12.5, 0.02, 34.0}};
+    seen = {};
+    frame(body);
+    clickInCostColumn(&ui::FiltersChanges::cancel);
+    EXPECT_TRUE(seen.cancel) << "no Cancel button while measuring";
+    EXPECT_FALSE(seen.measure) << "Measure offered while a measurement runs";
+
+    // With shading there is no ground truth: nothing to ask for.
+    view.measuring = false;
+    state.settings.shading = renderer::SplatSettings::Shading::PerSplat;
+    seen = {};
+    frame(body);
+    clickInCostColumn(&ui::FiltersChanges::measure);
+    EXPECT_FALSE(seen.measure);
 }

@@ -89,12 +89,61 @@ void drawDepthBar(const renderer::FilterDepths& d, glm::dvec2 volume, double rad
     }
 }
 
+// Cost beside error: the Measure button (or the progress of a measurement) and a row per filter measured.
+void drawCostColumn(const EditorState& state, const FiltersView& view, FiltersChanges& changes) {
+    ImGui::TextUnformatted("cost and error in this view");
+    if (renderer::needsGradients(state.settings)) {
+        ImGui::TextDisabled("no ground truth with shading or surface splats");
+        return;
+    }
+    if (view.measuring) {
+        char label[48];
+        std::snprintf(label, sizeof label, "ground truth %.0f %%", 100.0 * view.truthProgress);
+        ImGui::ProgressBar(float(std::clamp(view.truthProgress, 0.0, 1.0)), ImVec2(-ImGui::GetFontSize() * 5.0f, 0.0f),
+                           label);
+        ImGui::SameLine();
+        changes.cancel = ImGui::Button("Cancel");
+    } else {
+        ImGui::BeginDisabled(!view.plane);
+        changes.measure = ImGui::Button("Measure");
+        ImGui::EndDisabled();
+        hint("Times each filter on the whole view (median of 3 frames) and compares the view's centre crop with\n"
+             "the ground truth: the exact integral along Gaussian-weighted rays, computed on the CPU (seconds to\n"
+             "minutes, cached on disk for the next time)");
+        if (view.measurementsStale && !view.measurements.empty()) {
+            ImGui::SameLine();
+            ImGui::TextDisabled("(for an earlier view)");
+        }
+    }
+    if (view.measurements.empty()) return;
+    if (!ImGui::BeginTable("##cost", 3, ImGuiTableFlags_SizingStretchProp)) return;
+    ImGui::TableSetupColumn("filter");
+    ImGui::TableSetupColumn("frame");
+    ImGui::TableSetupColumn("PSNR (RMSE)");
+    ImGui::TableHeadersRow();
+    for (const renderer::FilterMeasurement& m : view.measurements) {
+        const int mode = int(m.filter);
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        if (mode < 3) ImGui::TextColored(kModeColour[mode], "%s", renderer::filterModeName(m.filter));
+        else ImGui::TextUnformatted(renderer::filterModeName(m.filter));
+        ImGui::TableNextColumn();
+        ImGui::Text("%.1f ms", m.frameMs);
+        ImGui::TableNextColumn();
+        ImGui::Text("%.1f dB (%.4f)", m.psnrDb, m.rmse);
+    }
+    ImGui::EndTable();
+    ImGui::TextDisabled("error over the centre %d x %d px", view.cropPx, view.cropPx);
+}
+
 } // namespace
 
-bool drawFiltersPanel(EditorState& state, const FiltersView& view) {
+FiltersChanges drawFiltersPanel(EditorState& state, const FiltersView& view) {
     renderer::SplatSettings& s = state.settings;
-    bool changed = false;
-    if (!ImGui::BeginTable("##filters", 2, ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchSame)) return false;
+    FiltersChanges changes;
+    bool& changed = changes.settingsChanged;
+    if (!ImGui::BeginTable("##filters", 3, ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchSame))
+        return changes;
     ImGui::TableNextRow();
 
     // What: the toggle, the legend, the filter in force, and the shares of patches and splats.
@@ -122,8 +171,10 @@ bool drawFiltersPanel(EditorState& state, const FiltersView& view) {
     ImGui::TableNextColumn();
     if (!view.plane) {
         ImGui::TextDisabled("no volume loaded");
+        ImGui::TableNextColumn();
+        drawCostColumn(state, view, changes);
         ImGui::EndTable();
-        return changed;
+        return changes;
     }
     const renderer::AdaptiveThresholds t = renderer::adaptiveThresholds(view.spacing, *view.plane, s);
     const renderer::FilterDepths d = renderer::filterDepths(t, *view.plane);
@@ -146,8 +197,12 @@ bool drawFiltersPanel(EditorState& state, const FiltersView& view) {
     if (s.hysteresis > 0.0)
         ImGui::TextDisabled("hysteresis %.2f: a patch keeps its filter until a threshold is passed by %.0f %%",
                             s.hysteresis, 100.0 * s.hysteresis);
+
+    // Cost: each filter's time and error, on request.
+    ImGui::TableNextColumn();
+    drawCostColumn(state, view, changes);
     ImGui::EndTable();
-    return changed;
+    return changes;
 }
 
 } // namespace ui

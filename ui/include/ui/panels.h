@@ -2,6 +2,7 @@
 // objects. applyOrbitInput() is the pure camera rule behind the viewport's mouse handling.
 #pragma once
 #include "renderer/camera.h"
+#include "renderer/filter_comparison.h"
 #include "renderer/splat_renderer.h"
 #include "renderer/volume.h"
 #include "ui/editor_state.h"
@@ -11,6 +12,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace ui {
 
@@ -104,13 +106,25 @@ struct FiltersView {
     renderer::FrameStats frame;                    // the last render (per-filter splats with counters)
     std::optional<std::array<uint64_t, 3>> patches;   // patches per filter the adaptive classifier
                                                       // gives this view (renderer's patchModes)
+    // Cost beside error (renderer/filter_comparison.h): the filters measured so far, whether a
+    // measurement is under way (ground-truth progress 0..1) and whether the view changed since.
+    std::vector<renderer::FilterMeasurement> measurements;
+    int cropPx = 0;                 // side of the centre crop the errors are taken over
+    bool measuring = false, measurementsStale = false;
+    double truthProgress = 0.0;
 };
 
-// Which filter each part of the view takes and why: the heatmap toggle, the filter in force, the
-// shares of patches (and of splats, with GPU counters) per filter, and a depth axis from the eye
-// coloured by the filter a kernel takes there, with the volume's depths over it. Returns whether a
-// setting changed (the heatmap toggle).
-bool drawFiltersPanel(EditorState& state, const FiltersView& view);
+struct FiltersChanges {
+    bool settingsChanged = false;   // the heatmap toggle
+    bool measure = false;           // "Measure": time each filter and take its error in this view
+    bool cancel = false;            // stop the measurement under way
+};
+
+// Which filter each part of the view takes, why, and at what cost: the heatmap toggle, the filter in
+// force, the shares of patches (and of splats, with GPU counters) per filter; a depth axis from the
+// eye coloured by the filter a kernel takes there, with the volume's depths over it; and, measured on
+// request, each filter's frame time beside its error against the ground truth.
+FiltersChanges drawFiltersPanel(EditorState& state, const FiltersView& view);
 
 // == Stats and help
 
