@@ -75,20 +75,23 @@ struct Document {
     std::optional<renderer::GradientField> gradients;   // once computed (for shading, a later issue)
 };
 
-// Gradients computed on a worker thread after a volume loads; the UI thread polls `done` each frame
-// and shows the progress modal meanwhile. Destroying the job cancels and joins it, so it must go
-// before the volume it reads.
-struct GradientJob {
+// Work on a worker thread that the UI thread polls each frame: its progress (0..1), a cancel flag the
+// work's progress callback returns, and, once `done`, its result or the message of what it threw.
+// Destroying the job cancels and joins it, so it must go before anything the work reads.
+template <class T>
+struct WorkerJob {
     std::thread thread;
     std::atomic<double> fraction{0.0};
     std::atomic<bool> cancel{false}, done{false};
-    std::optional<renderer::GradientField> result;   // empty when cancelled; written before `done`
-    std::string error;                               // an exception from the worker, if any
+    std::optional<T> result;   // written before `done`; empty when cancelled or failed
+    std::string error;         // an exception from the worker, if any
 
-    explicit GradientJob(const renderer::Volume& volume) {
-        thread = std::thread([this, &volume] {
+    // `work(progress)` returns the result (or an optional of it); `progress(f)` returns false once cancelled.
+    template <class Work>
+    void start(Work work) {
+        thread = std::thread([this, work] {
             try {
-                result = renderer::computeGradients(volume, [this](double f) {
+                result = work([this](double f) {
                     fraction = f;
                     return !cancel.load();
                 });
@@ -98,16 +101,22 @@ struct GradientJob {
             done = true;
         });
     }
-    ~GradientJob() {
+    ~WorkerJob() {
         cancel = true;
         if (thread.joinable()) thread.join();
     }
 };
 
-// The Filters panel's "Measure": the ground truth of the view's centre crop on a worker thread (cached
-// on disk), then, one filter a UI frame, each filter timed on the whole view and compared on the crop.
-// It works on a copy of the scene: a TF edit changes the document's while the worker reads. Destroying
-// the job cancels and joins it.
+// Gradients computed after a volume loads; the UI shows the progress modal meanwhile.
+struct GradientJob : WorkerJob<renderer::GradientField> {
+    explicit GradientJob(const renderer::Volume& volume) {
+        start([&volume](const renderer::ProgressCallback& progress) { return renderer::computeGradients(volume, progress); });
+    }
+};
+
+// The Filters panel's "Measure": the ground truth of the view's centre crop on the worker (cached on
+// disk), then, one filter a UI frame, each filter timed on the whole view and compared on the crop.
+// It works on a copy of the scene: a TF edit changes the document's while the worker reads.
 struct FilterComparisonJob {
     static constexpr int kCropPx = 96;   // ground truth of 96 x 96 px: about a minute for headsq on 2 cores
     static constexpr std::array<renderer::FilterMode, 4> kFilters{
@@ -116,31 +125,15 @@ struct FilterComparisonJob {
     renderer::SplatScene scene;
     renderer::ImagePlane view, crop;
     renderer::SplatSettings settings;
-    std::thread thread;
-    std::atomic<double> fraction{0.0};
-    std::atomic<bool> cancel{false}, done{false};
-    std::optional<renderer::Image> truth;   // written before `done`
-    std::string error;
-    size_t measured = 0;                    // filters of kFilters measured so far
+    size_t measured = 0;                   // filters of kFilters measured so far
+    WorkerJob<renderer::Image> truth;      // last: destroyed (joined) before the scene it reads
 
     FilterComparisonJob(const renderer::SplatScene& s, const renderer::ImagePlane& v, const renderer::SplatSettings& set)
         : scene(s), view(v), crop(renderer::centreCrop(v, kCropPx)), settings(set) {
-        thread = std::thread([this] {
-            try {
-                truth = renderer::cachedGroundTruth(scene, crop, settings, {}, renderer::defaultGroundTruthCacheDir(),
-                                                    [this](double f) {
-                                                        fraction = f;
-                                                        return !cancel.load();
-                                                    });
-            } catch (const std::exception& e) {
-                error = e.what();
-            }
-            done = true;
+        truth.start([this](const renderer::ProgressCallback& progress) {
+            return renderer::cachedGroundTruth(scene, crop, settings, {}, renderer::defaultGroundTruthCacheDir(),
+                                               progress);
         });
-    }
-    ~FilterComparisonJob() {
-        cancel = true;
-        if (thread.joinable()) thread.join();
     }
 };
 
@@ -363,7 +356,7 @@ int runEditor(const EditorOptions& options) {
                                               .cropPx = FilterComparisonJob::kCropPx,
                                               .measuring = comparison != nullptr,
                                               .measurementsStale = measurementsStale,
-                                              .truthProgress = comparison ? comparison->fraction.load() : 0.0});
+                                              .truthProgress = comparison ? comparison->truth.fraction.load() : 0.0});
          }},
         {"Help", "bottom", [] { ui::drawHelpPanel(); }},
     };
@@ -446,15 +439,15 @@ int runEditor(const EditorOptions& options) {
             measurementsStale = false;
             comparison = std::make_unique<FilterComparisonJob>(doc.scene, *lastPlane, state.settings);
         }
-        if (comparison && comparison->done) {
-            if (comparison->thread.joinable()) comparison->thread.join();
-            if (!comparison->error.empty()) {
-                state.errorMessage = "measuring the filters: " + comparison->error;
+        if (comparison && comparison->truth.done) {
+            if (comparison->truth.thread.joinable()) comparison->truth.thread.join();
+            if (!comparison->truth.error.empty()) {
+                state.errorMessage = "measuring the filters: " + comparison->truth.error;
                 comparison.reset();
             } else if (comparison->measured < FilterComparisonJob::kFilters.size()) {
                 guarded([&] {
                     measurements.push_back(renderer::measureFilter(
-                        *splats, comparison->view, comparison->crop, *comparison->truth, comparison->settings,
+                        *splats, comparison->view, comparison->crop, *comparison->truth.result, comparison->settings,
                         FilterComparisonJob::kFilters[comparison->measured++], 3));
                 });
                 renderPending = true;   // re-rendered below: the crop replaced the view's targets
