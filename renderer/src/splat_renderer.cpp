@@ -843,17 +843,23 @@ void checkAllocation(const char* what, const std::string& name, uint64_t needed,
 enum CounterSlot { kVisible, kTransparent, kNear, kDegenerate, kHuge, kOffscreen, kDrawn, kMode0, kOccluded = kMode0 + 3,
                    kCounterSlots };
 
-// One traversal axis on the GPU: the 16-bit entries, the runs (the vertex stage's per-draw attribute)
-// and where each slice's runs start (the command pass's descending order). The CPU keeps the run
-// buckets and slice ranges to skip empty slices.
+// One traversal axis: the 16-bit entries, the runs (the vertex stage's per-draw attribute) and where
+// each slice's runs start (the command pass's descending order). Only the view's axis is on the GPU
+// (Gl::makeResident); the others wait in host memory, as uploaded. The CPU keeps the run buckets and
+// slice ranges to skip empty slices.
 struct AxisBuffers {
-    GLuint entries = 0, runs = 0, sliceRunsBuffer = 0;
+    GLuint entries = 0, runs = 0, sliceRunsBuffer = 0;   // 0 while the axis is not resident
     uint32_t runCount = 0;
     std::vector<uint32_t> sliceRuns;   // as AxisLists::sliceRuns
     std::vector<uint16_t> buckets;     // per run
     std::vector<uint32_t> voxels;      // per run: voxels of its bucket
     std::vector<glm::u16vec2> lo, hi;  // per run: in-slice bounds of its voxels
+    std::vector<uint16_t> hostEntries; // the entries in whole words (never empty: zero-sized stores are errors)
+    std::vector<glm::uvec4> hostRuns;  // the runs as the GPU reads them (at least one)
 
+    uint64_t gpuBytes() const {
+        return hostEntries.size() * 2 + hostRuns.size() * sizeof(glm::uvec4) + sliceRuns.size() * 4;
+    }
     void release() {
         const GLuint b[] = {entries, runs, sliceRunsBuffer};
         glDeleteBuffers(3, b);
@@ -899,6 +905,7 @@ struct SplatRenderer::Gl {
     std::optional<PatchGrid> patchLayout;   // patchBuffer holds an adaptive frame's modes on this
                                             // grid (hysteresis reads them as last frame's)
     std::array<AxisBuffers, 3> axes;
+    int residentAxis = -1;   // the axis whose lists are on the GPU (-1: none yet)
     Lut lut;                             // CPU copy: which buckets are active, which slices are empty
     // The one indirect command array (16 bytes a run of the longest axis), rewritten when the LUT, the
     // primitive, drawAllBuckets, the axis or the order changes.
@@ -1176,6 +1183,32 @@ struct SplatRenderer::Gl {
         glUniform1f(glGetUniformLocation(p, "uHysteresis"), float(settings.hysteresis));
     }
 
+    // Puts the lists of `axis` on the GPU in place of the resident axis's, so a scene holds one axis,
+    // not three (sceneBytes counts the largest). Returns the bytes uploaded: 0 while the view's major
+    // axis stays the same.
+    uint64_t makeResident(int axis) {
+        if (residentAxis == axis) return 0;
+        if (residentAxis >= 0) axes[size_t(residentAxis)].release();
+        residentAxis = -1;
+        AxisBuffers& a = axes[size_t(axis)];
+        const std::optional<uint64_t> freeBytes = freeGpuMemoryBytes();
+        auto upload = [&](GLuint& buffer, size_t bytes, const void* data) {
+            glCreateBuffers(1, &buffer);
+            glNamedBufferStorage(buffer, GLsizeiptr(bytes), data, 0);
+            checkAllocation("slice lists", sceneName, sceneBytes, freeBytes);
+        };
+        try {
+            upload(a.entries, a.hostEntries.size() * 2, a.hostEntries.data());
+            upload(a.runs, a.hostRuns.size() * sizeof(glm::uvec4), a.hostRuns.data());
+            upload(a.sliceRunsBuffer, a.sliceRuns.size() * 4, a.sliceRuns.data());
+        } catch (...) {
+            a.release();
+            throw;
+        }
+        residentAxis = axis;
+        return a.gpuBytes();
+    }
+
     // Rewrites the indirect commands for the current LUT, axis and order (GPU only: nothing is
     // uploaded). Tiles read them ascending, by run.
     void updateCommands(int axis, bool descending, bool reversed, int vertsPerSplat, bool allBuckets) {
@@ -1306,20 +1339,41 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
     if (d.x > maxSize || d.y > maxSize || d.z > maxSize)
         throw RenderError("volume dims exceed GL_MAX_3D_TEXTURE_SIZE " + std::to_string(maxSize));
-    // GPU memory: the classes (2 bytes a voxel), the LUT, per axis the entries (2 bytes each), the
-    // runs (16 bytes) and where each slice's start (4 bytes a slice), and one command array (16 bytes a
-    // run of the axis with the most), against what the driver reports free (plus what the current
-    // scene holds, which is replaced) and the optional limit.
-    auto entryBytes = [](const AxisLists& l) { return std::max<size_t>((l.entries.size() + 1) / 2, 1) * 4; };
-    auto runCount = [](const AxisLists& l) { return std::max<size_t>(l.runs.size(), 1); };
-    uint64_t needed = scene.classes.size() * sizeof(uint16_t) + scene.lut.size() * sizeof(glm::vec4);
+    // GPU memory: the classes (2 bytes a voxel), the LUT, the lists of the view's axis (the largest
+    // counts): entries (2 bytes each), runs (16 bytes) and where each slice's runs start (4 bytes a
+    // slice), and one command array (16 bytes a run of the axis with the most), against what the driver
+    // reports free (plus what the current scene holds, which is replaced) and the optional limit.
+    std::array<AxisBuffers, 3> axes;   // host side only until the check passes
+    uint64_t listBytes = 0;
     size_t mostRuns = 1;
-    for (const auto& l : scene.lists) {
-        needed += entryBytes(l) + runCount(l) * 16 + l.sliceRuns.size() * 4;
-        mostRuns = std::max(mostRuns, runCount(l));
+    for (int axis = 0; axis < 3; ++axis) {
+        const AxisLists& lists = scene.lists[size_t(axis)];
+        AxisBuffers& a = axes[size_t(axis)];
+        const size_t n = lists.runs.size();
+        a.hostEntries = lists.entries;
+        a.hostEntries.resize(std::max<size_t>((lists.entries.size() + 1) / 2, 1) * 2, 0);
+        a.hostRuns.assign(std::max<size_t>(n, 1), glm::uvec4(0));
+        a.buckets.resize(n);
+        a.voxels.resize(n);
+        a.lo.resize(n);
+        a.hi.resize(n);
+        a.sliceRuns = lists.sliceRuns;
+        for (size_t r = 0; r < n; ++r) {
+            const SliceRun& run = lists.runs[r];
+            a.hostRuns[r] = glm::uvec4(run.dense ? 0u : run.first, run.tileBase,
+                                       run.slice | uint32_t(run.bucket) << 16 | (run.dense ? 1u << 31 : 0u), run.count);
+            a.buckets[r] = run.bucket;
+            a.voxels[r] = run.voxels;
+            a.lo[r] = run.lo;
+            a.hi[r] = run.hi;
+        }
+        a.runCount = uint32_t(n);
+        listBytes = std::max(listBytes, a.gpuBytes());
+        mostRuns = std::max(mostRuns, a.hostRuns.size());
     }
-    needed += mostRuns * 16;
-    needed += gradientBufferBytes(scene.gradients.size());
+    const uint64_t commandBytes = mostRuns * 16;
+    uint64_t needed = scene.classes.size() * sizeof(uint16_t) + scene.lut.size() * sizeof(glm::vec4) + listBytes +
+                      commandBytes + gradientBufferBytes(scene.gradients.size());
     std::optional<uint64_t> freeBytes = freeGpuMemoryBytes();
     if (freeBytes) *freeBytes += g.sceneBytes;
     if (g.memoryLimit) freeBytes = std::min(freeBytes.value_or(g.memoryLimit), g.memoryLimit);
@@ -1349,44 +1403,17 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     }
     g.sceneBytes = scene.classes.size() * sizeof(uint16_t) + kLutSize * sizeof(glm::vec4);
 
-    auto makeBuffer = [&](GLuint& buffer, size_t bytes, const void* data, const char* what) {
-        glCreateBuffers(1, &buffer);
-        glNamedBufferStorage(buffer, GLsizeiptr(bytes), data, 0);
-        checkAllocation(what, scene.name, needed, freeBytes);
-        if (data) m_stats.uploadBytes += bytes;
-        g.sceneBytes += bytes;
-    };
-    g.sceneName = scene.name;
     for (int axis = 0; axis < 3; ++axis) {
-        const AxisLists& lists = scene.lists[size_t(axis)];
-        AxisBuffers& a = g.axes[size_t(axis)];
-        a.release();
-        std::vector<uint16_t> entries = lists.entries;
-        entries.resize(entryBytes(lists) / 2, 0);   // whole words; never empty (zero-sized stores are errors)
-        makeBuffer(a.entries, entries.size() * 2, entries.data(), "slice lists");
-
-        const size_t n = lists.runs.size();
-        std::vector<glm::uvec4> runs(std::max<size_t>(n, 1), glm::uvec4(0));
-        a.buckets.resize(n);
-        a.voxels.resize(n);
-        a.lo.resize(n);
-        a.hi.resize(n);
-        a.sliceRuns = lists.sliceRuns;
-        for (size_t r = 0; r < n; ++r) {
-            const SliceRun& run = lists.runs[r];
-            runs[r] = glm::uvec4(run.dense ? 0u : run.first, run.tileBase,
-                                 run.slice | uint32_t(run.bucket) << 16 | (run.dense ? 1u << 31 : 0u), run.count);
-            a.buckets[r] = run.bucket;
-            a.voxels[r] = run.voxels;
-            a.lo[r] = run.lo;
-            a.hi[r] = run.hi;
-        }
-        makeBuffer(a.runs, runs.size() * sizeof(glm::uvec4), runs.data(), "slice runs");
-        makeBuffer(a.sliceRunsBuffer, lists.sliceRuns.size() * 4, lists.sliceRuns.data(), "slice runs");
-        a.runCount = uint32_t(n);
+        g.axes[size_t(axis)].release();
+        g.axes[size_t(axis)] = std::move(axes[size_t(axis)]);
     }
+    g.residentAxis = -1;   // the first frame uploads its axis's lists
+    g.sceneBytes += listBytes + commandBytes;
+    g.sceneName = scene.name;
     glDeleteBuffers(1, &g.commands);
-    makeBuffer(g.commands, mostRuns * 16, nullptr, "draw commands");
+    glCreateBuffers(1, &g.commands);
+    glNamedBufferStorage(g.commands, GLsizeiptr(commandBytes), nullptr, 0);
+    checkAllocation("draw commands", scene.name, needed, freeBytes);
     g.commandsKey = {};   // other runs: written afresh
     g.dims = d;
     g.patchLayout.reset();   // another scene: no last frame to keep filters from
@@ -1452,6 +1479,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     // Auto takes tiles only where the lists surely fit the texel buffer they are read through: a
     // footprint's box spans at most ceil((2 bound + 1) / tile) + 1 tiles a side, each entry a record.
     const Traversal trav = chooseTraversal(plane);
+    const uint64_t listUpload = g.makeResident(trav.axis);
     const AxisBuffers& axis = g.axes[size_t(trav.axis)];
     std::array<bool, kBuckets> active = activeBuckets(g.lut);
     if (settings.drawAllBuckets) active.fill(true);
@@ -1871,7 +1899,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     m_stats.points = points;
     m_stats.tiles = tiles;
     m_stats.adaptiveAs = settings.filter == FilterMode::Adaptive ? drawnFilter : FilterMode::Adaptive;
-    m_stats.uploadBytes = 0;   // a frame uploads uniforms only
+    m_stats.uploadBytes = listUpload;   // uniforms, and the lists when the view's axis changed
     m_stats.hasCounters = settings.counters;
     if (settings.counters) {   // waits for the frame: for tests, benchmarks and the stats panel's opt-in
         GLuint64 fragments = 0;

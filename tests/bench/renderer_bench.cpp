@@ -133,6 +133,31 @@ void tfEdit(benchmark::State& state, const Dataset& d, bool rebuild) {
     }
 }
 
+// Turning across a 45-degree diagonal: frames alternating two views 2 degrees apart that straddle it
+// (each frame's major axis differs from the last, so it uploads that axis's lists) against two views
+// 2 degrees apart on one side of it (nothing uploaded). The difference is what a resident axis costs.
+void axisTurn(benchmark::State& state, const Dataset& d, bool across) {
+    const SplatScene& scene = sceneOf(d);
+    SplatRenderer r;
+    r.setScene(scene);
+    const double azimuths[2] = {across ? 44.0 : 41.0, across ? 46.0 : 43.0};
+    ImagePlane planes[2];
+    for (int k = 0; k < 2; ++k)
+        planes[k] = makeImagePlane(Camera{.azimuthDeg = azimuths[k]}, scene.centre, scene.radius, gWidth, gHeight);
+    r.render(planes[1], SplatSettings{});   // warm-up
+    glFinish();
+    uint64_t uploaded = 0;
+    int k = 0;
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        r.render(planes[k++ % 2], SplatSettings{});
+        glFinish();
+        state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        uploaded += r.stats().uploadBytes;
+    }
+    state.counters["upload_MiB"] = double(uploaded) / double(state.iterations()) / (1024.0 * 1024.0);
+}
+
 void add(const std::string& name, std::function<void(benchmark::State&)> fn, int iterations = 3) {
     benchmark::RegisterBenchmark(name.c_str(), [fn](benchmark::State& st) { fn(st); })
         ->UseManualTime()
@@ -251,6 +276,8 @@ int main(int argc, char** argv) {
         add(n + "/ewa/splat-every-sample/surface-splats", [=](benchmark::State& st) { renderFrames(st, d, s); });
         add(n + "/tf-edit/select-buckets", [=](benchmark::State& st) { tfEdit(st, d, false); });
         add(n + "/tf-edit/rebuild-scene", [=](benchmark::State& st) { tfEdit(st, d, true); }, 2);
+        add(n + "/turn/same-axis", [=](benchmark::State& st) { axisTurn(st, d, false); }, 4);
+        add(n + "/turn/across-axes", [=](benchmark::State& st) { axisTurn(st, d, true); }, 4);
     }
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
