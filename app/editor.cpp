@@ -28,7 +28,9 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -292,6 +294,11 @@ int runEditor(const EditorOptions& options) {
             state.settings.compositing == renderer::Compositing::SplatEverySample)
             throw renderer::RenderError("--primitive tiles needs sheet or X-ray compositing (--compositing)");
         state.showHeatmap = state.settings.heatmap = options.heatmap;
+        state.perf.renderContinuously = options.continuous || options.spinDegPerS != 0.0;
+        if (!(std::abs(options.spinDegPerS) <= 90.0))
+            throw renderer::RenderError("--spin takes -90 to 90 degrees a second, got " +
+                                        std::to_string(options.spinDegPerS));
+        state.perf.spinDegPerS = options.spinDegPerS;
         state.tf = renderer::transferFunctionFromSpec(options.tfSpec);
         if (options.sessionPath.empty()) return;
         // The session replaces what the flags set; a volume argument replaces the session's volume.
@@ -310,7 +317,10 @@ int runEditor(const EditorOptions& options) {
     unsigned texture = 0; // the renderer's display texture; 0 until something was rendered
     int renderWidth = 0, renderHeight = 0;
     bool tfPending = false, renderPending = true, windowChanged = false, tfChanged = false;
-    std::vector<float> frameMs; // recent whole-frame times for the stats plot, oldest first
+    // The Performance panel: recent renders; back to back: this UI frame follows one that rendered.
+    ui::PerfHistory perfHistory;
+    std::optional<std::chrono::steady_clock::time_point> lastRenderStart;
+    bool renderedLastFrame = false;
     // The Filters panel: the last render's view, and the patches per filter the classifier gives it
     // (read back from the GPU after a render, while the panel is shown).
     std::optional<renderer::ImagePlane> lastPlane;
@@ -320,7 +330,6 @@ int runEditor(const EditorOptions& options) {
     std::unique_ptr<FilterComparisonJob> comparison;
     std::vector<renderer::FilterMeasurement> measurements;
     bool measurementsStale = false;
-    auto lastFrame = std::chrono::steady_clock::now();
     const std::vector<ui::DockPanel> panels = {
         {"Transfer function", "left",
          [&] {
@@ -338,9 +347,9 @@ int runEditor(const EditorOptions& options) {
              ui::drawStatsPanel({.frame = splats ? splats->stats() : renderer::FrameStats{},
                                  .volume = doc.volume ? &*doc.volume : nullptr,
                                  .visibleSplats = doc.scene.visibleCount(),
-                                 .glRenderer = glRenderer,
-                                 .frameMsHistory = frameMs});
+                                 .glRenderer = glRenderer});
          }},
+        {"Performance", "bottom", [&] { ui::drawPerformancePanel(state, perfHistory); }},
         {"Filters", "bottom",
          [&] {
              filtersShown = true;
@@ -360,11 +369,18 @@ int runEditor(const EditorOptions& options) {
          }},
         {"Help", "bottom", [] { ui::drawHelpPanel(); }},
     };
+    for (const std::string& tab : options.tabs)
+        if (std::none_of(panels.begin(), panels.end(), [&](const ui::DockPanel& p) { return p.title == tab; })) {
+            std::string titles;
+            for (const ui::DockPanel& p : panels) titles += (titles.empty() ? "" : ", ") + p.title;
+            std::fprintf(stderr, "splatlab: --tab: no panel called '%s' (panels: %s)\n", tab.c_str(), titles.c_str());
+            return 1;
+        }
 
     // A 3D mouse, if one is plugged in. Scripted runs show its status but never move with it: their
     // frames stay reproducible.
     ui::SpaceMouse spaceMouse(ui::makeHidapiBackend());
-    double lastPoll = glfwGetTime();
+    double lastPoll = glfwGetTime(), lastSpin = lastPoll;
     auto knobDeflected = [&] {
         return !scripted && spaceMouse.connected() && state.spaceMouse.enabled && spaceMouse.state().deflected();
     };
@@ -372,9 +388,12 @@ int runEditor(const EditorOptions& options) {
     for (int frame = 1; !glfwWindowShouldClose(glfw.window); ++frame) {
         // Idle: sleep until an event (or 50 ms for the GPU timer, 16 ms to read a 3D mouse); busy,
         // scripted or the knob deflected: keep going.
-        if (scripted || renderPending || tfPending || knobDeflected()) glfwPollEvents();
+        if (scripted || renderPending || tfPending || knobDeflected() || state.perf.renderContinuously) glfwPollEvents();
         else glfwWaitEventsTimeout(spaceMouse.connected() ? 0.016 : 0.05);
-        if (splats) splats->collectTimers();
+        if (splats) {
+            splats->collectTimers();
+            perfHistory.addTimes(splats->stats());
+        }
         const double pollTime = glfwGetTime();
         spaceMouse.poll(pollTime);
         state.spaceMouseStatus = spaceMouse.status();
@@ -455,8 +474,25 @@ int runEditor(const EditorOptions& options) {
                 comparison.reset();
             }
         }
-        if (splats && renderPending && renderWidth > 0) {
+        // Continuous rendering (Performance panel): every frame renders, turning the camera if asked
+        // (scripted runs turn by a fixed 1/60 s a frame, so their pictures stay reproducible).
+        const bool continuous = state.perf.renderContinuously && state.errorMessage.empty();
+        if (continuous && state.perf.spinDegPerS != 0.0) {
+            const double dt = scripted ? 1.0 / 60.0 : std::min(pollTime - lastSpin, 0.1);
+            ui::applyOrbitInput(state.camera,
+                                {.rotateDxPx = float(-state.perf.spinDegPerS * dt / ui::kOrbitDegPerPx)});
+        }
+        lastSpin = pollTime;
+        renderPending |= continuous;
+        const bool renderNow = splats && renderPending && renderWidth > 0;
+        if (renderNow) {
             renderPending = false;
+            const auto start = std::chrono::steady_clock::now();
+            const double intervalMs =
+                renderedLastFrame && lastRenderStart
+                    ? std::chrono::duration<double, std::milli>(start - *lastRenderStart).count()
+                    : 0.0;
+            lastRenderStart = start;
             const bool rendered = guarded([&] {
                 const renderer::ImagePlane plane = renderer::makeImagePlane(
                     state.camera, doc.scene.centre, doc.scene.radius, renderWidth, renderHeight);
@@ -467,9 +503,11 @@ int runEditor(const EditorOptions& options) {
                 texture = splats->displayTexture(state.background.data(), state.showHeatmap);
                 lastPlane = plane;
                 patchCountsStale = true;
+                perfHistory.addRender(splats->stats(), intervalMs);
             });
             if (!rendered) texture = 0;
         }
+        renderedLastFrame = renderNow;
         if (splats && lastPlane && filtersShown && patchCountsStale) {
             patchCountsStale = false;
             guarded([&] {
@@ -489,7 +527,7 @@ int runEditor(const EditorOptions& options) {
         tfChanged = windowChanged = filtersShown = false;
         filtersChanges = {};
         viewport.cameraChanged = false;
-        ui::drawDockSpace(layout, panels);
+        ui::drawDockSpace(layout, panels, frame <= 2 ? options.tabs : std::vector<std::string>{});
         ui::drawErrorModal(state);
         if (ui::drawProgressModal("Computing gradients",
                                   "Gradients of " + (doc.volume ? doc.volume->name : std::string()) +
@@ -529,10 +567,6 @@ int runEditor(const EditorOptions& options) {
         }
         glfwSwapBuffers(glfw.window);
 
-        const auto now = std::chrono::steady_clock::now();
-        if (frameMs.size() == 120) frameMs.erase(frameMs.begin());
-        frameMs.push_back(std::chrono::duration<float, std::milli>(now - lastFrame).count());
-        lastFrame = now;
     }
     return exitCode;
 }

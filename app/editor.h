@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 struct EditorOptions {
     std::filesystem::path volumePath;     // empty: start with no volume (or the session's)
@@ -20,6 +21,9 @@ struct EditorOptions {
     bool heatmap = false;                 // start showing the filter-mode heatmap
     std::string compositing = "splat-every-sample";   // starting compositing (splat_settings.h names)
     renderer::SplatSettings::Primitive primitive = renderer::SplatSettings::Primitive::Auto;   // --primitive
+    std::vector<std::string> tabs;        // panels brought to the front of their regions (--tab)
+    bool continuous = false;              // render every frame (Performance panel)
+    double spinDegPerS = 0.0;             // and turn the camera this fast (implies continuous)
 };
 
 // Runs the editor until the window closes, or for `frames` frames. Returns the process exit code:

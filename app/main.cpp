@@ -486,6 +486,9 @@ int main(int argc, char** argv) {
     editor->add_option("--primitive", editorPrimitive, kPrimitiveHelp)->capture_default_str();
     editor->add_option("--up", editorUp, "Object axis shown upwards: x, y, z, -x, -y, -z (default: z; "
                                          "-z for the bundled headsq)");
+    editor->add_option("--tab", e.tabs, "Bring a panel's tab to the front, e.g. Performance (repeatable)");
+    editor->add_flag("--continuous", e.continuous, "Render every frame (the Performance panel's steady load)");
+    editor->add_option("--spin", e.spinDegPerS, "Render continuously, turning the camera this many degrees a second");
 
     try {
         app.parse(argc, argv);

@@ -943,7 +943,7 @@ struct SplatRenderer::Gl {
     std::optional<GpuPass> lapPass;    // the pass its last lap started
     std::array<bool, kTimerRing> timerPending{};
     std::array<uint64_t, kTimerRing> timerFrame{};
-    uint64_t frameCounter = 0, newestTimed = 0;
+    uint64_t renders = 0, newestTimed = 0;   // render numbers (FrameStats::frame)
     int timerNext = 0;
     GLint maxPointSize = 1;
     GLint maxTexelBuffer = 0;   // GL_MAX_TEXTURE_BUFFER_SIZE: tiled splatting reads records through it
@@ -1512,6 +1512,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     // Nothing below throws before the queries end: a query left active would break the next frame
     // (NVIDIA keeps a deleted active query running).
     collectTimers();
+    m_stats.frame = ++g.renders;
     const size_t slot = size_t(g.timerNext);
     const bool timed = !g.timerPending[slot];   // ring full of unfinished frames: skip, never stall
     if (timed) {
@@ -1887,7 +1888,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         g.lap(std::nullopt);   // the frame's end
         g.timing = nullptr;
         g.timerPending[slot] = true;
-        g.timerFrame[slot] = ++g.frameCounter;
+        g.timerFrame[slot] = g.renders;
         g.timerNext = (g.timerNext + 1) % kTimerRing;
     }
     glDisable(GL_BLEND);
@@ -1960,6 +1961,7 @@ void SplatRenderer::collectTimers() {
         g.newestTimed = g.timerFrame[size_t(i)];
         std::vector<GLuint64> t(laps.used);
         for (size_t j = 0; j < laps.used; ++j) glGetQueryObjectui64v(laps.queries[j], GL_QUERY_RESULT, &t[j]);
+        m_stats.gpuFrame = g.timerFrame[size_t(i)];
         m_stats.gpuMs = double(t.back() - t.front()) * 1e-6;
         m_stats.passMs = {};
         for (size_t j = 0; j + 1 < laps.used; ++j)

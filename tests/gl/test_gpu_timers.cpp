@@ -36,6 +36,7 @@ void expectPasses(const FrameStats& f, double wallMs, const std::set<GpuPass>& r
         else EXPECT_EQ(f.passMs[size_t(i)], 0.0) << name << ": " << gpuPassName(pass);
         sum += f.passMs[size_t(i)];
     }
+    EXPECT_EQ(f.gpuFrame, f.frame) << name;   // finished and read: the times are this render's
     EXPECT_GT(f.gpuMs, 0.0) << name;
     EXPECT_LE(sum, f.gpuMs + 1e-6) << name;
     EXPECT_LE(f.gpuMs, wallMs) << name;
@@ -85,4 +86,25 @@ TEST_F(GpuTimers, EachFrameTimesThePassesItRanAndNoOthers) {
     s.opaqueRefreshSlices = 4;
     wall = timedFrame(r, plane, s);
     expectPasses(r.stats(), wall, {P::Select, P::Splats, P::Opaque}, "raster front to back");
+    EXPECT_EQ(r.stats().frame, 6u);   // renders are numbered from 1
+}
+
+TEST_F(GpuTimers, TimesArriveLateWithTheNumberOfTheRenderTheyBelongTo) {
+    // Without waiting, a render's times come with a later render (the ring never stalls); gpuFrame says
+    // which, so a history can put them beside that render's CPU time.
+    SplatScene scene = buildSplatScene(makeCheckerboard({24, 20, 16}, 4), builtinPreset("grey-ramp"));
+    const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, 64, 64);
+    SplatRenderer r;
+    r.setScene(scene);
+    uint64_t lastGpuFrame = 0;
+    for (int k = 1; k <= 12; ++k) {
+        r.render(plane, SplatSettings{});
+        EXPECT_EQ(r.stats().frame, uint64_t(k));
+        EXPECT_LE(r.stats().gpuFrame, r.stats().frame);
+        EXPECT_GE(r.stats().gpuFrame, lastGpuFrame);   // never an older render's times after a newer one's
+        lastGpuFrame = r.stats().gpuFrame;
+    }
+    glFinish();
+    r.collectTimers();
+    EXPECT_EQ(r.stats().gpuFrame, 12u);
 }

@@ -164,3 +164,29 @@ TEST(EditorScreenshot, ASessionOpensTheViewTheFlagsItStandsForWouldOpen) {
     EXPECT_GT(fractionBrighterThan(opened, centre, modalLuminance(opened, viewport) + 0.08), 0.3)
         << "see editor_session.png";
 }
+
+TEST(EditorScreenshot, SpinTurnsTheCameraAtItsSpeedAndThePerformanceChartFillsIn) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    // Scripted runs turn by 1/60 s a frame: 5 frames at 90 degrees a second add 7.5 degrees of azimuth.
+    const renderer::Image spun =
+        editorScreenshot("--camera 30,15,2.5,30 --up -z --spin 90 --tab Performance", "editor_spin.png");
+    const renderer::Image turned = editorScreenshot("--camera 37.5,15,2.5,30 --up -z", "editor_spin_flags.png");
+    const renderer::Image still = editorScreenshot("--camera 30,15,2.5,30 --up -z", "editor_still.png");
+    ASSERT_FALSE(::testing::Test::HasFailure());
+    const ui::DockLayout layout = ui::makeEditorLayout();
+    const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    const ui::Rect viewport = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.0f);
+    EXPECT_LE(largestDifference(spun, turned, viewport), 1.5 / 255.0) << "see editor_spin.png, editor_spin_flags.png";
+    EXPECT_GT(largestDifference(spun, still, viewport), 0.2) << "the spin did not turn the view (editor_still.png)";
+    // The chart (the bottom strip's right part) holds the pass colours of the renders timed so far.
+    const ui::Rect bottom = rects.node[size_t(layout.find("bottom"))];
+    const ui::Rect chart{bottom.x + bottom.w * 0.5f, bottom.y + 30.0f, bottom.w * 0.5f, bottom.h - 30.0f};
+    size_t coloured = 0;
+    for (int y = int(chart.y); y < int(chart.bottom()); ++y)
+        for (int x = int(chart.x); x < int(chart.right()); ++x) {
+            const float* p = spun.pixel(x, y);
+            coloured += std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) > 0.3f;
+        }
+    EXPECT_GT(coloured, 20u) << "no pass colours in the Performance chart (editor_spin.png)";
+}

@@ -30,7 +30,7 @@ DockLayout makeEditorLayout() {
                        .first = 3,
                        .second = 4,
                        .axis = SplitAxis::Rows,
-                       .ratio = 0.78f,
+                       .ratio = 0.72f,
                        .minFirstPx = 160.0f,
                        .minSecondPx = 90.0f};
     layout.nodes[3] = {.name = "viewport", .fill = true};
@@ -128,7 +128,7 @@ DockRects computeDockRects(const DockLayout& layout, Rect window) {
     return rects;
 }
 
-void drawDockSpace(DockLayout& layout, const std::vector<DockPanel>& panels) {
+void drawDockSpace(DockLayout& layout, const std::vector<DockPanel>& panels, const std::vector<std::string>& select) {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
     const Rect window{viewport->WorkPos.x, viewport->WorkPos.y, viewport->WorkSize.x, viewport->WorkSize.y};
     const DockRects rects = computeDockRects(layout, window);
@@ -153,7 +153,8 @@ void drawDockSpace(DockLayout& layout, const std::vector<DockPanel>& panels) {
         if (ImGui::BeginTabBar("##tabs")) {
             for (const DockPanel& panel : panels) {
                 if (panel.region != leaf.name) continue;
-                if (ImGui::BeginTabItem(panel.title.c_str())) {
+                const bool front = std::find(select.begin(), select.end(), panel.title) != select.end();
+                if (ImGui::BeginTabItem(panel.title.c_str(), nullptr, front ? ImGuiTabItemFlags_SetSelected : 0)) {
                     panel.draw();
                     ImGui::EndTabItem();
                 }

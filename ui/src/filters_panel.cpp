@@ -39,9 +39,11 @@ void shareText(const char* what, const std::array<uint64_t, 3>& counts) {
     const double total = double(counts[0] + counts[1] + counts[2]);
     ImGui::Text("%s", what);
     for (int m = 0; m < 3; ++m) {
-        ImGui::SameLine();
-        ImGui::TextColored(kModeColour[m], "%s %.0f %%", kModeName[m],
-                           total > 0.0 ? 100.0 * double(counts[size_t(m)]) / total : 0.0);
+        char part[48];
+        std::snprintf(part, sizeof part, "%s %.0f %%", kModeName[m],
+                      total > 0.0 ? 100.0 * double(counts[size_t(m)]) / total : 0.0);
+        sameLineIfFits(part);
+        ImGui::TextColored(kModeColour[m], "%s", part);
     }
     shareBar(counts);
 }
@@ -155,16 +157,17 @@ FiltersChanges drawFiltersPanel(EditorState& state, const FiltersView& view) {
     hint("The filter-mode heatmap instead of the image: each pixel's colour is the opacity-weighted share\n"
          "of the splats of each filter (red reconstruction, green low-pass, blue full EWA)");
     if (s.filter == renderer::FilterMode::Adaptive)
-        ImGui::Text("filter  adaptive, per patch of %d x %d slice voxels", s.patchSize, s.patchSize);
+        ImGui::TextWrapped("filter  adaptive, per patch of %d x %d slice voxels", s.patchSize, s.patchSize);
     else
-        ImGui::Text("filter  %s for every splat (forced); adaptive would choose:", renderer::filterModeName(s.filter));
+        ImGui::TextWrapped("filter  %s for every splat (forced); adaptive would choose:",
+                           renderer::filterModeName(s.filter));
     if (view.patches) shareText("patches", *view.patches);
     else ImGui::TextDisabled("patches  (no volume)");
     if (view.frame.hasCounters) {
         const auto& c = view.frame.counters;
         shareText("splats drawn", {c.drawnPerMode[0], c.drawnPerMode[1], c.drawnPerMode[2]});
     } else {
-        ImGui::TextDisabled("splats per filter: turn on Settings > GPU counters");
+        textDisabledWrapped("splats per filter: turn on Settings > GPU counters");
     }
 
     // Why: the depths where the filter changes, against the volume's depths.
@@ -185,18 +188,24 @@ FiltersChanges drawFiltersPanel(EditorState& state, const FiltersView& view) {
                        t.sigmaMin, t.reconstructionAbovePx, t.lowPassBelowPx);
     if (view.plane->orthographic) {
         const renderer::FilterMode one = renderer::classifyDepth(1.0, *view.plane, t);
-        ImGui::Text("orthographic: %.2f px a kernel at every depth, so %s everywhere", t.sigmaMin * view.plane->fPx,
+        ImGui::TextWrapped("orthographic: %.2f px a kernel at every depth, so %s everywhere", t.sigmaMin * view.plane->fPx,
                     renderer::filterModeName(one));
     } else {
-        ImGui::Text("volume (bracket): %.2f .. %.2f bounding radii from the eye", depths.x / r, depths.y / r);
+        ImGui::TextWrapped("volume (bracket): %.2f .. %.2f bounding radii from the eye", depths.x / r, depths.y / r);
         drawDepthBar(d, depths, r);
-        ImGui::TextColored(kModeColour[0], "reconstruction nearer than %.2f", d.reconstructionNearer / r);
-        ImGui::SameLine();
-        ImGui::TextColored(kModeColour[1], "  low-pass farther than %.2f", d.lowPassFarther / r);
+        char nearer[64], farther[64];
+        std::snprintf(nearer, sizeof nearer, "reconstruction nearer than %.2f", d.reconstructionNearer / r);
+        std::snprintf(farther, sizeof farther, "low-pass farther than %.2f", d.lowPassFarther / r);
+        ImGui::TextColored(kModeColour[0], "%s", nearer);
+        sameLineIfFits(farther);
+        ImGui::TextColored(kModeColour[1], "%s", farther);
     }
-    if (s.hysteresis > 0.0)
-        ImGui::TextDisabled("hysteresis %.2f: a patch keeps its filter until a threshold is passed by %.0f %%",
-                            s.hysteresis, 100.0 * s.hysteresis);
+    if (s.hysteresis > 0.0) {
+        char text[128];
+        std::snprintf(text, sizeof text, "hysteresis %.2f: a patch keeps its filter until a threshold is passed by %.0f %%",
+                      s.hysteresis, 100.0 * s.hysteresis);
+        textDisabledWrapped(text);
+    }
 
     // Cost: each filter's time and error, on request.
     ImGui::TableNextColumn();

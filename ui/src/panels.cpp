@@ -267,9 +267,7 @@ void drawPassBar(const renderer::FrameStats& f) {
     double total = 0.0;
     for (double ms : f.passMs) total += ms;
     if (!(total > 0.0)) return;
-    auto colour = [](int pass) {
-        return ImColor::HSV(float(pass) / float(renderer::kGpuPasses), 0.55f, 0.85f);
-    };
+    auto colour = [](int pass) { return passColour(pass, renderer::kGpuPasses); };
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     const float width = ImGui::GetContentRegionAvail().x, height = ImGui::GetFontSize() * 0.8f;
     ImGui::InvisibleButton("##passes", ImVec2(std::max(width, 1.0f), height));
@@ -287,17 +285,7 @@ void drawPassBar(const renderer::FrameStats& f) {
                               100.0 * ms / total);
         x += w;
     }
-    ImGui::TextUnformatted("passes ");
-    for (int i = 0; i < renderer::kGpuPasses; ++i)
-        if (const double ms = f.passMs[size_t(i)]; ms > 0.0) {
-            char part[48];
-            std::snprintf(part, sizeof part, "%s %.1f", renderer::gpuPassName(renderer::GpuPass(i)), ms);
-            // On the line while it fits, else on the next.
-            const float needed = ImGui::CalcTextSize(part).x + ImGui::GetStyle().ItemSpacing.x;
-            ImGui::SameLine();
-            if (ImGui::GetContentRegionAvail().x < needed) ImGui::NewLine();
-            ImGui::TextColored(colour(i), "%s", part);
-        }
+    drawPassList("passes", f.passMs);
 }
 
 } // namespace
@@ -330,15 +318,6 @@ void drawStatsPanel(const StatsView& stats) {
                     (unsigned long long)c.culledOffscreen, (unsigned long long)c.culledHuge);
         ImGui::Text("hidden  behind opaque tiles %llu", (unsigned long long)c.culledOccluded);
         ImGui::Text("fragments %llu (all passes)", (unsigned long long)f.fragments);
-    }
-    if (!stats.frameMsHistory.empty()) {
-        const float peak = *std::max_element(stats.frameMsHistory.begin(), stats.frameMsHistory.end());
-        char label[48];
-        std::snprintf(label, sizeof label, "frame %.1f ms", stats.frameMsHistory.back());
-        ImGui::PlotLines("##frame_ms", stats.frameMsHistory.data(), int(stats.frameMsHistory.size()), 0,
-                         label, 0.0f, std::max(peak * 1.2f, 1.0f),
-                         ImVec2(ImGui::GetContentRegionAvail().x,
-                                ImGui::GetFontSize() * 3.0f)); // 1.86's PlotLines takes no -1 width
     }
 
     // Volume column.

@@ -40,7 +40,7 @@ struct DockLayout {
 };
 
 // The editor's tree: left column | (centre viewport over bottom strip). Regions: "left", "viewport",
-// "bottom". Ratios 0.25 and 0.78; min sizes left 220, viewport 320 x 160, bottom 90 pixels.
+// "bottom". Ratios 0.25 and 0.72; min sizes left 220, viewport 320 x 160, bottom 90 pixels.
 DockLayout makeEditorLayout();
 
 struct DockRects {
@@ -67,8 +67,9 @@ struct DockPanel {
 };
 
 // Fills ImGui's main viewport: splitter bars (drags edit the layout's ratios) in a host window behind,
-// then one fixed, undecorated window per leaf with a tab bar of that leaf's panels. Call between
-// ImGui::NewFrame() and ImGui::Render().
-void drawDockSpace(DockLayout& layout, const std::vector<DockPanel>& panels);
+// then one fixed, undecorated window per leaf with a tab bar of that leaf's panels. The panels titled in
+// `select` are brought to the front of their leaves. Call between ImGui::NewFrame() and ImGui::Render().
+void drawDockSpace(DockLayout& layout, const std::vector<DockPanel>& panels,
+                   const std::vector<std::string>& select = {});
 
 } // namespace ui

@@ -22,6 +22,12 @@ struct SpaceMouseMapping {
     bool invertTranslation = false;  // move the camera, not the object
 };
 
+// The Performance panel's load: re-render every UI frame, and turn the camera while doing so.
+struct PerfSettings {
+    bool renderContinuously = false;
+    double spinDegPerS = 0.0;   // azimuth speed while rendering continuously (0: still)
+};
+
 struct EditorState {
     renderer::Camera camera; // orbit camera; "Reset camera" restores renderer::Camera{}, keeping `up`
     renderer::SplatSettings settings;        // what every render of the viewport uses
@@ -45,6 +51,7 @@ struct EditorState {
     std::string sessionFile = "session.json";
     SpaceMouseMapping spaceMouse;
     std::string spaceMouseStatus;    // the device found, or why there is none (set by the app)
+    PerfSettings perf;
 };
 
 } // namespace ui

@@ -6,6 +6,7 @@
 #include "renderer/splat_renderer.h"
 #include "renderer/volume.h"
 #include "ui/editor_state.h"
+#include "ui/perf_history.h"
 
 #include <array>
 #include <filesystem>
@@ -133,9 +134,14 @@ struct StatsView {
     const renderer::Volume* volume = nullptr; // null when no volume is loaded
     size_t visibleSplats = 0;                 // voxels the TF leaves visible
     std::string glRenderer;                   // GL_RENDERER of the editor's context
-    std::span<const float> frameMsHistory;    // recent whole-frame times, oldest first
 };
 void drawStatsPanel(const StatsView& stats);
+
+// == Performance
+// Live timings of recent renders: the GPU time of each, split by pass (stacked, one colour a pass),
+// with its CPU time over it; medians, p95 and extremes; renders a second when rendering continuously.
+// "Render continuously" and "Spin" give a steady load to watch; "Clear" empties `history`.
+void drawPerformancePanel(EditorState& state, PerfHistory& history);
 
 void drawHelpPanel();
 

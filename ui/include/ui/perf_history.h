@@ -1,0 +1,51 @@
+// Recent renders' timings for the Performance panel: plain data, no GL and no ImGui. A render's GPU
+// times arrive a few renders after it (the timer ring never stalls; FrameStats::gpuFrame says which
+// render they are of), so a render waits here until its times come, then joins the history.
+#pragma once
+#include "renderer/splat_renderer.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+
+namespace ui {
+
+struct PerfSample {
+    uint64_t frame = 0;        // FrameStats::frame
+    double intervalMs = 0.0;   // from the previous render's start to this one's (0: not back to back)
+    double cpuMs = 0.0, gpuMs = 0.0;
+    std::array<double, renderer::kGpuPasses> passMs{};
+    uint64_t splats = 0, uploadBytes = 0;
+};
+
+// Medians and spreads over the history. p95: the nearest-rank 95th percentile.
+struct PerfSummary {
+    size_t renders = 0;
+    double gpuMedianMs = 0.0, gpuP95Ms = 0.0, gpuMinMs = 0.0, gpuMaxMs = 0.0;
+    double cpuMedianMs = 0.0;
+    size_t intervals = 0;            // renders that followed another back to back
+    double intervalMedianMs = 0.0;   // of those: 1000 / it is the renders a second the user sees
+    double splatsPerSecond = 0.0;    // the median render's splats over the median GPU time
+    std::array<double, renderer::kGpuPasses> passMedianMs{};
+};
+
+class PerfHistory {
+public:
+    static constexpr size_t kCapacity = 240;   // renders kept: the oldest leave first
+    static constexpr size_t kPending = 16;     // renders waiting for their times (more than the ring)
+
+    // After a render: its CPU time, splats and upload; `intervalMs` as PerfSample's.
+    void addRender(const renderer::FrameStats& f, double intervalMs);
+    // After FrameStats's GPU times changed (collectTimers): joins them to their render, once.
+    void addTimes(const renderer::FrameStats& f);
+    void clear();
+    const std::deque<PerfSample>& samples() const { return m_samples; }
+    PerfSummary summary() const;
+
+private:
+    std::deque<PerfSample> m_pending, m_samples;
+    uint64_t m_lastTimed = 0;
+};
+
+} // namespace ui

@@ -1,0 +1,80 @@
+#include "ui/perf_history.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace ui {
+
+namespace {
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    const size_t mid = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(mid), v.end());
+    if (v.size() % 2) return v[mid];
+    const double upper = v[mid];
+    return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + std::ptrdiff_t(mid)));
+}
+
+} // namespace
+
+void PerfHistory::addRender(const renderer::FrameStats& f, double intervalMs) {
+    PerfSample s;
+    s.frame = f.frame;
+    s.intervalMs = intervalMs;
+    s.cpuMs = f.cpuMs;
+    s.splats = f.splatsDrawn;
+    s.uploadBytes = f.uploadBytes;
+    m_pending.push_back(s);
+    if (m_pending.size() > kPending) m_pending.pop_front();   // its times were never taken (ring full)
+}
+
+void PerfHistory::addTimes(const renderer::FrameStats& f) {
+    if (f.gpuFrame == 0 || f.gpuFrame <= m_lastTimed) return;
+    m_lastTimed = f.gpuFrame;
+    // Renders older than the timed one will get no times (collectTimers keeps the newest): drop them.
+    while (!m_pending.empty() && m_pending.front().frame < f.gpuFrame) m_pending.pop_front();
+    if (m_pending.empty() || m_pending.front().frame != f.gpuFrame) return;
+    PerfSample s = m_pending.front();
+    m_pending.pop_front();
+    s.gpuMs = f.gpuMs;
+    s.passMs = f.passMs;
+    m_samples.push_back(s);
+    if (m_samples.size() > kCapacity) m_samples.pop_front();
+}
+
+void PerfHistory::clear() {
+    m_pending.clear();
+    m_samples.clear();
+}
+
+PerfSummary PerfHistory::summary() const {
+    PerfSummary out;
+    out.renders = m_samples.size();
+    if (m_samples.empty()) return out;
+    std::vector<double> gpu, cpu, intervals, splats;
+    for (const PerfSample& s : m_samples) {
+        gpu.push_back(s.gpuMs);
+        cpu.push_back(s.cpuMs);
+        splats.push_back(double(s.splats));
+        if (s.intervalMs > 0.0) intervals.push_back(s.intervalMs);
+    }
+    out.gpuMedianMs = median(gpu);
+    out.cpuMedianMs = median(cpu);
+    out.intervals = intervals.size();
+    out.intervalMedianMs = median(intervals);
+    std::sort(gpu.begin(), gpu.end());
+    out.gpuMinMs = gpu.front();
+    out.gpuMaxMs = gpu.back();
+    out.gpuP95Ms = gpu[size_t(std::ceil(0.95 * double(gpu.size()))) - 1];
+    if (out.gpuMedianMs > 0.0) out.splatsPerSecond = median(splats) / (out.gpuMedianMs * 1e-3);
+    for (int p = 0; p < renderer::kGpuPasses; ++p) {
+        std::vector<double> pass;
+        for (const PerfSample& s : m_samples) pass.push_back(s.passMs[size_t(p)]);
+        out.passMedianMs[size_t(p)] = median(pass);
+    }
+    return out;
+}
+
+} // namespace ui
