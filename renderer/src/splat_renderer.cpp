@@ -960,6 +960,7 @@ struct SplatRenderer::Gl {
     glm::ivec3 dims{0};
     glm::dvec3 origin{0.0}, spacing{1.0};
     uint64_t sceneBytes = 0;
+    uint64_t uploadedSinceFrame = 0;   // by setScene, setGradients and setLut since the last render
     uint64_t memoryLimit = 0;   // setMemoryLimit(); 0: none beyond what the driver reports
 
     ~Gl() {
@@ -1420,6 +1421,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     g.origin = scene.origin;
     g.spacing = scene.spacing;
     const uint64_t sceneUpload = m_stats.uploadBytes;
+    g.uploadedSinceFrame += sceneUpload;   // setGradients and setLut add theirs
     g.gradientBytes = 0;   // counted afresh in sceneBytes by setGradients
     setGradients(scene);
     const uint64_t gradientUpload = m_stats.uploadBytes;
@@ -1445,6 +1447,7 @@ void SplatRenderer::setGradients(const SplatScene& scene) {
     g.gradientBytes = bytes;
     g.hasGradients = scene.gradients.size() == scene.classes.size();
     m_stats.uploadBytes = bytes;
+    g.uploadedSinceFrame += bytes;
 }
 
 void SplatRenderer::setLut(const Lut& lut) {
@@ -1455,6 +1458,7 @@ void SplatRenderer::setLut(const Lut& lut) {
     g.lut = lut;
     ++g.lutVersion;
     m_stats.uploadBytes = lut.size() * sizeof(glm::vec4);
+    g.uploadedSinceFrame += m_stats.uploadBytes;
     checkGlErrors("SplatRenderer::setLut");
 }
 
@@ -1901,6 +1905,8 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     m_stats.tiles = tiles;
     m_stats.adaptiveAs = settings.filter == FilterMode::Adaptive ? drawnFilter : FilterMode::Adaptive;
     m_stats.uploadBytes = listUpload;   // uniforms, and the lists when the view's axis changed
+    m_stats.frameUploadBytes = g.uploadedSinceFrame + listUpload;
+    g.uploadedSinceFrame = 0;
     m_stats.hasCounters = settings.counters;
     if (settings.counters) {   // waits for the frame: for tests, benchmarks and the stats panel's opt-in
         GLuint64 fragments = 0;

@@ -184,10 +184,13 @@ TEST_F(GlTest, TfEditUploadsOnlyTheLutAndSelectsBuckets) {
         return uint64_t((l.entries.size() + 1) / 2 * 4 + l.runs.size() * 16 + l.sliceRuns.size() * 4);
     };
     // The first frame puts its axis's lists on the GPU; the next frames upload uniforms only.
+    const uint64_t setUp = r.stats().uploadBytes;
     r.render(plane, SplatSettings{});
     EXPECT_EQ(r.stats().uploadBytes, listBytes(chooseTraversal(plane).axis));
+    EXPECT_EQ(r.stats().frameUploadBytes, setUp + listBytes(chooseTraversal(plane).axis));   // the whole scene
     r.render(plane, SplatSettings{});
     EXPECT_EQ(r.stats().uploadBytes, 0u);
+    EXPECT_EQ(r.stats().frameUploadBytes, 0u);
     // GPU bytes: classes 2 a voxel, the LUT, the largest axis's lists (only the view's axis is on the
     // GPU), one command array of 16 bytes a run of the axis with the most, and one word standing in
     // for the gradients (3 bytes a voxel once the scene has them).
@@ -207,6 +210,7 @@ TEST_F(GlTest, TfEditUploadsOnlyTheLutAndSelectsBuckets) {
         EXPECT_EQ(r.stats().uploadBytes, kLutSize * sizeof(glm::vec4)) << preset;
         r.render(plane, SplatSettings{});
         EXPECT_EQ(r.stats().uploadBytes, 0u);
+        EXPECT_EQ(r.stats().frameUploadBytes, kLutSize * sizeof(glm::vec4)) << preset;   // the edit's frame
         EXPECT_IMAGES_CLOSE(r.readback(), renderReference(scene, plane, SplatSettings{}), kGlVsCpu,
                             std::string("gl_vs_cpu_tf_") + preset);
     }

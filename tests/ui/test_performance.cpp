@@ -13,7 +13,7 @@ renderer::FrameStats rendered(uint64_t frame, double cpuMs, uint64_t splats) {
     f.frame = frame;
     f.cpuMs = cpuMs;
     f.splatsDrawn = splats;
-    f.uploadBytes = 100 * frame;
+    f.frameUploadBytes = 100 * frame;
     return f;
 }
 

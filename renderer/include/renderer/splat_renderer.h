@@ -32,6 +32,8 @@ struct FrameStats {
     double cpuMs = 0.0;          // CPU time spent issuing the frame
     uint64_t splatsDrawn = 0;    // voxels of the active buckets sent to the vertex stage
     uint64_t uploadBytes = 0;    // bytes uploaded to buffers and textures by the last call
+    uint64_t frameUploadBytes = 0;   // by the last render and every call since the render before it
+                                     // (a TF edit's LUT, a new scene): what the frame shown cost to upload
     bool points = false;         // the frame drew point sprites (else two-triangle quads or tiles)
     bool tiles = false;          // the frame was tiled splatting (compute passes, no rasteriser)
     int slicesDrawn = 0;         // sheet modes: slices with an active bucket (the rest are skipped)
