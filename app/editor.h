@@ -19,7 +19,9 @@ struct EditorOptions {
     int width = 1280, height = 800;       // window size in screen coordinates
     std::string filter = "ewa";           // starting filter mode (ewa.h names)
     bool heatmap = false;                 // start showing the filter-mode heatmap
-    std::string compositing = "splat-every-sample";   // starting compositing (splat_settings.h names)
+    // Starting compositing (splat_settings.h names): tiled sheets front to back, the fastest mode on
+    // every machine measured and as close to the ground truth as splat-every-sample.
+    std::string compositing = "sheet-front-to-back";
     renderer::SplatSettings::Primitive primitive = renderer::SplatSettings::Primitive::Auto;   // --primitive
     std::vector<std::string> tabs;        // panels brought to the front of their regions (--tab)
     bool continuous = false;              // render every frame (Performance panel)

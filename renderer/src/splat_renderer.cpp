@@ -921,6 +921,7 @@ struct SplatRenderer::Gl {
     // (front-to-back early termination).
     GLuint image = 0, heat = 0, sheet = 0, sheetHeat = 0, depth = 0, displayTex = 0;
     GLuint frameFbo = 0, sheetFbo = 0, displayFbo = 0, depthFbo = 0;
+    GLuint computeFbo = 0;   // no attachments: bound while a tiled frame runs its compute passes
     GLuint opaqueTiles = 0;   // one word per kOpaqueTilePx tile: 1 once all its pixels are opaque; then
                               // one word, 1 once any is (nextOcclusionChunk())
     // Tiled splatting: programs by variant bits, and its per-frame buffers (grown, never shrunk).
@@ -972,6 +973,7 @@ struct SplatRenderer::Gl {
         for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
                          commandsProgram, patchProgram, opaqueTilesProgram})
             glDeleteProgram(p);
+        glDeleteFramebuffers(1, &computeFbo);
         const GLuint vaos[] = {splatVao, emptyVao};
         glDeleteVertexArrays(2, vaos);
         glDeleteTextures(1, &classTexture);
@@ -1327,6 +1329,7 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     glGetFloatv(GL_ALIASED_POINT_SIZE_RANGE, pointRange);
     g.maxPointSize = GLint(pointRange[1]);
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &g.maxTexelBuffer);
+    glCreateFramebuffers(1, &g.computeFbo);
     if (glRendererName().rfind("llvmpipe", 0) == 0) g.runLanes = 8;
     checkGlErrors("SplatRenderer setup");
 }
@@ -1647,6 +1650,10 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
 
     const uint32_t slices = uint32_t(g.dims[trav.axis]);
     if (tiles) {
+        // Compute passes only: no framebuffer with attachments stays bound (the caller's window,
+        // say). llvmpipe bins timestamp queries into a bound framebuffer's draws and runs dispatches
+        // at once, so every pass's time landed in the lap before it.
+        glBindFramebuffer(GL_FRAMEBUFFER, g.computeFbo);
         // Tiled splatting (kTileSplatCompMain): splat records and per-tile counts, offsets, lists, then
         // one workgroup per tile composites. Ranks follow the compositing order. With early termination
         // the ranks go in chunks, each binned against the opaque-tile map the chunks before it left.
