@@ -22,9 +22,7 @@ struct CliRun {
     std::string output;   // stdout and stderr together
 };
 
-CliRun splatlab(const std::string& args) {
-    // No DISPLAY: render and info must not need an X server.
-    const std::string command = "env -u DISPLAY LIBGL_ALWAYS_SOFTWARE=1 \"" SPLATLAB_EXE "\" " + args + " 2>&1";
+CliRun run(const std::string& command) {
     CliRun r;
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return r;
@@ -33,6 +31,11 @@ CliRun splatlab(const std::string& args) {
     const int status = pclose(pipe);
     r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return r;
+}
+
+CliRun splatlab(const std::string& args) {
+    // No DISPLAY: render and info must not need an X server.
+    return run("env -u DISPLAY LIBGL_ALWAYS_SOFTWARE=1 \"" SPLATLAB_EXE "\" " + args + " 2>&1");
 }
 
 std::string headsq() { return (testing_support::assetDir() / "volumes" / "headsq.nhdr").string(); }
@@ -135,6 +138,22 @@ TEST(Cli, MistakesGetOneClearLineAndAFailingExit) {
     };
     for (const auto& [args, expect] : cases) {
         const CliRun r = splatlab(args);
+        EXPECT_NE(r.status, 0) << args;
+        EXPECT_THAT(r.output, HasSubstr(expect)) << args;
+    }
+}
+
+TEST(Cli, EditorFlagMistakesNameTheFlagAndWhatItTakes) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    const std::pair<std::string, std::string> cases[] = {
+        {"--tab Nope", "--tab: no panel called 'Nope' (panels: Transfer function, Settings, Viewport, Stats, "
+                       "Performance, Filters, Help)"},
+        {"--spin 200", "--spin takes -90 to 90 degrees a second"},
+    };
+    for (const auto& [args, expect] : cases) {
+        const CliRun r = run("LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 640x480x24\" \"" SPLATLAB_EXE
+                             "\" editor --frames 3 " + args + " 2>&1");
         EXPECT_NE(r.status, 0) << args;
         EXPECT_THAT(r.output, HasSubstr(expect)) << args;
     }

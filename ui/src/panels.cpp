@@ -348,6 +348,7 @@ void drawHelpPanel() {
     ImGui::BulletText("Drag the bars between regions to resize them");
     ImGui::BulletText("Transfer function curve: drag a point, click empty space to add one, right-click to remove");
     ImGui::BulletText("3D mouse: twist to orbit, tilt to look from above or below, push or pull to zoom, slide to pan");
+    ImGui::BulletText("Performance tab: render continuously (and spin) to watch frame times; hover the chart");
 }
 
 void drawErrorModal(EditorState& state) {
