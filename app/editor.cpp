@@ -481,6 +481,8 @@ int runEditor(const EditorOptions& options) {
             const double dt = scripted ? 1.0 / 60.0 : std::min(pollTime - lastSpin, 0.1);
             ui::applyOrbitInput(state.camera,
                                 {.rotateDxPx = float(-state.perf.spinDegPerS * dt / ui::kOrbitDegPerPx)});
+            comparison.reset();   // a turning view has no measurement to take
+            measurementsStale = true;
         }
         lastSpin = pollTime;
         renderPending |= continuous;
