@@ -29,10 +29,12 @@ void drawChart(const PerfHistory& history, float height) {
                       ImGui::GetColorU32(ImGuiCol_TextDisabled), note);
         return;
     }
+    // The scale fits every render but outliers (a first render compiling its shaders): at most twice
+    // the p95; taller columns are cut at the top.
     double top = 1.0;
     for (const PerfSample& s : samples) top = std::max({top, s.gpuMs, s.cpuMs});
-    top *= 1.15;
-    const auto yOf = [&](double ms) { return end.y - float(ms / top) * height; };
+    top = std::min(top, 2.0 * std::max(history.summary().gpuP95Ms, 0.5)) * 1.15;
+    const auto yOf = [&](double ms) { return std::max(end.y - float(ms / top) * height, origin.y); };
     const float column = width / float(PerfHistory::kCapacity);
     // The newest render sits at the right edge; the history fills in leftwards.
     const float x0 = end.x - column * float(samples.size());
