@@ -157,9 +157,9 @@ FiltersChanges drawFiltersPanel(EditorState& state, const FiltersView& view) {
     hint("The filter-mode heatmap instead of the image: each pixel's colour is the opacity-weighted share\n"
          "of the splats of each filter (red reconstruction, green low-pass, blue full EWA)");
     if (s.filter == renderer::FilterMode::Adaptive)
-        ImGui::TextWrapped("filter  adaptive, per patch of %d x %d slice voxels", s.patchSize, s.patchSize);
+        textWrapped("filter  adaptive, per patch of %d x %d slice voxels", s.patchSize, s.patchSize);
     else
-        ImGui::TextWrapped("filter  %s for every splat (forced); adaptive would choose:",
+        textWrapped("filter  %s for every splat (forced); adaptive would choose:",
                            renderer::filterModeName(s.filter));
     if (view.patches) shareText("patches", *view.patches);
     else ImGui::TextDisabled("patches  (no volume)");
@@ -183,15 +183,15 @@ FiltersChanges drawFiltersPanel(EditorState& state, const FiltersView& view) {
     const renderer::FilterDepths d = renderer::filterDepths(t, *view.plane);
     const glm::dvec2 depths = view.plane->depthRange(view.dims, view.origin, view.spacing);
     const double r = std::max(view.radius, 1e-12);
-    ImGui::TextWrapped("A kernel of sigma %.3g covers sigma x f / depth pixels: reconstruction only above %.2f px "
+    textWrapped("A kernel of sigma %.3g covers sigma x f / depth pixels: reconstruction only above %.2f px "
                        "(1 / c_min), low-pass only below %.2f px (1 / c_max), full EWA between.",
                        t.sigmaMin, t.reconstructionAbovePx, t.lowPassBelowPx);
     if (view.plane->orthographic) {
         const renderer::FilterMode one = renderer::classifyDepth(1.0, *view.plane, t);
-        ImGui::TextWrapped("orthographic: %.2f px a kernel at every depth, so %s everywhere", t.sigmaMin * view.plane->fPx,
+        textWrapped("orthographic: %.2f px a kernel at every depth, so %s everywhere", t.sigmaMin * view.plane->fPx,
                     renderer::filterModeName(one));
     } else {
-        ImGui::TextWrapped("volume (bracket): %.2f .. %.2f bounding radii from the eye", depths.x / r, depths.y / r);
+        textWrapped("volume (bracket): %.2f .. %.2f bounding radii from the eye", depths.x / r, depths.y / r);
         drawDepthBar(d, depths, r);
         char nearer[64], farther[64];
         std::snprintf(nearer, sizeof nearer, "reconstruction nearer than %.2f", d.reconstructionNearer / r);
@@ -201,10 +201,8 @@ FiltersChanges drawFiltersPanel(EditorState& state, const FiltersView& view) {
         ImGui::TextColored(kModeColour[1], "%s", farther);
     }
     if (s.hysteresis > 0.0) {
-        char text[128];
-        std::snprintf(text, sizeof text, "hysteresis %.2f: a patch keeps its filter until a threshold is passed by %.0f %%",
-                      s.hysteresis, 100.0 * s.hysteresis);
-        textDisabledWrapped(text);
+        textDisabledWrapped("hysteresis %.2f: a patch keeps its filter until a threshold is passed by %.0f %%",
+                            s.hysteresis, 100.0 * s.hysteresis);
     }
 
     // Cost: each filter's time and error, on request.

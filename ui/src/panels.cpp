@@ -182,7 +182,7 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
 
     sectionTitle("3D mouse");
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-    ImGui::TextWrapped("%s", state.spaceMouseStatus.empty() ? "not looked for" : state.spaceMouseStatus.c_str());
+    textWrapped("%s", state.spaceMouseStatus.empty() ? "not looked for" : state.spaceMouseStatus.c_str());
     ImGui::PopStyleColor();
     SpaceMouseMapping& m = state.spaceMouse;
     ImGui::Checkbox("Navigate with it", &m.enabled);
@@ -336,7 +336,7 @@ void drawStatsPanel(const StatsView& stats) {
 
     // GL column.
     ImGui::TableNextColumn();
-    ImGui::TextWrapped("GL_RENDERER  %s", stats.glRenderer.c_str());
+    textWrapped("GL_RENDERER  %s", stats.glRenderer.c_str());
     ImGui::Text("ui      %.1f fps", double(ImGui::GetIO().Framerate));
     ImGui::EndTable();
 }
@@ -377,11 +377,12 @@ bool drawWindowSection(EditorState& state, const WindowView& view) {
     // 1. Mode: data range, percentile 1-99, custom lo..hi in data units.
     using renderer::WindowMode;
     for (auto mode : {WindowMode::DataRange, WindowMode::Percentile, WindowMode::Custom}) {
+        if (mode != WindowMode::DataRange)   // the circle is a frame high, then inner spacing
+            sameLineIfFits(renderer::windowModeName(mode), ImGui::GetFrameHeight() + ImGui::GetStyle().ItemInnerSpacing.x);
         if (ImGui::RadioButton(renderer::windowModeName(mode), w.mode == mode) && w.mode != mode) {
             if (mode == renderer::WindowMode::Custom) w.custom = view.window;   // start from what is shown
             w.mode = mode;
         }
-        if (mode != renderer::WindowMode::Custom) ImGui::SameLine();
     }
     hint("Which data values map onto the transfer function's 0..1\n"
          "percentile 1-99: outliers (metal, air) do not squash the tissue range");
@@ -394,9 +395,15 @@ bool drawWindowSection(EditorState& state, const WindowView& view) {
             w.custom = {lo, hi};
         hint("In the data's own units (e.g. Hounsfield units for CT); drag or Ctrl+click to type");
     }
-    ImGui::TextDisabled("window %.4g .. %.4g   data %.4g .. %.4g   p1..p99 %.4g .. %.4g",
-                        double(view.window.lo), double(view.window.hi), double(range.lo), double(range.hi),
-                        double(view.percentile.lo), double(view.percentile.hi));
+    // Three ranges, each kept whole on a line.
+    const std::pair<const char*, renderer::ValueRange> ranges[] = {
+        {"window", view.window}, {"data", range}, {"p1..p99", view.percentile}};
+    for (const auto& [name, r] : ranges) {
+        char text[96];
+        std::snprintf(text, sizeof text, "%s %.4g .. %.4g", name, double(r.lo), double(r.hi));
+        if (name != ranges[0].first) sameLineIfFits(text);
+        ImGui::TextDisabled("%s", text);
+    }
 
     // 2. Histogram: one bar per bin (log or linear counts), the window shaded, hover for the values.
     ImGui::Checkbox("Log scale", &state.histogramLog);

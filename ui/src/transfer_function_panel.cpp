@@ -192,7 +192,7 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
         ImGui::EndDisabled();
     } else {
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-        ImGui::TextWrapped("Click a point to edit it, or empty space to add one; right-click a point to remove it");
+        textWrapped("Click a point to edit it, or empty space to add one; right-click a point to remove it");
         ImGui::PopStyleColor();
     }
 

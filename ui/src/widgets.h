@@ -1,10 +1,12 @@
 // Small ImGui helpers every panel file shares.
 #pragma once
 #include "renderer/splat_renderer.h"
+#include "ui/text_wrap.h"
 
 #include <imgui.h>
 
 #include <array>
+#include <cstdarg>
 #include <cstdio>
 #include <string>
 
@@ -32,17 +34,45 @@ inline bool inputPath(const char* label, std::string& text) {
 // The colour of a GPU pass (renderer::GpuPass) in the pass bar and the Performance chart.
 inline ImColor passColour(int pass, int passes) { return ImColor::HSV(float(pass) / float(passes), 0.55f, 0.85f); }
 
-// Puts the next item of `text`'s width on the current line when it fits the region, else on a new one.
-inline void sameLineIfFits(const char* text) {
-    const float needed = ImGui::CalcTextSize(text).x + ImGui::GetStyle().ItemSpacing.x;
+// Puts the next item of `text`'s width (plus `extra`, e.g. a radio button's circle) on the current line
+// when it fits the region, else on a new one.
+inline void sameLineIfFits(const char* text, float extra = 0.0f) {
+    const float needed = ImGui::CalcTextSize(text).x + extra + ImGui::GetStyle().ItemSpacing.x;
     ImGui::SameLine();
     if (ImGui::GetContentRegionAvail().x < needed) ImGui::NewLine();
 }
 
-// Disabled (grey) text that wraps at the region's edge.
-inline void textDisabledWrapped(const char* text) {
+// Text that wraps at the region's edge, between words only (wrapAtSpaces: ImGui's own wrapping splits
+// numbers at their decimal point).
+inline void textWrappedV(const char* format, va_list args) {
+    char text[1024];
+    std::vsnprintf(text, sizeof text, format, args);
+    const auto measure = [](std::string_view s) { return ImGui::CalcTextSize(s.data(), s.data() + s.size()).x; };
+    const auto lines = wrapAtSpaces(text, ImGui::GetContentRegionAvail().x, measure);
+    // Lines of one text sit a line height apart, as ImGui's wrapping sets them; the item spacing follows the last.
+    ImGui::PushStyleVar(ImGuiStyleVar_ItemSpacing, ImVec2(ImGui::GetStyle().ItemSpacing.x, 0.0f));
+    for (size_t i = 0; i < lines.size(); ++i) {
+        if (i + 1 == lines.size()) ImGui::PopStyleVar();
+        ImGui::TextUnformatted(lines[i].data(), lines[i].data() + lines[i].size());
+    }
+}
+
+inline void textWrapped(const char* format, ...) IM_FMTARGS(1);
+inline void textWrapped(const char* format, ...) {
+    va_list args;
+    va_start(args, format);
+    textWrappedV(format, args);
+    va_end(args);
+}
+
+// Disabled (grey) text that wraps at the region's edge, as textWrapped.
+inline void textDisabledWrapped(const char* format, ...) IM_FMTARGS(1);
+inline void textDisabledWrapped(const char* format, ...) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-    ImGui::TextWrapped("%s", text);
+    va_list args;
+    va_start(args, format);
+    textWrappedV(format, args);
+    va_end(args);
     ImGui::PopStyleColor();
 }
 
