@@ -21,6 +21,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
 
 namespace renderer {
 
@@ -944,6 +945,15 @@ struct SplatRenderer::Gl {
     std::optional<GpuPass> lapPass;    // the pass its last lap started
     std::array<bool, kTimerRing> timerPending{};
     std::array<uint64_t, kTimerRing> timerFrame{};
+    std::array<int, kTimerRing> timerFirstUses{};   // the timed frame's FrameStats::firstUsePrograms
+    // Programs used so far, and those the frame being issued used first: drivers compile (llvmpipe: JIT)
+    // a program at its first draw or dispatch, and that time lands in the frame.
+    std::set<GLuint> usedPrograms;
+    int firstUses = 0;
+    void useProgram(GLuint p) {
+        glUseProgram(p);
+        if (usedPrograms.insert(p).second) ++firstUses;
+    }
     uint64_t renders = 0, newestTimed = 0;   // render numbers (FrameStats::frame)
     int timerNext = 0;
     GLint maxPointSize = 1;
@@ -1062,7 +1072,7 @@ struct SplatRenderer::Gl {
         glDisable(GL_BLEND);
         glViewport(0, 0, w, h);
         glTextureBarrier();
-        glUseProgram(resolveProgram);
+        useProgram(resolveProgram);
         glBindTextureUnit(2, image);
         glBindTextureUnit(3, heat);
         glBindVertexArray(emptyVao);
@@ -1079,7 +1089,7 @@ struct SplatRenderer::Gl {
 
     // The opaque-tile map (binding 11) from the image's alpha: what occlusion culling reads.
     void updateOpaqueTiles(float opaqueAlpha) {
-        glUseProgram(opaqueTilesProgram);
+        useProgram(opaqueTilesProgram);
         glUniform1f(glGetUniformLocation(opaqueTilesProgram, "uOpaqueAlpha"), opaqueAlpha);
         glUniform2i(glGetUniformLocation(opaqueTilesProgram, "uTiles"), tiles.x, tiles.y);
         glBindTextureUnit(2, image);
@@ -1148,7 +1158,7 @@ struct SplatRenderer::Gl {
             const GLuint mode = GLuint(decided);
             glClearNamedBufferSubData(patchBuffer, GL_R32UI, 0, GLsizeiptr(n * 4), GL_RED_INTEGER, GL_UNSIGNED_INT, &mode);
         } else {
-            glUseProgram(patchProgram);
+            useProgram(patchProgram);
             setCommonUniforms(patchProgram, plane, settings, axis);
             glUniform1i(glGetUniformLocation(patchProgram, "uNa"), grid.columns);
             glUniform1i(glGetUniformLocation(patchProgram, "uNb"), grid.rows);
@@ -1219,7 +1229,7 @@ struct SplatRenderer::Gl {
         const AxisBuffers& a = axes[size_t(axis)];
         if (commandsKey == key || a.runCount == 0) return;
         lap(GpuPass::Select);
-        glUseProgram(commandsProgram);
+        useProgram(commandsProgram);
         glUniform1ui(glGetUniformLocation(commandsProgram, "uVertsPerSplat"), GLuint(vertsPerSplat));
         glUniform1i(glGetUniformLocation(commandsProgram, "uAllBuckets"), allBuckets);
         glUniform1i(glGetUniformLocation(commandsProgram, "uDescending"), descending);
@@ -1520,6 +1530,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     // (NVIDIA keeps a deleted active query running).
     collectTimers();
     m_stats.frame = ++g.renders;
+    g.firstUses = 0;
     const size_t slot = size_t(g.timerNext);
     const bool timed = !g.timerPending[slot];   // ring full of unfinished frames: skip, never stall
     if (timed) {
@@ -1560,7 +1571,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
     const GLuint p = tiles ? g.tileProgram(Gl::kTileSplat, variant & ~kHeatmap) : g.splatProgram(variant);
-    glUseProgram(p);
+    g.useProgram(p);
     {
         const PatchGrid grid = patchGrid(g.dims, trav.axis, settings.patchSize);
         glUniform1i(glGetUniformLocation(p, "uPatchColumns"), grid.columns);
@@ -1624,7 +1635,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glDepthFunc(GL_ALWAYS);
         glDepthMask(GL_TRUE);
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        glUseProgram(g.opaqueMaskProgram);
+        g.useProgram(g.opaqueMaskProgram);
         glUniform1f(glGetUniformLocation(g.opaqueMaskProgram, "uOpaqueAlpha"), float(settings.opaqueAlpha));
         glBindTextureUnit(2, g.image);
         glBindVertexArray(g.emptyVao);
@@ -1635,7 +1646,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glDepthFunc(GL_LESS);
         glDepthMask(GL_FALSE);
         glEnable(GL_BLEND);
-        glUseProgram(p);
+        g.useProgram(p);
         glBindVertexArray(g.splatVao);
     };
     if (points) glEnable(GL_PROGRAM_POINT_SIZE);
@@ -1684,14 +1695,14 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glUniform2i(glGetUniformLocation(p, "uTiles"), grid.x, grid.y);
         glUniform1i(glGetUniformLocation(p, "uSlices"), GLint(slices));
         glUniform1i(glGetUniformLocation(p, "uRankDescending"), descending);
-        glUseProgram(offsets);
+        g.useProgram(offsets);
         glUniform1i(glGetUniformLocation(offsets, "uTileCount"), tileCount);
-        glUseProgram(bases);
+        g.useProgram(bases);
         glUniform1i(glGetUniformLocation(bases, "uTileCount"), tileCount);
-        glUseProgram(scatter);
+        g.useProgram(scatter);
         glUniform2i(glGetUniformLocation(scatter, "uTiles"), grid.x, grid.y);
         glUniform2f(glGetUniformLocation(scatter, "uViewport"), float(plane.width), float(plane.height));
-        glUseProgram(composite);
+        g.useProgram(composite);
         glUniform2i(glGetUniformLocation(composite, "uTiles"), grid.x, grid.y);
         glUniform1i(glGetUniformLocation(composite, "uRefresh"), earlyTermination ? refresh : 1);
         glUniform2f(glGetUniformLocation(composite, "uViewport"), float(plane.width), float(plane.height));
@@ -1725,7 +1736,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                                       GL_UNSIGNED_INT, nullptr);
             glClearNamedBufferSubData(g.tileState, GL_R32UI, 0, 8, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
             const GLuint groupsX = std::min<GLuint>(runs, 32768);
-            glUseProgram(p);
+            g.useProgram(p);
             glUniform1ui(glGetUniformLocation(p, "uRunFirst"), runFirst);
             glUniform1ui(glGetUniformLocation(p, "uRuns"), runs);
             glUniform1ui(glGetUniformLocation(p, "uGroupsX"), groupsX);
@@ -1735,11 +1746,11 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
             g.lap(GpuPass::Offsets);
-            glUseProgram(offsets);
+            g.useProgram(offsets);
             glUniform1i(glGetUniformLocation(offsets, "uRanks"), GLint(ranks));
             glDispatchCompute(GLuint((tileCount + 63) / 64), 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-            glUseProgram(bases);
+            g.useProgram(bases);
             glDispatchCompute(1, 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
             // The list's length sizes its buffer: the one wait of a chunk (a few bytes).
@@ -1756,13 +1767,13 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.tileList);
 
             g.lap(GpuPass::Scatter);
-            glUseProgram(scatter);
+            g.useProgram(scatter);
             glUniform1i(glGetUniformLocation(scatter, "uRanks"), GLint(ranks));
             glDispatchCompute(std::clamp<GLuint>((counts[0] + 63) / 64, 1, 65535), 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
 
             g.lap(GpuPass::Composite);
-            glUseProgram(composite);
+            g.useProgram(composite);
             glUniform1i(glGetUniformLocation(composite, "uRank0"), GLint(k0));
             glUniform1i(glGetUniformLocation(composite, "uRanks"), GLint(ranks));
             glTextureBufferRange(g.tileListTexture, GL_RGBA32F, g.tileList, 0,
@@ -1861,7 +1872,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             glBindFramebuffer(GL_FRAMEBUFFER, g.sheetFbo);
 
             glViewport(-guardInt, -guardInt, plane.width + 2 * guardInt, plane.height + 2 * guardInt);
-            glUseProgram(p);
+            g.useProgram(p);
             glBindVertexArray(g.splatVao);
             glEnable(GL_BLEND);
             glBlendFunc(GL_ONE, GL_ONE);
@@ -1882,7 +1893,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             glDisable(GL_DEPTH_TEST);
             if (ftb) glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);   // "under": src (1 - dst.a) + dst
             else glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);                // "over"
-            glUseProgram(composite);
+            g.useProgram(composite);
             glBindVertexArray(g.emptyVao);
             glDrawArrays(GL_TRIANGLES, 0, 3);
             drawnSinceMap = true;
@@ -1900,6 +1911,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         g.timing = nullptr;
         g.timerPending[slot] = true;
         g.timerFrame[slot] = g.renders;
+        g.timerFirstUses[slot] = g.firstUses;
         g.timerNext = (g.timerNext + 1) % kTimerRing;
     }
     glDisable(GL_BLEND);
@@ -1933,6 +1945,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         out.culledOccluded = c[kOccluded];
         for (int m = 0; m < 3; ++m) out.drawnPerMode[m] = c[size_t(kMode0 + m)];
     }
+    m_stats.firstUsePrograms = g.firstUses;
     m_stats.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
 }
 
@@ -1975,6 +1988,7 @@ void SplatRenderer::collectTimers() {
         std::vector<GLuint64> t(laps.used);
         for (size_t j = 0; j < laps.used; ++j) glGetQueryObjectui64v(laps.queries[j], GL_QUERY_RESULT, &t[j]);
         m_stats.gpuFrame = g.timerFrame[size_t(i)];
+        m_stats.gpuFirstUsePrograms = g.timerFirstUses[size_t(i)];
         m_stats.gpuMs = double(t.back() - t.front()) * 1e-6;
         m_stats.passMs = {};
         for (size_t j = 0; j + 1 < laps.used; ++j)
@@ -2008,7 +2022,7 @@ unsigned SplatRenderer::displayTexture(const float background[3], bool heatmap) 
     glBindFramebuffer(GL_FRAMEBUFFER, g.displayFbo);
     glViewport(0, 0, g.width, g.height);
     glDisable(GL_BLEND);
-    glUseProgram(g.displayProgram);
+    g.useProgram(g.displayProgram);
     glUniform3f(glGetUniformLocation(g.displayProgram, "uBackground"), background[0], background[1], background[2]);
     glBindTextureUnit(0, heatmap ? g.heat : g.image);
     glBindVertexArray(g.emptyVao);

@@ -14,6 +14,7 @@ renderer::FrameStats rendered(uint64_t frame, double cpuMs, uint64_t splats) {
     f.cpuMs = cpuMs;
     f.splatsDrawn = splats;
     f.frameUploadBytes = 100 * frame;
+    f.firstUsePrograms = int(frame % 2);
     return f;
 }
 
@@ -42,6 +43,7 @@ TEST(PerfHistory, TimesJoinTheRenderTheyAreOfOnceAndOlderUntimedRendersLeave) {
     EXPECT_DOUBLE_EQ(s.intervalMs, 30.0);
     EXPECT_EQ(s.splats, 3000u);
     EXPECT_EQ(s.uploadBytes, 300u);
+    EXPECT_EQ(s.firstUsePrograms, 1);   // the hover says its times include compiles
     EXPECT_DOUBLE_EQ(s.passMs[size_t(renderer::GpuPass::Splats)], 9.0);
     h.addTimes(timed(2, 5.0));   // older than what was taken: ignored
     h.addTimes(timed(5, 20.0));

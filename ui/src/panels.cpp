@@ -303,6 +303,11 @@ void drawStatsPanel(const StatsView& stats) {
         ImGui::Text("render  cpu %.2f ms   gpu %.2f ms", f.cpuMs, f.gpuMs);
     else
         ImGui::Text("render  cpu %.2f ms   gpu (pending)", f.cpuMs);
+    if (const int first = std::max(f.firstUsePrograms, f.gpuMs > 0.0 ? f.gpuFirstUsePrograms : 0); first > 0) {
+        textDisabledWrapped("first use of %d shader programs: these times include compiling them", first);
+        hint("Drivers compile a program when it first draws (llvmpipe: hundreds of ms). The next render\n"
+             "of the same settings shows what they cost; Performance > Render continuously shows many");
+    }
     drawPassBar(f);
     ImGui::Text("splats  %llu sent (%zu visible)", static_cast<unsigned long long>(f.splatsDrawn),
                 stats.visibleSplats);

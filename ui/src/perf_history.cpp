@@ -26,6 +26,7 @@ void PerfHistory::addRender(const renderer::FrameStats& f, double intervalMs) {
     s.cpuMs = f.cpuMs;
     s.splats = f.splatsDrawn;
     s.uploadBytes = f.frameUploadBytes;
+    s.firstUsePrograms = f.firstUsePrograms;
     m_pending.push_back(s);
     if (m_pending.size() > kPending) m_pending.pop_front();   // its times were never taken (ring full)
 }

@@ -84,6 +84,10 @@ void drawChart(const PerfHistory& history, float height) {
     std::snprintf(line, sizeof line, "\n%llu splats, %.1f KiB uploaded", (unsigned long long)s.splats,
                   double(s.uploadBytes) / 1024.0);
     text += line;
+    if (s.firstUsePrograms > 0) {
+        std::snprintf(line, sizeof line, "\nfirst use of %d shader programs: includes compiling them", s.firstUsePrograms);
+        text += line;
+    }
     ImGui::SetTooltip("%s", text.c_str());
 }
 

@@ -30,6 +30,9 @@ struct FrameStats {
     std::array<double, kGpuPasses> passMs{};   // that frame's GPU time per GpuPass, from its start to
                                                // the next pass's (0: the pass did not run)
     double cpuMs = 0.0;          // CPU time spent issuing the frame
+    int firstUsePrograms = 0;    // shader programs the last render used for the first time: drivers compile
+                                 // them then (llvmpipe: hundreds of ms), so its times include that
+    int gpuFirstUsePrograms = 0; // the same for the render gpuMs is of (gpuFrame)
     uint64_t splatsDrawn = 0;    // voxels of the active buckets sent to the vertex stage
     uint64_t uploadBytes = 0;    // bytes uploaded to buffers and textures by the last call
     uint64_t frameUploadBytes = 0;   // by the last render and every call since the render before it

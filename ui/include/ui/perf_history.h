@@ -17,6 +17,7 @@ struct PerfSample {
     double cpuMs = 0.0, gpuMs = 0.0;
     std::array<double, renderer::kGpuPasses> passMs{};
     uint64_t splats = 0, uploadBytes = 0;
+    int firstUsePrograms = 0;   // FrameStats::firstUsePrograms: its times include compiling shaders
 };
 
 // Medians and spreads over the history. p95: the nearest-rank 95th percentile.
