@@ -328,6 +328,17 @@ int runEditor(const EditorOptions& options) {
     bool filtersShown = false, patchCountsStale = true;
     ui::FiltersChanges filtersChanges;
     std::unique_ptr<FilterComparisonJob> comparison;
+    // Settings > Files > Save image (and --save-image): the view as the viewport shows it, at its size.
+    auto saveView = [&](const std::filesystem::path& path) {
+        guarded([&] {
+            if (!splats || texture == 0)
+                throw renderer::LoadError(path.string(), "", "no view to save: open a volume first");
+            const renderer::Image image = state.showHeatmap ? splats->readbackHeatmap() : splats->readback();
+            renderer::writeImage(image, path, state.background.data());
+            state.imageSaved = "wrote " + path.filename().string() + ", " + std::to_string(image.width) + " x " +
+                               std::to_string(image.height) + (state.showHeatmap ? " (heatmap)" : "");
+        });
+    };
     std::vector<renderer::FilterMeasurement> measurements;
     bool measurementsStale = false;
     const std::vector<ui::DockPanel> panels = {
@@ -409,6 +420,7 @@ int runEditor(const EditorOptions& options) {
             openVolume(state.volumeFile);
             renderPending = true;
         }
+        if (settingsChanges.saveImage) saveView(state.imageFile);
         if (settingsChanges.sessionOpened) {
             // Another volume: load it with the session's window and TF; the same one: re-classify it.
             const std::filesystem::path& v = settingsChanges.sessionVolume;
@@ -561,6 +573,10 @@ int runEditor(const EditorOptions& options) {
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         guarded([] { renderer::checkGlErrors("editor frame"); });
         if (scripted && frame >= options.frames && exitCode == 0) {
+            if (!options.saveImagePath.empty()) {
+                saveView(options.saveImagePath);
+                if (exitCode == 0) std::printf("%s\n", state.imageSaved.c_str());
+            }
             if (!options.screenshotPath.empty() && fbWidth > 0 && fbHeight > 0 && guarded([&] {
                     renderer::writeImage(readBackBuffer(fbWidth, fbHeight), options.screenshotPath);
                 }))

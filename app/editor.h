@@ -15,6 +15,7 @@ struct EditorOptions {
     renderer::Camera camera;              // the starting view (its `up` is replaced by upAxis)
     std::string upAxis = "z";             // object axis shown upwards: x, y, z, -x, -y, -z (headsq: -z)
     std::filesystem::path screenshotPath; // non-empty: write a PNG of the window after `frames` frames
+    std::filesystem::path saveImagePath;  // non-empty: after `frames` frames, save the view (Save image)
     int frames = 0;                       // > 0: exit after this many frames (0: until the window closes)
     int width = 1280, height = 800;       // window size in screen coordinates
     std::string filter = "ewa";           // starting filter mode (ewa.h names)

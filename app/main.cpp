@@ -488,6 +488,8 @@ int main(int argc, char** argv) {
                                          "-z for the bundled headsq)");
     editor->add_option("--tab", e.tabs, "Bring a panel's tab to the front, e.g. Performance (repeatable)");
     editor->add_flag("--continuous", e.continuous, "Render every frame (the Performance panel's steady load)");
+    editor->add_option("--save-image", e.saveImagePath,
+                       "Save the view as Settings > Save image does (.png, or .exr for float RGBA), then exit");
     editor->add_option("--spin", e.spinDegPerS, "Render continuously, turning the camera this many degrees a second");
 
     try {
@@ -510,7 +512,7 @@ int main(int argc, char** argv) {
         const glm::ivec2 s = parseSize(editorSize, "--size");
         e.width = s.x;
         e.height = s.y;
-        if (!screenshot.empty() && e.frames < 1) e.frames = 5;
+        if ((!screenshot.empty() || !e.saveImagePath.empty()) && e.frames < 1) e.frames = 5;
         return runEditor(e);
     } catch (const CLI::ParseError& err) {
         return app.exit(err);

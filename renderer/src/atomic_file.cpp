@@ -1,4 +1,4 @@
-// writeFileAtomically (atomic_file.h).
+// replaceFileAtomically, writeFileAtomically (atomic_file.h).
 #include "renderer/atomic_file.h"
 
 #include "renderer/errors.h"
@@ -8,15 +8,15 @@
 
 namespace renderer {
 
-void writeFileAtomically(const std::filesystem::path& path, const std::string& text) {
+void replaceFileAtomically(const std::filesystem::path& path,
+                           const std::function<void(const std::filesystem::path& tmp)>& write) {
     const auto tmp = std::filesystem::path(path.string() + ".tmp");
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    out.close();
     std::error_code ec;
-    if (!out) {
+    try {
+        write(tmp);
+    } catch (...) {
         std::filesystem::remove(tmp, ec);
-        throw LoadError(path.string(), "", "cannot write (" + tmp.string() + ")");
+        throw;
     }
     std::filesystem::rename(tmp, path, ec);
     if (ec) {
@@ -24,6 +24,15 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& t
         std::filesystem::remove(tmp, ec);
         throw LoadError(path.string(), "", reason);
     }
+}
+
+void writeFileAtomically(const std::filesystem::path& path, const std::string& text) {
+    replaceFileAtomically(path, [&](const std::filesystem::path& tmp) {
+        std::ofstream out(tmp, std::ios::binary);
+        out << text;
+        out.close();
+        if (!out) throw LoadError(path.string(), "", "cannot write (" + tmp.string() + ")");
+    });
 }
 
 } // namespace renderer

@@ -1,6 +1,7 @@
 // Image I/O through OpenImageIO and image statistics.
 #include "renderer/image.h"
 
+#include "renderer/atomic_file.h"
 #include "renderer/errors.h"
 
 #include <OpenImageIO/imageio.h>
@@ -16,14 +17,14 @@ static bool isFloatFormat(const std::filesystem::path& path) {
     return ext == ".exr" || ext == ".hdr" || ext == ".tif" || ext == ".tiff" || ext == ".pfm";
 }
 
-void writeImage(const Image& image, const std::filesystem::path& path, const float background[3]) {
-    auto out = OIIO::ImageOutput::create(path.string());
-    if (!out) throw LoadError(path.string(), "", "no image writer for this extension: " + OIIO::geterror());
+// Writes `image` into `file` with the writer chosen for `path` (the name errors give).
+static void writePixels(OIIO::ImageOutput& out, const Image& image, const std::filesystem::path& file,
+                        const std::filesystem::path& path, const float background[3]) {
     const size_t n = size_t(image.width) * size_t(image.height);
     bool ok;
     if (isFloatFormat(path)) {
         OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::FLOAT);
-        ok = out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, image.rgba.data());
+        ok = out.open(file.string(), spec) && out.write_image(OIIO::TypeDesc::FLOAT, image.rgba.data());
     } else {
         // For people: composite the premultiplied image over the background, 8-bit RGB.
         const float zero[3] = {0, 0, 0};
@@ -37,9 +38,16 @@ void writeImage(const Image& image, const std::filesystem::path& path, const flo
             }
         }
         OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-        ok = out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, rgb.data());
+        ok = out.open(file.string(), spec) && out.write_image(OIIO::TypeDesc::UINT8, rgb.data());
     }
-    if (!ok || !out->close()) throw LoadError(path.string(), "", "cannot write image: " + out->geterror());
+    if (!ok || !out.close()) throw LoadError(path.string(), "", "cannot write image: " + out.geterror());
+}
+
+void writeImage(const Image& image, const std::filesystem::path& path, const float background[3]) {
+    // The writer is chosen by `path`'s extension and fills a temporary file that replaces `path` whole.
+    auto out = OIIO::ImageOutput::create(path.string());
+    if (!out) throw LoadError(path.string(), "", "no image writer for this extension: " + OIIO::geterror());
+    replaceFileAtomically(path, [&](const std::filesystem::path& tmp) { writePixels(*out, image, tmp, path, background); });
 }
 
 Image readImage(const std::filesystem::path& path) {

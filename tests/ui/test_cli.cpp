@@ -6,8 +6,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -197,4 +200,41 @@ TEST(Cli, AccuracyWritesTheReportWithItsTablesAndThumbnails) {
     const CliRun bad = splatlab("accuracy --out \"" + dir.string() + "\" --kernel-scales 0");
     EXPECT_NE(bad.status, 0);
     EXPECT_THAT(bad.output, HasSubstr("--kernel-scales"));
+}
+
+TEST(Cli, EditorSavesTheViewAsRenderDrawsItAndNamesAFileItCannotWrite) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    const std::filesystem::path dir = testing_support::testOutputDir();
+    const std::string editor = "LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE
+                               "\" editor \"" + headsq() + "\" --up -z --camera 60,15,2.5,30 --size 1280x800 --frames 4 ";
+    for (const bool heatmap : {false, true}) {
+        // Settings > Files > Save image, scripted: what the viewport shows, at its size.
+        const std::filesystem::path saved = dir / (heatmap ? "editor_saved_heatmap.exr" : "editor_saved_view.exr");
+        std::filesystem::remove(saved);
+        const CliRun e = run(editor + (heatmap ? "--heatmap " : "") + "--save-image \"" + saved.string() + "\" 2>&1");
+        ASSERT_EQ(e.status, 0) << e.output;
+        EXPECT_THAT(e.output, HasSubstr("wrote " + saved.filename().string()));
+        const renderer::Image fromEditor = renderer::readImage(saved);
+        ASSERT_GT(fromEditor.width, 400);
+        ASSERT_GT(fromEditor.height, 300);
+        EXPECT_GT(renderer::imageStats(fromEditor).coveredFraction, 0.2);
+
+        // The same view from `splatlab render` at that size, in the editor's starting mode.
+        const std::filesystem::path image = dir / "render_view.exr", heat = dir / "render_heatmap.exr";
+        const CliRun r = splatlab("render \"" + headsq() + "\" --up -z --camera 60,15,2.5,30 --size " +
+                                  std::to_string(fromEditor.width) + "x" + std::to_string(fromEditor.height) +
+                                  " --compositing sheet-front-to-back --frames 1 -o \"" + image.string() + "\"" +
+                                  (heatmap ? " --heatmap \"" + heat.string() + "\"" : ""));
+        ASSERT_EQ(r.status, 0) << r.output;
+        const renderer::Image fromCli = renderer::readImage(heatmap ? heat : image);
+        ASSERT_EQ(fromCli.rgba.size(), fromEditor.rgba.size());
+        float worst = 0.0f;
+        for (size_t i = 0; i < fromCli.rgba.size(); ++i) worst = std::max(worst, std::abs(fromCli.rgba[i] - fromEditor.rgba[i]));
+        EXPECT_LE(worst, 1e-5f) << (heatmap ? "heatmap" : "image");
+    }
+    const std::string missing = (dir / "no_such_folder" / "view.png").string();
+    const CliRun bad = run(editor + "--save-image \"" + missing + "\" 2>&1");
+    EXPECT_NE(bad.status, 0);
+    EXPECT_THAT(bad.output, HasSubstr(missing));
 }

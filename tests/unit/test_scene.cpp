@@ -1,6 +1,7 @@
 // Camera, transfer function, pre-classification and the CPU oracle's own invariants.
 #include "renderer/camera.h"
 #include "renderer/errors.h"
+#include "renderer/image.h"
 #include "renderer/procedural.h"
 #include "renderer/reference_renderer.h"
 #include "renderer/splat_scene.h"
@@ -141,6 +142,33 @@ TEST(TransferFunction, SavingReplacesTheFileWholeOrFailsNamingItAndLeavesNoTempF
     EXPECT_THROW(saveTransferFunction(builtinPreset("fire"), folder), LoadError);
     EXPECT_FALSE(std::filesystem::exists(folder.string() + ".tmp"));
     EXPECT_TRUE(std::filesystem::is_directory(folder));
+}
+
+TEST(ImageFiles, WritingReplacesTheFileWholeOrFailsNamingItAndKeepsTheOldOne) {
+    const auto dir = testing_support::testOutputDir();
+    Image first(4, 3), second(4, 3);
+    for (size_t i = 0; i < first.rgba.size(); ++i) first.rgba[i] = float(i % 4 == 3 ? 1.0 : 0.25), second.rgba[i] = 1.0f;
+    for (const char* name : {"saved_view.exr", "saved_view.png"}) {
+        const auto path = dir / name;
+        std::filesystem::remove(path);
+        writeImage(first, path);
+        writeImage(second, path);   // over an existing file
+        EXPECT_EQ(readImage(path).rgba, second.rgba) << name;
+        EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp")) << name;
+
+        // The temporary file cannot be made (a folder has its name): the old image stays as it was.
+        std::filesystem::create_directories(path.string() + ".tmp/blocked");
+        try {
+            writeImage(first, path);
+            ADD_FAILURE() << "wrote through a folder: " << name;
+        } catch (const LoadError& e) {
+            EXPECT_THAT(e.what(), HasSubstr(path.string()));
+            EXPECT_THAT(e.what(), HasSubstr("cannot write image"));
+        }
+        EXPECT_EQ(readImage(path).rgba, second.rgba) << name;
+        std::filesystem::remove_all(path.string() + ".tmp");
+    }
+    EXPECT_THROW(writeImage(first, dir / "no_such_dir" / "view.png"), LoadError);
 }
 
 TEST(TransferFunction, EvaluateInterpolatesAndHoldsTheEndsOutsideThePoints) {

@@ -89,6 +89,14 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
             state.errorMessage = e.what();
         }
     }
+    inputPath("Image", state.imageFile);
+    hint("The view as rendered, at the viewport's size (the heatmap when the viewport shows it):\n"
+         ".png over the background, 8-bit; .exr or .tif premultiplied float RGBA, as splatlab render writes");
+    if (ImGui::Button("Save image")) changes.saveImage = true;
+    if (!state.imageSaved.empty()) {
+        sameLineIfFits(state.imageSaved.c_str());
+        ImGui::TextDisabled("%s", state.imageSaved.c_str());
+    }
 
     sectionTitle("Splatting");
     changes.settingsChanged |= sliderDouble("Kernel scale", s.kernelScale, 0.3, 2.0, "%.2f");

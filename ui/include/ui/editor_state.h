@@ -49,6 +49,8 @@ struct EditorState {
     std::filesystem::path loadedVolume;
     std::string volumeFile;
     std::string sessionFile = "session.json";
+    std::string imageFile = "view.png";   // Save image: PNG over the background, or EXR/TIFF float RGBA
+    std::string imageSaved;               // what the last Save image wrote (set by the app)
     SpaceMouseMapping spaceMouse;
     std::string spaceMouseStatus;    // the device found, or why there is none (set by the app)
     PerfSettings perf;

@@ -27,10 +27,11 @@ struct SettingsChanges {
     // or re-classifies the one it has with the session's window and transfer function.
     bool sessionOpened = false;
     std::filesystem::path sessionVolume;
+    bool saveImage = false;       // "Save image": the app writes the view shown to state.imageFile
     bool any() const { return settingsChanged || cameraChanged; }
 };
 
-// Files (open a volume; open and save sessions), kernel scale, cutoff, density, filter mode,
+// Files (open a volume; open and save sessions; save the view as an image), kernel scale, cutoff, density, filter mode,
 // compositing, shading, heatmap, field of view, up axis, camera reset, 3D mouse. Session files that
 // fail to open or save set state.errorMessage and change nothing else.
 SettingsChanges drawSettingsPanel(EditorState& state);
