@@ -13,10 +13,12 @@
 #include "renderer/splat_renderer.h"
 #include "renderer/volume_io.h"
 #include "renderer/window.h"
+#include "ui/session.h"
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -181,6 +183,7 @@ struct SceneArgs {
     std::string volume, out, size = "512x512", camera = "30,20,2.5,30", tf = "ct-skin-bone";
     std::string compositing = "splat-every-sample", filter = "ewa", up = "z";
     std::string window = "data";
+    std::string session;   // render --session: a saved editor session instead of the flags above
     double kernelScale = SplatSettings{}.kernelScale, density = 1.0;
     bool orthographic = false;
     std::string shading = "none";
@@ -216,9 +219,38 @@ struct Scene {
     SplatScene scene;
     ImagePlane plane;
     SplatSettings settings;
+    std::array<float, 3> background{0.0f, 0.0f, 0.0f};   // behind a PNG: black, or the session's
 };
 
+// The volume classified by `tf` over `window`, its gradients when the settings need them, and the view.
+void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFlags& raw, const TransferFunction& tf,
+                 const WindowSettings& window, const Camera& camera, glm::ivec2 size) {
+    const Volume volume = loadVolume(volumePath, rawOptions(raw));
+    s.scene = buildSplatScene(volume, tf, windowFor(volume, window));
+    if (needsGradients(s.settings)) {
+        std::fprintf(stderr, "gradients\n");
+        addGradients(s.scene, *computeGradients(volume, printProgress));
+    }
+    s.plane = makeImagePlane(camera, s.scene.centre, s.scene.radius, size.x, size.y);
+}
+
+// `render --session FILE`: the view the editor saved (volume, TF, window, camera, every setting,
+// background), at --size; a volume argument replaces the session's volume.
+Scene buildSessionScene(const SceneArgs& a) {
+    ui::EditorState state;
+    std::filesystem::path volume = ui::loadSession(a.session, state);
+    if (!a.volume.empty()) volume = a.volume;
+    if (volume.empty()) throw LoadError(a.session, "volume", "a volume path (or a volume argument after render)");
+    Scene s;
+    s.settings = state.settings;
+    s.background = state.background;
+    finishScene(s, volume, a.raw, state.tf, state.window, state.camera, parseSize(a.size, "--size"));
+    return s;
+}
+
 Scene buildScene(const SceneArgs& a) {
+    if (!a.session.empty()) return buildSessionScene(a);
+    if (a.volume.empty()) throw CLI::ValidationError("volume", "a volume file is required (or --session FILE)");
     const glm::ivec2 size = parseSize(a.size, "--size");
     Camera camera = parseCamera(a.camera);
     camera.up = axisFromName(a.up);
@@ -238,14 +270,7 @@ Scene buildScene(const SceneArgs& a) {
         throw CLI::ValidationError("--surface-gradient", "must be in [0, 1]");
     s.settings.surfaceFlatten = a.surfaceFlatten;
     s.settings.surfaceGradient = a.surfaceGradient;
-    const TransferFunction tf = transferFunctionFromSpec(a.tf);
-    const Volume volume = loadVolume(a.volume, rawOptions(a.raw));
-    s.scene = buildSplatScene(volume, tf, windowFor(volume, parseWindow(a.window)));
-    if (needsGradients(s.settings)) {
-        std::fprintf(stderr, "gradients\n");
-        addGradients(s.scene, *computeGradients(volume, printProgress));
-    }
-    s.plane = makeImagePlane(camera, s.scene.centre, s.scene.radius, size.x, size.y);
+    finishScene(s, a.volume, a.raw, transferFunctionFromSpec(a.tf), parseWindow(a.window), camera, size);
     return s;
 }
 
@@ -298,14 +323,16 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     if (ra.opaqueRefresh < 0 || ra.opaqueRefresh > 65535)
         throw CLI::ValidationError("--opaque-refresh", "must be 1..65535 slices");
     Scene s = buildScene(a);
-    s.settings.opaqueAlpha = ra.opaqueAlpha;
-    s.settings.opaqueRefreshSlices = ra.opaqueRefresh;
-    s.settings.cMin = ra.cMin;
-    s.settings.cMax = ra.cMax;
-    s.settings.patchSize = ra.patchSize;
+    if (a.session.empty()) {   // a session has its own
+        s.settings.opaqueAlpha = ra.opaqueAlpha;
+        s.settings.opaqueRefreshSlices = ra.opaqueRefresh;
+        s.settings.cMin = ra.cMin;
+        s.settings.cMax = ra.cMax;
+        s.settings.patchSize = ra.patchSize;
+        s.settings.primitive = parsePrimitive(ra.primitive);
+    }
     s.settings.heatmap = !ra.heatmap.empty();
     s.settings.counters = ra.counters;
-    s.settings.primitive = parsePrimitive(ra.primitive);
     Image heatmap;
     Image image;
     std::vector<double> ms;
@@ -352,8 +379,8 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
         const char* primitive = gl.stats().tiles ? "tiles" : gl.stats().points ? "point sprites" : "quads";
         std::printf("  %s, %.2f GPU bytes per voxel\n", primitive, double(gl.sceneBytes()) / double(s.scene.classes.size()));
     }
-    writeImage(image, a.out);
-    if (s.settings.heatmap) writeImage(heatmap, ra.heatmap);
+    writeImage(image, a.out, s.background.data());
+    if (s.settings.heatmap) writeImage(heatmap, ra.heatmap, s.background.data());
     std::sort(ms.begin(), ms.end());
     std::printf("%s: %dx%d, %zu splats, %s, %s, %.2f ms/frame (median of %d) on %s\n", a.out.c_str(),
                 s.plane.width, s.plane.height, s.scene.visibleCount(), filterModeName(s.settings.filter),
@@ -429,6 +456,11 @@ int main(int argc, char** argv) {
     render->add_flag("--counters", ra.counters, "Print splats per filter and per cull (GL: counted on the GPU)");
     render->add_option("--frames", ra.frames, "Timed frames (the median is printed)")->capture_default_str();
     render->add_flag("--cpu", ra.cpu, "Render with the double-precision CPU oracle instead of GL");
+    render->add_option("--session", r.session,
+                       "Render a session saved by the editor: its volume, TF, window, camera, settings and background "
+                       "(a volume argument replaces its volume; --size, --out, --heatmap, --counters, --frames and "
+                       "--cpu still apply)");
+    render->get_option("volume")->required(false);
 
     SceneArgs ref;
     GroundTruthOptions gt;
@@ -494,6 +526,13 @@ int main(int argc, char** argv) {
 
     try {
         app.parse(argc, argv);
+        if (*render && !r.session.empty())   // what the session sets cannot also come from a flag
+            for (const char* flag : {"--camera", "--up", "--ortho", "--tf", "--window", "--kernel-scale", "--density",
+                                     "--shading", "--surface", "--surface-gradient", "--compositing", "--filter",
+                                     "--c-min", "--c-max", "--patch-size", "--opaque-alpha", "--opaque-refresh",
+                                     "--primitive"})
+                if (render->get_option(flag)->count() > 0)
+                    throw CLI::ValidationError(flag, "not with --session: the session sets it");
         if (*render) return runRender(r, ra);
         if (*reference) return runReference(ref, gt, cacheDir, noCache);
         if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);

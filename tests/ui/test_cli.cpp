@@ -2,6 +2,7 @@
 // the volume, `accuracy` writes its report, and mistakes get one clear line on stderr and a non-zero exit.
 #include "renderer/image.h"
 #include "test_paths.h"
+#include "ui/session.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -237,4 +238,58 @@ TEST(Cli, EditorSavesTheViewAsRenderDrawsItAndNamesAFileItCannotWrite) {
     const CliRun bad = run(editor + "--save-image \"" + missing + "\" 2>&1");
     EXPECT_NE(bad.status, 0);
     EXPECT_THAT(bad.output, HasSubstr(missing));
+}
+
+TEST(Cli, RenderOpensASessionAsTheFlagsItStandsForWouldDrawIt) {
+    // A view designed in the editor (saved as a session) rendered headless at another size.
+    const std::filesystem::path dir = testing_support::testOutputDir("cli_session");
+    ui::EditorState state;
+    state.camera.azimuthDeg = 75.0;
+    state.camera.elevationDeg = 10.0;
+    state.camera.distance = 2.2;
+    state.camera.up = glm::dvec3(0.0, 0.0, -1.0);
+    state.tf = renderer::builtinPreset("fire");
+    state.window.mode = renderer::WindowMode::Custom;
+    state.window.custom = {200.0f, 3000.0f};
+    state.settings.filter = renderer::FilterMode::Adaptive;
+    state.settings.compositing = renderer::Compositing::SheetFrontToBack;
+    state.settings.kernelScale = 0.9;
+    state.background = {0.2f, 0.3f, 0.4f};
+    ui::saveSession(state, headsq(), dir / "view.json");
+
+    const std::string size = " --size 160x120 --frames 1";
+    const CliRun s = splatlab("render --session \"" + (dir / "view.json").string() + "\"" + size + " -o \"" +
+                              (dir / "session.exr").string() + "\"");
+    ASSERT_EQ(s.status, 0) << s.output;
+    EXPECT_THAT(s.output, HasSubstr("adaptive, sheet-front-to-back"));
+    const CliRun f = splatlab("render \"" + headsq() + "\" --up -z --camera 75,10,2.2,30 --tf fire --window 200,3000 "
+                              "--filter adaptive --compositing sheet-front-to-back --kernel-scale 0.9" + size +
+                              " -o \"" + (dir / "flags.exr").string() + "\"");
+    ASSERT_EQ(f.status, 0) << f.output;
+    const renderer::Image a = renderer::readImage(dir / "session.exr"), b = renderer::readImage(dir / "flags.exr");
+    ASSERT_EQ(a.width, 160);
+    ASSERT_EQ(a.rgba.size(), b.rgba.size());
+    float worst = 0.0f;
+    for (size_t i = 0; i < a.rgba.size(); ++i) worst = std::max(worst, std::abs(a.rgba[i] - b.rgba[i]));
+    EXPECT_LE(worst, 1e-6f);
+    EXPECT_GT(renderer::imageStats(a).coveredFraction, 0.2);
+
+    // A PNG goes over the session's background, as the editor shows it.
+    ASSERT_EQ(splatlab("render --session \"" + (dir / "view.json").string() + "\"" + size + " -o \"" +
+                       (dir / "session.png").string() + "\"").status, 0);
+    const renderer::Image png = renderer::readImage(dir / "session.png");
+    EXPECT_NEAR(png.pixel(0, 0)[2], 0.4, 0.5 / 255.0);   // a corner the volume leaves empty
+
+    // What the session sets cannot also come from a flag; a session without a volume needs one.
+    const CliRun clash = splatlab("render --session \"" + (dir / "view.json").string() + "\" --camera 1,2,3,30 -o x.png");
+    EXPECT_NE(clash.status, 0);
+    EXPECT_THAT(clash.output, HasSubstr("--camera: not with --session: the session sets it"));
+    ui::saveSession(state, {}, dir / "no_volume.json");
+    const CliRun none = splatlab("render --session \"" + (dir / "no_volume.json").string() + "\" -o x.png");
+    EXPECT_NE(none.status, 0);
+    EXPECT_THAT(none.output, HasSubstr("no_volume.json"));
+    EXPECT_THAT(none.output, HasSubstr("volume"));
+    const CliRun nothing = splatlab("render -o x.png");
+    EXPECT_NE(nothing.status, 0);
+    EXPECT_THAT(nothing.output, HasSubstr("--session"));
 }
