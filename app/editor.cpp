@@ -32,6 +32,7 @@
 #include <atomic>
 #include <cmath>
 #include <chrono>
+#include <deque>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -46,6 +47,14 @@ void onGlfwError(int code, const char* description) {
     char codeText[16];
     std::snprintf(codeText, sizeof codeText, "0x%05x", code);
     g_glfwError = std::string(description) + " (GLFW error " + codeText + ")";
+}
+
+// Files dropped on the window, oldest first; the frame loop opens one a frame (ui::dropFile). GLFW's
+// drop callback carries no user data of ours, as the error callback.
+std::deque<std::filesystem::path> g_dropped;
+
+void onDrop(GLFWwindow*, int count, const char** paths) {
+    for (int i = 0; i < count; ++i) g_dropped.emplace_back(paths[i]);
 }
 
 // glfwInit .. glfwTerminate and the window. Declared first in runEditor so it is destroyed last.
@@ -219,6 +228,7 @@ int runEditor(const EditorOptions& options) {
     ImGui::GetIO().IniFilename = nullptr; // the layout is ours (ui::DockLayout), nothing to persist
     applyTheme();
     imgui.glfwBackend = ImGui_ImplGlfw_InitForOpenGL(glfw.window, true);
+    glfwSetDropCallback(glfw.window, onDrop);
     imgui.glBackend = imgui.glfwBackend && ImGui_ImplOpenGL3_Init("#version 450");
     if (!imgui.glBackend) {
         std::fprintf(stderr, "splatlab editor: ImGui's GLFW/OpenGL3 backends failed to initialise on %s\n",
@@ -541,7 +551,12 @@ int runEditor(const EditorOptions& options) {
         tfChanged = windowChanged = filtersShown = false;
         filtersChanges = {};
         viewport.cameraChanged = false;
-        ui::drawDockSpace(layout, panels, frame <= 2 ? options.tabs : std::vector<std::string>{});
+        std::vector<std::string> tabsToFront = frame <= 2 ? options.tabs : std::vector<std::string>{};
+        if (!g_dropped.empty()) {   // its panel opens it as its button would (and shows its errors)
+            tabsToFront.push_back(ui::dropFile(state, g_dropped.front()));
+            g_dropped.pop_front();
+        }
+        ui::drawDockSpace(layout, panels, tabsToFront);
         ui::drawErrorModal(state);
         if (ui::drawProgressModal("Computing gradients",
                                   "Gradients of " + (doc.volume ? doc.volume->name : std::string()) +

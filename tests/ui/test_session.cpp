@@ -283,3 +283,55 @@ TEST_F(ImGuiNull, SessionButtonsSaveAndOpenAndABadFileOpensTheErrorDialogInstead
     EXPECT_THAT(state.errorMessage, HasSubstr("camera.distance"));
     expectSameSession(state, unusualState());
 }
+
+// == Files dropped on the window
+
+TEST_F(ImGuiNull, ADroppedFileOpensAsItsPanelsButtonWouldOnce) {
+    const auto dir = testing_support::testOutputDir("session");
+    const auto volume = dir / "data" / "scan.nhdr";
+    ui::EditorState state;
+    ui::SettingsChanges changes;
+    bool tfChanged = false;
+    auto settings = [&] {
+        const ui::SettingsChanges c = ui::drawSettingsPanel(state);
+        changes.openVolume |= c.openVolume;
+        changes.sessionOpened |= c.sessionOpened;
+    };
+    auto transferFunction = [&] { tfChanged |= ui::drawTransferFunctionPanel(state, {.histogram = nullptr, .window = {0, 1}}); };
+
+    // A volume: Settings' Open volume, pressed once.
+    EXPECT_STREQ(ui::dropFile(state, volume), "Settings");
+    EXPECT_EQ(state.volumeFile, volume.string());
+    frame(transferFunction);   // another panel leaves it alone
+    EXPECT_FALSE(tfChanged);
+    frame(settings);
+    EXPECT_TRUE(changes.openVolume);
+    changes = {};
+    frame(settings);
+    EXPECT_FALSE(changes.openVolume);
+
+    // A session (JSON naming itself one): Open session, the state becomes the saved one.
+    const ui::EditorState saved = unusualState();
+    ui::saveSession(saved, volume, dir / "dropped.json");
+    EXPECT_STREQ(ui::dropFile(state, dir / "dropped.json"), "Settings");
+    frame(settings);
+    EXPECT_TRUE(changes.sessionOpened);
+    EXPECT_EQ(state.camera.azimuthDeg, saved.camera.azimuthDeg);
+    EXPECT_TRUE(state.errorMessage.empty()) << state.errorMessage;
+
+    // Any other JSON: the transfer function's Load.
+    state = ui::EditorState{};
+    renderer::saveTransferFunction(renderer::builtinPreset("soft"), dir / "dropped_tf.JSON");
+    EXPECT_STREQ(ui::dropFile(state, dir / "dropped_tf.JSON"), "Transfer function");
+    frame(transferFunction);
+    EXPECT_TRUE(tfChanged);
+    EXPECT_EQ(state.tf.points.size(), renderer::builtinPreset("soft").points.size());
+    EXPECT_EQ(state.tf.points.back().opacity, renderer::builtinPreset("soft").points.back().opacity);
+    EXPECT_EQ(state.pendingFile, ui::FileAction::None);
+
+    // A JSON that does not parse: the TF loader's error, naming the file.
+    std::ofstream(dir / "broken.json") << "{";
+    ui::dropFile(state, dir / "broken.json");
+    frame(transferFunction);
+    EXPECT_THAT(state.errorMessage, HasSubstr("broken.json"));
+}

@@ -8,12 +8,14 @@
 #include "widgets.h"
 
 #include <imgui.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <fstream>
 
 namespace ui {
 
@@ -61,6 +63,27 @@ bool drawUpAxisCombo(glm::dvec3& up) {
 
 } // namespace
 
+const char* dropFile(EditorState& state, const std::filesystem::path& file) {
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext != ".json") {
+        state.volumeFile = file.string();
+        state.pendingFile = FileAction::OpenVolume;
+        return "Settings";
+    }
+    // A JSON that does not parse goes to the TF loader, whose error names the file and the fault.
+    std::ifstream in(file);
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    if (j.is_object() && j.contains("splatlab_session")) {
+        state.sessionFile = file.string();
+        state.pendingFile = FileAction::OpenSession;
+        return "Settings";
+    }
+    state.tfFile = file.string();
+    state.pendingFile = FileAction::LoadTransferFunction;
+    return "Transfer function";
+}
+
 SettingsChanges drawSettingsPanel(EditorState& state) {
     SettingsChanges changes;
     renderer::SplatSettings& s = state.settings;
@@ -70,10 +93,10 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     inputPath("Volume", state.volumeFile);
     hint("A volume file: .nrrd/.nhdr, .mhd/.mha, .nii(.gz), .slc, .dat, .tif, .raw (dims and type in the name),\n"
          "or a folder of slices");
-    if (ImGui::Button("Open volume")) changes.openVolume = true;
+    if (ImGui::Button("Open volume") || takePendingFile(state, FileAction::OpenVolume)) changes.openVolume = true;
     inputPath("Session", state.sessionFile);
     hint("A session (JSON): the volume's path, transfer function, window, camera and every setting");
-    if (ImGui::Button("Open session")) {
+    if (ImGui::Button("Open session") || takePendingFile(state, FileAction::OpenSession)) {
         try {
             changes.sessionVolume = loadSession(state.sessionFile, state);
             changes.sessionOpened = changes.settingsChanged = changes.cameraChanged = true;

@@ -200,7 +200,7 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     ImGui::Spacing();
     inputPath("File", state.tfFile);
     hint("A TF file (JSON): the format of assets/presets/*.json and of --tf FILE");
-    if (ImGui::Button("Load")) {
+    if (ImGui::Button("Load") || takePendingFile(state, FileAction::LoadTransferFunction)) {
         try {
             replace(renderer::loadTransferFunction(state.tfFile));
         } catch (const renderer::LoadError& e) {

@@ -1,6 +1,7 @@
 // Small ImGui helpers every panel file shares.
 #pragma once
 #include "renderer/splat_renderer.h"
+#include "ui/editor_state.h"
 #include "ui/text_wrap.h"
 
 #include <imgui.h>
@@ -86,6 +87,13 @@ inline void drawPassList(const char* label, const std::array<double, renderer::k
             sameLineIfFits(part);
             ImGui::TextColored(passColour(i, renderer::kGpuPasses), "%s", part);
         }
+}
+
+// The button press a dropped file stands for (dropFile), once: true when `action` was pending.
+inline bool takePendingFile(EditorState& state, FileAction action) {
+    if (state.pendingFile != action) return false;
+    state.pendingFile = FileAction::None;
+    return true;
 }
 
 inline void sectionTitle(const char* title) {

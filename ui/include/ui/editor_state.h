@@ -28,6 +28,9 @@ struct PerfSettings {
     double spinDegPerS = 0.0;   // azimuth speed while rendering continuously (0: still)
 };
 
+// A file dropped on the window, waiting for the panel whose button opens such a file (dropFile).
+enum class FileAction { None, OpenVolume, OpenSession, LoadTransferFunction };
+
 struct EditorState {
     renderer::Camera camera; // orbit camera; "Reset camera" restores renderer::Camera{}, keeping `up`
     renderer::SplatSettings settings;        // what every render of the viewport uses
@@ -51,6 +54,7 @@ struct EditorState {
     std::string sessionFile = "session.json";
     std::string imageFile = "view.png";   // Save image: PNG over the background, or EXR/TIFF float RGBA
     std::string imageSaved;               // what the last Save image wrote (set by the app)
+    FileAction pendingFile = FileAction::None;   // a dropped file its panel opens when next drawn
     SpaceMouseMapping spaceMouse;
     std::string spaceMouseStatus;    // the device found, or why there is none (set by the app)
     PerfSettings perf;

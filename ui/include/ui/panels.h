@@ -36,6 +36,12 @@ struct SettingsChanges {
 // fail to open or save set state.errorMessage and change nothing else.
 SettingsChanges drawSettingsPanel(EditorState& state);
 
+// A file dropped on the editor's window: a session (JSON with "splatlab_session"), a transfer function
+// (other JSON) or a volume (anything else). Puts its path in that panel's field and marks the panel's
+// button as pressed (state.pendingFile), so it opens exactly as the button would, errors included.
+// Returns the title of the panel to bring to the front (the button acts when its panel is drawn).
+const char* dropFile(EditorState& state, const std::filesystem::path& file);
+
 // == Transfer function
 
 struct TransferFunctionView {
