@@ -32,8 +32,8 @@
 #include <atomic>
 #include <cmath>
 #include <chrono>
-#include <deque>
 #include <cstdio>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <thread>
@@ -349,6 +349,16 @@ int runEditor(const EditorOptions& options) {
                                std::to_string(image.height) + (state.showHeatmap ? " (heatmap)" : "");
         });
     };
+    // What the Performance panel's figures are of, for its Copy: volume, image size, mode, GL_RENDERER.
+    auto perfContext = [&] {
+        if (!doc.volume || !lastPlane || !splats) return "no volume, " + glRenderer;
+        const renderer::FrameStats& f = splats->stats();
+        const glm::ivec3 d = doc.volume->dims;
+        return doc.volume->name + " " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z) +
+               ", " + std::to_string(lastPlane->width) + "x" + std::to_string(lastPlane->height) + " px, " +
+               renderer::filterModeName(state.settings.filter) + ", " + renderer::compositingName(state.settings.compositing) +
+               (f.tiles ? " (tiles)" : f.points ? " (point sprites)" : " (quads)") + ", " + glRenderer;
+    };
     std::vector<renderer::FilterMeasurement> measurements;
     bool measurementsStale = false;
     const std::vector<ui::DockPanel> panels = {
@@ -370,7 +380,7 @@ int runEditor(const EditorOptions& options) {
                                  .visibleSplats = doc.scene.visibleCount(),
                                  .glRenderer = glRenderer});
          }},
-        {"Performance", "bottom", [&] { ui::drawPerformancePanel(state, perfHistory); }},
+        {"Performance", "bottom", [&] { ui::drawPerformancePanel(state, perfHistory, perfContext()); }},
         {"Filters", "bottom",
          [&] {
              filtersShown = true;

@@ -4,7 +4,10 @@
 #include "ui/panels.h"
 #include "ui/perf_history.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+using ::testing::HasSubstr;
 
 namespace {
 
@@ -95,6 +98,46 @@ TEST(PerfHistory, SummaryGivesMediansNearestRankP95AndRates) {
     EXPECT_NEAR(s.splatsPerSecond, 10500.0 / 10.5e-3, 1e-6);
     EXPECT_DOUBLE_EQ(s.passMedianMs[size_t(renderer::GpuPass::Splats)], 0.75 * 10.5);
     EXPECT_DOUBLE_EQ(s.passMedianMs[size_t(renderer::GpuPass::Resolve)], 0.0);
+}
+
+TEST(PerfHistory, SummaryTextGivesTheContextAndTheFiguresForAReport) {
+    ui::PerfSummary s;
+    s.renders = 58;
+    s.gpuMedianMs = 74.2, s.gpuP95Ms = 91.8, s.gpuMinMs = 61.4, s.gpuMaxMs = 154.7, s.cpuMedianMs = 74.7;
+    s.intervals = 57, s.intervalMedianMs = 95.2;
+    s.splatsPerSecond = 4.16e5;
+    s.passMedianMs[size_t(renderer::GpuPass::Splats)] = 9.1;
+    s.passMedianMs[size_t(renderer::GpuPass::Composite)] = 40.4;
+    EXPECT_EQ(ui::summaryText(s, "headsq 64x64x93, 955x550 px"),
+              "SplatLab performance: headsq 64x64x93, 955x550 px\n"
+              "58 renders: GPU median 74.20 ms (13.5 /s), p95 91.80, min 61.40, max 154.70 ms; CPU median 74.70 ms\n"
+              "renders seen 10.5 /s; splats 4.16e+05 /s\n"
+              "passes (median ms): splats 9.10, composite 40.40\n");
+    s.intervals = 0;
+    EXPECT_THAT(ui::summaryText(s, ""), HasSubstr("renders seen: none back to back"));
+}
+
+TEST_F(ImGuiNull, PerformancePanelCopiesItsFiguresWithTheirContext) {
+    ui::EditorState state;
+    ui::PerfHistory history;
+    auto body = [&] { ui::drawPerformancePanel(state, history, "bonsai on llvmpipe"); };
+    const auto clickCopy = [&] {   // right of Clear, on the checkbox's row: found from the right
+        for (float y = 20.0f; y < 60.0f; y += 3.0f)
+            for (float x = 398.0f; x > 150.0f; x -= 6.0f) {
+                ImGui::SetClipboardText("");
+                click(x, y, body);
+                if (std::string(ImGui::GetClipboardText()).size() > 0) return true;
+            }
+        return false;
+    };
+    EXPECT_FALSE(clickCopy()) << "Copy must wait for a timed render";
+    for (uint64_t k = 1; k <= 4; ++k) {
+        history.addRender(rendered(k, 3.0, 100), 16.0);
+        history.addTimes(timed(k, 8.0));
+    }
+    ASSERT_TRUE(clickCopy()) << "no Copy button";
+    EXPECT_EQ(std::string(ImGui::GetClipboardText()), ui::summaryText(history.summary(), "bonsai on llvmpipe"));
+    EXPECT_EQ(history.samples().size(), 4u);   // Clear was not hit on the way
 }
 
 TEST_F(ImGuiNull, PerformancePanelTurnsContinuousRenderingOnSpinsOnlyThenAndClears) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace ui {
@@ -76,6 +77,28 @@ PerfSummary PerfHistory::summary() const {
         out.passMedianMs[size_t(p)] = median(pass);
     }
     return out;
+}
+
+std::string summaryText(const PerfSummary& s, const std::string& context) {
+    char line[256];
+    std::string text = "SplatLab performance: " + context + "\n";
+    std::snprintf(line, sizeof line,
+                  "%zu renders: GPU median %.2f ms (%.1f /s), p95 %.2f, min %.2f, max %.2f ms; CPU median %.2f ms\n",
+                  s.renders, s.gpuMedianMs, s.gpuMedianMs > 0.0 ? 1000.0 / s.gpuMedianMs : 0.0, s.gpuP95Ms, s.gpuMinMs,
+                  s.gpuMaxMs, s.cpuMedianMs);
+    text += line;
+    if (s.intervals > 0) std::snprintf(line, sizeof line, "renders seen %.1f /s; ", 1000.0 / s.intervalMedianMs);
+    else std::snprintf(line, sizeof line, "renders seen: none back to back; ");
+    text += line;
+    std::snprintf(line, sizeof line, "splats %.3g /s\npasses (median ms):", s.splatsPerSecond);
+    text += line;
+    for (int p = 0; p < renderer::kGpuPasses; ++p)
+        if (const double ms = s.passMedianMs[size_t(p)]; ms > 0.0) {
+            std::snprintf(line, sizeof line, " %s %.2f,", renderer::gpuPassName(renderer::GpuPass(p)), ms);
+            text += line;
+        }
+    if (text.back() == ',') text.pop_back();
+    return text + "\n";
 }
 
 } // namespace ui

@@ -147,8 +147,9 @@ void drawStatsPanel(const StatsView& stats);
 // == Performance
 // Live timings of recent renders: the GPU time of each, split by pass (stacked, one colour a pass),
 // with its CPU time over it; medians, p95 and extremes; renders a second when rendering continuously.
-// "Render continuously" and "Spin" give a steady load to watch; "Clear" empties `history`.
-void drawPerformancePanel(EditorState& state, PerfHistory& history);
+// "Render continuously" and "Spin" give a steady load to watch; "Clear" empties `history`; "Copy" puts
+// summaryText(`context`: what is rendered, where) on the clipboard.
+void drawPerformancePanel(EditorState& state, PerfHistory& history, const std::string& context = {});
 
 void drawHelpPanel();
 

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <string>
 
 namespace ui {
 
@@ -30,6 +31,10 @@ struct PerfSummary {
     double splatsPerSecond = 0.0;    // the median render's splats over the median GPU time
     std::array<double, renderer::kGpuPasses> passMedianMs{};
 };
+
+// The summary as plain text for a report (the Performance panel's Copy): `context` first (what was
+// rendered, where), then the figures the panel shows, in milliseconds.
+std::string summaryText(const PerfSummary& summary, const std::string& context);
 
 class PerfHistory {
 public:
