@@ -112,7 +112,7 @@ TEST(PerfHistory, SummaryTextGivesTheContextAndTheFiguresForAReport) {
               "SplatLab performance: headsq 64x64x93, 955x550 px\n"
               "58 renders: GPU median 74.20 ms (13.5 /s), p95 91.80, min 61.40, max 154.70 ms; CPU median 74.70 ms\n"
               "renders seen 10.5 /s; splats 4.16e+05 /s\n"
-              "passes (median ms): splats 9.10, composite 40.40\n");
+              "passes (medians): splats 9.10 ms, composite 40.40 ms\n");
     s.intervals = 0;
     EXPECT_THAT(ui::summaryText(s, ""), HasSubstr("renders seen: none back to back"));
 }

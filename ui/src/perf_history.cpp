@@ -79,6 +79,17 @@ PerfSummary PerfHistory::summary() const {
     return out;
 }
 
+std::string passListText(const std::array<double, renderer::kGpuPasses>& passMs, const std::string& separator) {
+    std::string text;
+    for (int p = 0; p < renderer::kGpuPasses; ++p)
+        if (const double ms = passMs[size_t(p)]; ms > 0.0) {
+            char item[64];
+            std::snprintf(item, sizeof item, "%s %.2f ms", renderer::gpuPassName(renderer::GpuPass(p)), ms);
+            text += (text.empty() ? "" : separator) + item;
+        }
+    return text;
+}
+
 std::string summaryText(const PerfSummary& s, const std::string& context) {
     char line[256];
     std::string text = "SplatLab performance: " + context + "\n";
@@ -90,15 +101,8 @@ std::string summaryText(const PerfSummary& s, const std::string& context) {
     if (s.intervals > 0) std::snprintf(line, sizeof line, "renders seen %.1f /s; ", 1000.0 / s.intervalMedianMs);
     else std::snprintf(line, sizeof line, "renders seen: none back to back; ");
     text += line;
-    std::snprintf(line, sizeof line, "splats %.3g /s\npasses (median ms):", s.splatsPerSecond);
-    text += line;
-    for (int p = 0; p < renderer::kGpuPasses; ++p)
-        if (const double ms = s.passMedianMs[size_t(p)]; ms > 0.0) {
-            std::snprintf(line, sizeof line, " %s %.2f,", renderer::gpuPassName(renderer::GpuPass(p)), ms);
-            text += line;
-        }
-    if (text.back() == ',') text.pop_back();
-    return text + "\n";
+    std::snprintf(line, sizeof line, "splats %.3g /s\npasses (medians): ", s.splatsPerSecond);
+    return text + line + passListText(s.passMedianMs, ", ") + "\n";
 }
 
 } // namespace ui

@@ -76,11 +76,7 @@ void drawChart(const PerfHistory& history, float height) {
         std::snprintf(line, sizeof line, "\n%.1f ms after the last render", s.intervalMs);
         text += line;
     }
-    for (int p = 0; p < renderer::kGpuPasses; ++p)
-        if (const double ms = s.passMs[size_t(p)]; ms > 0.0) {
-            std::snprintf(line, sizeof line, "\n  %s %.2f ms", renderer::gpuPassName(renderer::GpuPass(p)), ms);
-            text += line;
-        }
+    if (const std::string passes = passListText(s.passMs, "\n  "); !passes.empty()) text += "\n  " + passes;
     std::snprintf(line, sizeof line, "\n%llu splats, %.1f KiB uploaded", (unsigned long long)s.splats,
                   double(s.uploadBytes) / 1024.0);
     text += line;

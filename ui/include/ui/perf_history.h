@@ -32,6 +32,9 @@ struct PerfSummary {
     std::array<double, renderer::kGpuPasses> passMedianMs{};
 };
 
+// "splats 9.10 ms" for each pass that took time, joined by `separator`.
+std::string passListText(const std::array<double, renderer::kGpuPasses>& passMs, const std::string& separator);
+
 // The summary as plain text for a report (the Performance panel's Copy): `context` first (what was
 // rendered, where), then the figures the panel shows, in milliseconds.
 std::string summaryText(const PerfSummary& summary, const std::string& context);
