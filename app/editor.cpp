@@ -357,7 +357,7 @@ int runEditor(const EditorOptions& options) {
         return doc.volume->name + " " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z) +
                ", " + std::to_string(lastPlane->width) + "x" + std::to_string(lastPlane->height) + " px, " +
                renderer::filterModeName(state.settings.filter) + ", " + renderer::compositingName(state.settings.compositing) +
-               (f.tiles ? " (tiles)" : f.points ? " (point sprites)" : " (quads)") + ", " + glRenderer;
+               " (" + renderer::primitiveName(f) + "), " + glRenderer;
     };
     std::vector<renderer::FilterMeasurement> measurements;
     bool measurementsStale = false;
@@ -380,7 +380,7 @@ int runEditor(const EditorOptions& options) {
                                  .visibleSplats = doc.scene.visibleCount(),
                                  .glRenderer = glRenderer});
          }},
-        {"Performance", "bottom", [&] { ui::drawPerformancePanel(state, perfHistory, perfContext()); }},
+        {"Performance", "bottom", [&] { ui::drawPerformancePanel(state, perfHistory, perfContext); }},
         {"Filters", "bottom",
          [&] {
              filtersShown = true;

@@ -376,8 +376,7 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
             else
                 std::printf("  %llu fragments passed (all passes)\n", (unsigned long long)gl.stats().fragments);
         }
-        const char* primitive = gl.stats().tiles ? "tiles" : gl.stats().points ? "point sprites" : "quads";
-        std::printf("  %s, %.2f GPU bytes per voxel\n", primitive, double(gl.sceneBytes()) / double(s.scene.classes.size()));
+        std::printf("  %s, %.2f GPU bytes per voxel\n", primitiveName(gl.stats()), double(gl.sceneBytes()) / double(s.scene.classes.size()));
     }
     writeImage(image, a.out, s.background.data());
     if (s.settings.heatmap) writeImage(heatmap, ra.heatmap, s.background.data());

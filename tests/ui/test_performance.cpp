@@ -120,7 +120,7 @@ TEST(PerfHistory, SummaryTextGivesTheContextAndTheFiguresForAReport) {
 TEST_F(ImGuiNull, PerformancePanelCopiesItsFiguresWithTheirContext) {
     ui::EditorState state;
     ui::PerfHistory history;
-    auto body = [&] { ui::drawPerformancePanel(state, history, "bonsai on llvmpipe"); };
+    auto body = [&] { ui::drawPerformancePanel(state, history, [] { return std::string("bonsai on llvmpipe"); }); };
     const auto clickCopy = [&] {   // right of Clear, on the checkbox's row: found from the right
         for (float y = 20.0f; y < 60.0f; y += 3.0f)
             for (float x = 398.0f; x > 150.0f; x -= 6.0f) {

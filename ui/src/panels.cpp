@@ -342,7 +342,7 @@ void drawStatsPanel(const StatsView& stats) {
     drawPassBar(f);
     ImGui::Text("splats  %llu sent (%zu visible)", static_cast<unsigned long long>(f.splatsDrawn),
                 stats.visibleSplats);
-    ImGui::Text("upload  %.1f KiB   %s", double(f.frameUploadBytes) / 1024.0, f.tiles ? "tiles" : f.points ? "point sprites" : "quads");
+    ImGui::Text("upload  %.1f KiB   %s", double(f.frameUploadBytes) / 1024.0, renderer::primitiveName(f));
     hint("Bytes this frame cost to upload, since the render before it: a TF edit, the 64 KiB table;\n"
          "a turn past a diagonal, that axis's lists; a new scene, all of it; otherwise nothing");
     if (f.adaptiveAs != renderer::FilterMode::Adaptive)

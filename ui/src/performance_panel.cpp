@@ -89,7 +89,7 @@ void drawChart(const PerfHistory& history, float height) {
 
 } // namespace
 
-void drawPerformancePanel(EditorState& state, PerfHistory& history, const std::string& context) {
+void drawPerformancePanel(EditorState& state, PerfHistory& history, const std::function<std::string()>& context) {
     if (!ImGui::BeginTable("##performance", 2, ImGuiTableFlags_BordersInnerV)) return;
     // The summary takes what its lines need; the chart the rest.
     ImGui::TableSetupColumn("summary", ImGuiTableColumnFlags_WidthFixed, ImGui::GetFontSize() * 23.0f);
@@ -107,7 +107,7 @@ void drawPerformancePanel(EditorState& state, PerfHistory& history, const std::s
     hint("Forget the renders so far");
     ImGui::SameLine();
     ImGui::BeginDisabled(history.samples().empty());
-    if (ImGui::Button("Copy")) ImGui::SetClipboardText(summaryText(history.summary(), context).c_str());
+    if (ImGui::Button("Copy")) ImGui::SetClipboardText(summaryText(history.summary(), context()).c_str());
     ImGui::EndDisabled();
     hint("The figures below as text, with the volume, image size, mode and GL_RENDERER, for a report");
     ImGui::BeginDisabled(!perf.renderContinuously);

@@ -49,6 +49,9 @@ struct FrameStats {
                                                     // filter (uniformAdaptiveFilter): that filter drew it
 };
 
+// How the frame's splats reached pixels: "tiles", "point sprites" or "quads".
+inline const char* primitiveName(const FrameStats& f) { return f.tiles ? "tiles" : f.points ? "point sprites" : "quads"; }
+
 class SplatRenderer {
 public:
     SplatRenderer();

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -148,8 +149,9 @@ void drawStatsPanel(const StatsView& stats);
 // Live timings of recent renders: the GPU time of each, split by pass (stacked, one colour a pass),
 // with its CPU time over it; medians, p95 and extremes; renders a second when rendering continuously.
 // "Render continuously" and "Spin" give a steady load to watch; "Clear" empties `history`; "Copy" puts
-// summaryText(`context`: what is rendered, where) on the clipboard.
-void drawPerformancePanel(EditorState& state, PerfHistory& history, const std::string& context = {});
+// summaryText(context(): what is rendered, where, asked for only then) on the clipboard.
+void drawPerformancePanel(EditorState& state, PerfHistory& history,
+                          const std::function<std::string()>& context = [] { return std::string(); });
 
 void drawHelpPanel();
 
