@@ -9,9 +9,11 @@
 
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <set>
+#include <vector>
 
 using namespace renderer;
 
@@ -127,18 +129,23 @@ TEST_F(GpuTimers, TiledPassesKeepTheirTimesWhenTheCallersFramebufferIsBound) {
     glTextureStorage2D(colour, 1, GL_RGBA8, 64, 64);
     glCreateFramebuffers(1, &fbo);
     glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, colour, 0);
-    for (int k = 0; k < 3; ++k) {
+    // The median over 5 frames: a machine that stalls once (a CI run stretched one 32-tile offsets lap
+    // to 4.6 ms) must not fail it, while the shift it guards against shows in every frame (1.2x).
+    std::vector<double> ratios;
+    for (int k = 0; k < 6; ++k) {
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);   // as a window would be, with a draw pending
         glClearColor(0.2f, 0.3f, 0.4f, 1.0f);
         glClear(GL_COLOR_BUFFER_BIT);
         timedFrame(r, plane, s);
+        const FrameStats& f = r.stats();
+        EXPECT_EQ(f.gpuFrame, f.frame);
+        std::cout << "[ timers   ] splats " << f.passMs[size_t(GpuPass::Splats)] << " ms, offsets "
+                  << f.passMs[size_t(GpuPass::Offsets)] << " ms, scatter " << f.passMs[size_t(GpuPass::Scatter)]
+                  << " ms, composite " << f.passMs[size_t(GpuPass::Composite)] << " ms\n";
+        if (k > 0) ratios.push_back(f.passMs[size_t(GpuPass::Splats)] / f.passMs[size_t(GpuPass::Offsets)]);   // 0: compiles
     }
-    const FrameStats& f = r.stats();
-    EXPECT_EQ(f.gpuFrame, f.frame);
-    std::cout << "[ timers   ] splats " << f.passMs[size_t(GpuPass::Splats)] << " ms, offsets "
-              << f.passMs[size_t(GpuPass::Offsets)] << " ms, scatter " << f.passMs[size_t(GpuPass::Scatter)]
-              << " ms, composite " << f.passMs[size_t(GpuPass::Composite)] << " ms\n";
-    EXPECT_GT(f.passMs[size_t(GpuPass::Splats)], 4.0 * f.passMs[size_t(GpuPass::Offsets)]);
+    std::sort(ratios.begin(), ratios.end());
+    EXPECT_GT(ratios[ratios.size() / 2], 4.0);
     glDeleteFramebuffers(1, &fbo);
     glDeleteTextures(1, &colour);
 }
