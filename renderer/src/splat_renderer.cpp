@@ -787,6 +787,10 @@ static_assert(kOpaqueTilePx == kSplatTilePx);
 // termination): chunks only bound the lists' memory there (bonsai back to front: 126 MB for its
 // largest chunk against 255 MB for all slices at once, at the same speed; 16 slices cost 5 % more).
 constexpr uint32_t kTileListChunkSlices = 64;
+// Texels a chunk of several slices may give its lists (256 MiB at 16 bytes a texel); more, and the
+// chunk goes in parts. One slice cannot be split (its sheet is one sum), so only the driver's
+// GL_MAX_TEXTURE_BUFFER_SIZE bounds it.
+constexpr uint64_t kTileListBudgetTexels = uint64_t(1) << 24;
 
 constexpr uint64_t kMiB = uint64_t(1) << 20;
 
@@ -930,6 +934,12 @@ struct SplatRenderer::Gl {
     GLuint tileSplats = 0, tileBins = 0, tileState = 0, tileList = 0, tileBusy = 0;
     GLuint tileListTexture = 0;   // buffer texture over tileList
     size_t tileSplatBytes = 0, tileBinBytes = 0, tileStateBytes = 0, tileListBytes = 0, tileBusyBytes = 0;
+    // Set while auto draws a frame again rasterised: one slice's tile lists did not fit.
+    bool rasteriseAuto = false;
+    // A chunk split to fit its lists: the opaque-tile map at its start, which its parts cull against,
+    // and the counters before a part that did not fit (it goes again smaller).
+    GLuint chunkStartMap = 0, savedCounters = 0;
+    size_t chunkStartMapBytes = 0, savedCounterBytes = 0;
     glm::ivec2 tiles{0};
     int width = 0, height = 0;
     // Per ring slot, a timed frame's laps: GL_TIMESTAMP queries where it starts, where each pass starts
@@ -977,8 +987,8 @@ struct SplatRenderer::Gl {
     ~Gl() {
         for (auto [bits, p] : splatPrograms) glDeleteProgram(p);
         for (auto [bits, p] : tilePrograms) glDeleteProgram(p);
-        const GLuint tileBuffers[] = {tileSplats, tileBins, tileState, tileList, tileBusy};
-        glDeleteBuffers(5, tileBuffers);
+        const GLuint tileBuffers[] = {tileSplats, tileBins, tileState, tileList, tileBusy, chunkStartMap, savedCounters};
+        glDeleteBuffers(7, tileBuffers);
         glDeleteTextures(1, &tileListTexture);
         for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
                          commandsProgram, patchProgram, opaqueTilesProgram})
@@ -1493,8 +1503,10 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     if (settings.primitive == Primitive::Tiles && settings.compositing == Compositing::SplatEverySample)
         throw RenderError("tiled splatting composites sheets and X-ray only: splat-every-sample needs points or "
                           "quads (its order within a slice matters)");
-    // Auto takes tiles only where the lists surely fit the texel buffer they are read through: a
-    // footprint's box spans at most ceil((2 bound + 1) / tile) + 1 tiles a side, each entry a record.
+    // Auto tiles sheets and X-ray. A chunk of slices whose lists do not fit the texel buffer they are
+    // read through goes in parts, down to single slices; where one slice's do not fit, auto draws the
+    // frame again rasterised (g.rasteriseAuto). (Deciding before the frame from a bound on footprint
+    // size rasterised bonsai at distance 1.6 and nearer, 4-8x slower than tiles.)
     const Traversal trav = chooseTraversal(plane);
     const uint64_t listUpload = g.makeResident(trav.axis);
     const AxisBuffers& axis = g.axes[size_t(trav.axis)];
@@ -1516,10 +1528,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                         (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
                         (settings.heatmap ? kHeatmap : 0) | (drawnFilter == FilterMode::Adaptive ? kAdaptive : 0) |
                         (earlyTermination && settings.occlusionCulling ? kOcclusion : 0);
-    const double tilesASide = std::ceil((2.0 * bound + 1.0) / kSplatTilePx) + 1.0;
-    const bool listsFit = double(submitted) * std::max(tilesASide * tilesASide, 4.0) * entryTexels(variant) <=
-                          double(g.texelCap());
-    const bool tiles = settings.primitive == Primitive::Tiles || (tiledSplatting(settings) && listsFit);
+    const bool tiles = settings.primitive == Primitive::Tiles || (tiledSplatting(settings) && !g.rasteriseAuto);
     const bool points = !tiles && (settings.primitive == Primitive::Points ||
                                    (settings.primitive != Primitive::Quads && bound <= pointFits));
     if (settings.primitive == Primitive::Points && !(bound <= pointFits))
@@ -1658,6 +1667,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
 
     m_stats.slicesDrawn = 0;
     m_stats.tileEntries = 0;
+    m_stats.tileListSplits = 0;
 
     const uint32_t slices = uint32_t(g.dims[trav.axis]);
     if (tiles) {
@@ -1677,6 +1687,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         uint32_t chunk = occlusion ? uint32_t(occlusionSlices(settings)) : kTileListChunkSlices;
         const size_t binBytes = size_t(tileCount) * std::min(occlusion ? 4 * chunk : chunk, slices) * 4;
         bool anyOpaque = false;   // occlusion: whether the map has an opaque tile yet
+        const uint32_t partSlices = earlyTermination ? uint32_t(refresh) : 1;
         auto advance = [&](uint32_t& k0) {
             k0 += chunk;
             if (occlusion) chunk = uint32_t(nextOcclusionChunk(settings, int(k0), int(chunk), anyOpaque));
@@ -1724,66 +1735,104 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         glBindImageTexture(0, g.image, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
         glBindImageTexture(1, g.heat, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
         for (uint32_t k0 = 0; k0 < slices && refused.empty(); advance(k0)) {
-            const uint32_t k1 = std::min(slices, k0 + chunk), ranks = k1 - k0;
-            // The chunk's slices, and so its runs, are contiguous (runs are sorted by slice).
-            const uint32_t s0 = descending ? slices - k1 : k0, s1 = descending ? slices - k0 : k1;
-            const uint32_t runFirst = axis.sliceRuns[s0], runs = axis.sliceRuns[s1] - runFirst;
-            bool any = false;
-            for (uint32_t r = runFirst; r < runFirst + runs && !any; ++r) any = active[axis.buckets[r]];
-            if (!any) continue;
-            g.lap(GpuPass::Splats);
-            glClearNamedBufferSubData(g.tileBins, GL_R32UI, 0, GLsizeiptr(size_t(tileCount) * ranks * 4), GL_RED_INTEGER,
-                                      GL_UNSIGNED_INT, nullptr);
-            glClearNamedBufferSubData(g.tileState, GL_R32UI, 0, 8, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-            const GLuint groupsX = std::min<GLuint>(runs, 32768);
-            g.useProgram(p);
-            glUniform1ui(glGetUniformLocation(p, "uRunFirst"), runFirst);
-            glUniform1ui(glGetUniformLocation(p, "uRuns"), runs);
-            glUniform1ui(glGetUniformLocation(p, "uGroupsX"), groupsX);
-            glUniform1i(glGetUniformLocation(p, "uRank0"), GLint(k0));
-            glUniform1i(glGetUniformLocation(p, "uRanks"), GLint(ranks));
-            glDispatchCompute(groupsX, (runs + groupsX - 1) / groupsX, 1);
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            const uint32_t chunkEnd = std::min(slices, k0 + chunk);
+            // The chunk goes whole unless its lists do not fit; then in parts of ranks j0 .. j1 - 1, each
+            // as many slices as fit the last time. The parts cull against the map the chunk started with,
+            // and start where a refresh is due (a part holds a multiple of partSlices), so what is culled
+            // and composited is what the CPU oracle's chunk gives.
+            bool split = false;
+            uint32_t j0 = k0, j1 = chunkEnd;
+            while (j0 < chunkEnd && refused.empty()) {
+                const uint32_t ranks = j1 - j0;
+                auto next = [&] { j1 = std::min(chunkEnd, j1 + ranks); j0 += ranks; };
+                // The part's slices, and so its runs, are contiguous (runs are sorted by slice).
+                const uint32_t s0 = descending ? slices - j1 : j0, s1 = descending ? slices - j0 : j1;
+                const uint32_t runFirst = axis.sliceRuns[s0], runs = axis.sliceRuns[s1] - runFirst;
+                bool any = false;
+                for (uint32_t r = runFirst; r < runFirst + runs && !any; ++r) any = active[axis.buckets[r]];
+                if (!any) {
+                    next();
+                    continue;
+                }
+                const GLuint cullMap = split && occlusion ? g.chunkStartMap : g.opaqueTiles;
+                if (settings.counters) {   // a part that does not fit goes again: it must not count twice
+                    Gl::ensureBuffer(g.savedCounters, g.savedCounterBytes, kCounterSlots * 4);
+                    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+                    glCopyNamedBufferSubData(g.counterBuffer, g.savedCounters, 0, 0, kCounterSlots * 4);
+                }
+                g.lap(GpuPass::Splats);
+                glClearNamedBufferSubData(g.tileBins, GL_R32UI, 0, GLsizeiptr(size_t(tileCount) * ranks * 4),
+                                          GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+                glClearNamedBufferSubData(g.tileState, GL_R32UI, 0, 8, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+                const GLuint groupsX = std::min<GLuint>(runs, 32768);
+                g.useProgram(p);
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, cullMap);
+                glUniform1ui(glGetUniformLocation(p, "uRunFirst"), runFirst);
+                glUniform1ui(glGetUniformLocation(p, "uRuns"), runs);
+                glUniform1ui(glGetUniformLocation(p, "uGroupsX"), groupsX);
+                glUniform1i(glGetUniformLocation(p, "uRank0"), GLint(j0));
+                glUniform1i(glGetUniformLocation(p, "uRanks"), GLint(ranks));
+                glDispatchCompute(groupsX, (runs + groupsX - 1) / groupsX, 1);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
-            g.lap(GpuPass::Offsets);
-            g.useProgram(offsets);
-            glUniform1i(glGetUniformLocation(offsets, "uRanks"), GLint(ranks));
-            glDispatchCompute(GLuint((tileCount + 63) / 64), 1, 1);
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-            g.useProgram(bases);
-            glDispatchCompute(1, 1, 1);
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-            // The list's length sizes its buffer: the one wait of a chunk (a few bytes).
-            GLuint counts[2] = {0, 0};
-            glGetNamedBufferSubData(g.tileState, 0, sizeof(counts), counts);
-            m_stats.tileEntries += counts[1];
-            if (uint64_t(counts[1]) * texels > g.texelCap()) {
-                refused = "tiled splatting: " + std::to_string(counts[0]) + " splats in " + std::to_string(counts[1]) +
-                          " tile entries exceed GL_MAX_TEXTURE_BUFFER_SIZE (" + std::to_string(g.texelCap()) +
-                          " texels); use points or quads";
-                break;
+                g.lap(GpuPass::Offsets);
+                g.useProgram(offsets);
+                glUniform1i(glGetUniformLocation(offsets, "uRanks"), GLint(ranks));
+                glDispatchCompute(GLuint((tileCount + 63) / 64), 1, 1);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+                g.useProgram(bases);
+                glDispatchCompute(1, 1, 1);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+                // The list's length sizes its buffer: the one wait of a part (a few bytes).
+                GLuint counts[2] = {0, 0};
+                glGetNamedBufferSubData(g.tileState, 0, sizeof(counts), counts);
+                const uint64_t needed = uint64_t(counts[1]) * texels;
+                const uint64_t limit = std::min(g.texelCap(), kTileListBudgetTexels);
+                if (needed > (ranks > partSlices ? limit : g.texelCap())) {
+                    if (ranks <= partSlices) {
+                        refused = "tiled splatting: " + (ranks == 1 ? std::string("one slice's ") : std::to_string(ranks) + " slices' ") +
+                                  std::to_string(counts[0]) + " splats take " +
+                                  std::to_string(counts[1]) + " tile entries, over GL_MAX_TEXTURE_BUFFER_SIZE (" +
+                                  std::to_string(g.texelCap()) + " texels); use points or quads";
+                        break;
+                    }
+                    if (occlusion && !split) {   // nothing of this chunk is composited yet
+                        const size_t mapBytes = (size_t(g.tiles.x) * size_t(g.tiles.y) + 1) * 4;
+                        Gl::ensureBuffer(g.chunkStartMap, g.chunkStartMapBytes, mapBytes);
+                        glCopyNamedBufferSubData(g.opaqueTiles, g.chunkStartMap, 0, 0, GLsizeiptr(mapBytes));
+                    }
+                    if (settings.counters) glCopyNamedBufferSubData(g.savedCounters, g.counterBuffer, 0, 0, kCounterSlots * 4);
+                    split = true;
+                    ++m_stats.tileListSplits;
+                    // Again with as many slices as the lists' share suggests, at most half.
+                    j1 = j0 + partSlices * uint32_t(std::max<uint64_t>(1, std::min<uint64_t>(ranks * limit / needed, ranks / 2) / partSlices));
+                    continue;
+                }
+                m_stats.tileEntries += counts[1];
+                Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * texels * 16);
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.tileList);
+
+                g.lap(GpuPass::Scatter);
+                g.useProgram(scatter);
+                glUniform1i(glGetUniformLocation(scatter, "uRanks"), GLint(ranks));
+                glDispatchCompute(std::clamp<GLuint>((counts[0] + 63) / 64, 1, 65535), 1, 1);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+
+                g.lap(GpuPass::Composite);
+                g.useProgram(composite);
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, g.opaqueTiles);
+                glUniform1i(glGetUniformLocation(composite, "uRank0"), GLint(j0));
+                glUniform1i(glGetUniformLocation(composite, "uRanks"), GLint(ranks));
+                glTextureBufferRange(g.tileListTexture, GL_RGBA32F, g.tileList, 0,
+                                     GLsizeiptr(std::max<GLuint>(counts[1], 1) * texels * 16));
+                glBindTextureUnit(0, g.tileListTexture);
+                glBindTextureUnit(1, g.lutTexture);
+                // A workgroup per tile with entries (listed by the bases pass); with OCCLUSION it also
+                // leaves the opaque-tile map for the next chunk.
+                glDispatchComputeIndirect(0);
+                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+                next();
             }
-            Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * texels * 16);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.tileList);
-
-            g.lap(GpuPass::Scatter);
-            g.useProgram(scatter);
-            glUniform1i(glGetUniformLocation(scatter, "uRanks"), GLint(ranks));
-            glDispatchCompute(std::clamp<GLuint>((counts[0] + 63) / 64, 1, 65535), 1, 1);
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-
-            g.lap(GpuPass::Composite);
-            g.useProgram(composite);
-            glUniform1i(glGetUniformLocation(composite, "uRank0"), GLint(k0));
-            glUniform1i(glGetUniformLocation(composite, "uRanks"), GLint(ranks));
-            glTextureBufferRange(g.tileListTexture, GL_RGBA32F, g.tileList, 0,
-                                 GLsizeiptr(std::max<GLuint>(counts[1], 1) * texels * 16));
-            glBindTextureUnit(0, g.tileListTexture);
-            glBindTextureUnit(1, g.lutTexture);
-            // A workgroup per tile with entries (listed by the bases pass); with OCCLUSION it also leaves
-            // the opaque-tile map for the next chunk.
-            glDispatchComputeIndirect(0);
-            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
             if (occlusion && !anyOpaque) anyOpaque = g.anyTileOpaque();
         }
         glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
@@ -1917,7 +1966,16 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glDisable(GL_BLEND);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlErrors("SplatRenderer::render");
-    if (!refused.empty()) throw RenderError(refused);   // found mid-frame: thrown once the queries ended
+    if (!refused.empty()) {   // found mid-frame: acted on once the queries ended
+        if (settings.primitive == Primitive::Tiles) throw RenderError(refused);
+        g.rasteriseAuto = true;   // the same frame through the rasteriser, with tiles' semantics
+        struct Reset {
+            bool& flag;
+            ~Reset() { flag = false; }
+        } reset{g.rasteriseAuto};
+        render(plane, settings);
+        return;
+    }
 
     m_stats.splatsDrawn = submitted;
     m_stats.points = points;

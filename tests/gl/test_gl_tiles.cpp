@@ -40,6 +40,42 @@ void expectFrameMatchesCpu(const SplatRenderer& r, const SplatScene& scene, cons
     expectCountersEqual(r.stats().counters, cpuCounters);
 }
 
+struct WallsAndFill {
+    SplatScene scene;
+    ImagePlane plane;
+};
+
+// 96 slices seen along z, by front-to-back rank: 36 empty; a wall over the left half (x < 20); 24 of
+// faint fill (never opaque); a wall over the right half; 12 empty; 16 of fill. Nothing is opaque after
+// the first two chunks (16 slices each), so the third takes 32 (nextOcclusionChunk()) and none of the
+// fill behind the left wall is culled; then chunks of 16: the last fill is culled against both walls.
+// Chunks of 16 throughout, or chunks that never return to 16, cull other splats: the counters differ.
+WallsAndFill wallsAndFill() {
+    const glm::dvec3 centre(19.5, 19.5, 47.5);
+    const double radius = std::sqrt(2.0 * 19.5 * 19.5 + 47.5 * 47.5);
+    WallsAndFill w{.scene = {}, .plane = makeImagePlane(Camera{.azimuthDeg = 10, .elevationDeg = 75}, centre, radius, 128, 128)};
+    const Traversal order = chooseTraversal(w.plane);
+    EXPECT_EQ(order.axis, 2);
+    Volume v;
+    v.dims = {40, 40, 96};
+    v.values.assign(v.voxelCount(), 0.0f);
+    for (int rank = 0; rank < 96; ++rank) {
+        const int z = order.descending ? rank : 95 - rank;   // front to back reverses the traversal
+        for (int y = 0; y < 40; ++y)
+            for (int x = 0; x < 40; ++x) {
+                const bool wall = (rank >= 36 && rank < 40 && x < 20) || (rank >= 64 && rank < 68 && x >= 20);
+                const float fill = rank >= 40 && rank < 64 ? 0.51f : rank >= 80 ? 0.6f : 0.0f;
+                v.values[(size_t(z) * 40 + size_t(y)) * 40 + size_t(x)] = wall ? 1.0f : fill;
+            }
+    }
+    updateRange(v);
+    const TransferFunction step{"step", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.5, {0.2, 0.4, 1.0}, 0.0}, {1.0, {1.0, 0.8, 0.3}, 1.0}}};
+    w.scene = buildSplatScene(v, step);
+    EXPECT_LT(glm::length(w.scene.centre - centre), 1e-9) << "the plane must frame the scene";
+    EXPECT_NEAR(w.scene.radius, radius, 1e-9);
+    return w;
+}
+
 } // namespace
 
 TEST_F(GlTest, TiledSplattingMatchesCpuInEverySheetAndXRayMode) {
@@ -219,34 +255,7 @@ TEST_F(GlTest, TiledSplattingCarriesTheImageAcrossChunksLikeTheCpu) {
 }
 
 TEST_F(GlTest, TiledSplattingLengthensChunksUntilATileIsOpaqueLikeTheCpu) {
-    // 96 slices seen along z, by front-to-back rank: 36 empty; a wall over the left half (x < 20);
-    // 24 of faint fill (never opaque); a wall over the right half; 12 empty; 16 of fill. Nothing is
-    // opaque after the first
-    // two chunks (16 slices each), so the third takes 32 (nextOcclusionChunk()) and none of the fill
-    // behind the left wall is culled; then chunks of 16: the last fill is culled against both walls.
-    // Chunks of 16 throughout, or chunks that never return to 16, cull other splats: the counters differ.
-    const glm::dvec3 centre(19.5, 19.5, 47.5);
-    const double radius = std::sqrt(2.0 * 19.5 * 19.5 + 47.5 * 47.5);
-    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 10, .elevationDeg = 75}, centre, radius, 128, 128);
-    const Traversal order = chooseTraversal(plane);
-    ASSERT_EQ(order.axis, 2);
-    Volume v;
-    v.dims = {40, 40, 96};
-    v.values.assign(v.voxelCount(), 0.0f);
-    for (int rank = 0; rank < 96; ++rank) {
-        const int z = order.descending ? rank : 95 - rank;   // front to back reverses the traversal
-        for (int y = 0; y < 40; ++y)
-            for (int x = 0; x < 40; ++x) {
-                const bool wall = (rank >= 36 && rank < 40 && x < 20) || (rank >= 64 && rank < 68 && x >= 20);
-                const float fill = rank >= 40 && rank < 64 ? 0.51f : rank >= 80 ? 0.6f : 0.0f;
-                v.values[(size_t(z) * 40 + size_t(y)) * 40 + size_t(x)] = wall ? 1.0f : fill;
-            }
-    }
-    updateRange(v);
-    const TransferFunction step{"step", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.5, {0.2, 0.4, 1.0}, 0.0}, {1.0, {1.0, 0.8, 0.3}, 1.0}}};
-    const SplatScene scene = buildSplatScene(v, step);
-    ASSERT_LT(glm::length(scene.centre - centre), 1e-9) << "the plane must frame the scene";
-    ASSERT_NEAR(scene.radius, radius, 1e-9);
+    const auto [scene, plane] = wallsAndFill();
     SplatRenderer r;
     r.setScene(scene);
     SplatSettings s = tiled(Compositing::SheetFrontToBack);
@@ -256,7 +265,7 @@ TEST_F(GlTest, TiledSplattingLengthensChunksUntilATileIsOpaqueLikeTheCpu) {
     r.render(plane, s);
     expectFrameMatchesCpu(r, scene, plane, s, "gl_tiles_lengthened_chunks");
     EXPECT_GT(r.stats().counters.culledOccluded, 0u);
-    // Auto rasterises where the lists might not fit (here: a cap of one texel), with the same chunks.
+    // Auto rasterises where one slice's lists do not fit (here: a cap of one texel), with the same chunks.
     r.setTexelBufferLimit(1);
     s.primitive = SplatSettings::Primitive::Auto;
     r.render(plane, s);
@@ -264,7 +273,53 @@ TEST_F(GlTest, TiledSplattingLengthensChunksUntilATileIsOpaqueLikeTheCpu) {
     expectFrameMatchesCpu(r, scene, plane, s, "gl_raster_lengthened_chunks");
 }
 
-TEST_F(GlTest, AutoTilesSheetsAndXRayRastersTheRestAndFallsBackWhereListsMightNotFit) {
+TEST_F(GlTest, ChunksWhoseListsDoNotFitGoInPartsWithTheCpuOraclesImageAndCounters) {
+    // Caps on the lists under what a chunk needs (a GPU with a smaller GL_MAX_TEXTURE_BUFFER_SIZE, or a
+    // larger view): auto still tiles while one slice fits, and a chunk goes again in parts. The
+    // parts cull against the map their chunk began with: the part after the left wall must not cull
+    // the fill behind it, or the counters (and the entries) would differ from the oracle's.
+    const auto [scene, plane] = wallsAndFill();
+    SplatRenderer r;
+    r.setScene(scene);
+    SplatSettings s;
+    s.compositing = Compositing::SheetFrontToBack;
+    s.density = 8.0;
+    s.heatmap = true;
+    s.counters = true;
+    r.render(plane, s);
+    ASSERT_TRUE(r.stats().tiles);
+    EXPECT_EQ(r.stats().tileListSplits, 0);
+    const uint64_t entries = r.stats().tileEntries;
+    SplatCounters cpuCounters;
+    Image cpuHeat;
+    const Image cpu = renderReference(scene, plane, s, &cpuCounters, &cpuHeat);
+    int framesSplit = 0;
+    for (uint64_t cap = entries; cap > 0; cap /= 3) {   // 2 texels an entry: half the lists, then less
+        SCOPED_TRACE("cap " + std::to_string(cap) + " texels");
+        r.setTexelBufferLimit(cap);
+        r.render(plane, s);
+        if (!r.stats().tiles) break;   // a slice did not fit: rasterised (the test below)
+        framesSplit += r.stats().tileListSplits > 0;
+        EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu, "gl_tiles_parts");
+        EXPECT_IMAGES_CLOSE(r.readbackHeatmap(), cpuHeat, kGlVsCpu, "gl_tiles_parts_heatmap");
+        expectCountersEqual(r.stats().counters, cpuCounters);
+        EXPECT_EQ(r.stats().tileEntries, entries);
+    }
+    EXPECT_GE(framesSplit, 2);
+    EXPECT_FALSE(r.stats().tiles) << "a cap of 1 texel must rasterise";
+    // Forced tiles refuse a slice that cannot fit, and say so.
+    s.primitive = SplatSettings::Primitive::Tiles;
+    r.setTexelBufferLimit(1);
+    try {
+        r.render(plane, s);
+        ADD_FAILURE() << "expected a RenderError";
+    } catch (const RenderError& e) {
+        EXPECT_NE(std::string(e.what()).find("one slice's"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("use points or quads"), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(GlTest, AutoTilesSheetsAndXRayRastersTheRestAndFallsBackWhereASlicesListsDoNotFit) {
     const SplatScene scene = buildSplatScene(makeMarschnerLobb(16), ramp());
     SplatRenderer r;
     r.setScene(scene);
@@ -277,9 +332,10 @@ TEST_F(GlTest, AutoTilesSheetsAndXRayRastersTheRestAndFallsBackWhereListsMightNo
         EXPECT_EQ(r.stats().tiles, mode != Compositing::SplatEverySample) << compositingName(mode);
         EXPECT_EQ(r.stats().tiles, tiledSplatting(s));
     }
-    // The camera inside the volume: footprints have no bound, so the lists might not fit and auto
-    // rasterises, with tiles' semantics (refresh every slice, the opaque-tile map culled against taken
-    // once a chunk of occlusionSlices): the CPU oracle's image and counters.
+    // The camera inside the volume (footprints have no bound there): tiles, the oracle's image and
+    // counters. Where one slice's lists cannot fit (here: a cap of one texel) auto draws the frame again
+    // rasterised, with tiles' semantics (refresh every slice, the opaque-tile map culled against taken
+    // once a chunk of occlusionSlices): the same image and counters.
     const SplatScene deep = buildSplatScene(makeMarschnerLobb(40), ramp());
     r.setScene(deep);
     const ImagePlane inside = makeImagePlane(Camera{.distance = 0.3, .fovYDeg = 60}, deep.centre, deep.radius, 64, 56);
@@ -287,10 +343,16 @@ TEST_F(GlTest, AutoTilesSheetsAndXRayRastersTheRestAndFallsBackWhereListsMightNo
     s.compositing = Compositing::SheetFrontToBack;
     s.density = 8.0;
     s.counters = true;
+    SplatCounters cpu;
+    const Image reference = renderReference(deep, inside, s, &cpu);
+    r.render(inside, s);
+    EXPECT_TRUE(r.stats().tiles);
+    EXPECT_IMAGES_CLOSE(r.readback(), reference, kGlVsCpu, "gl_auto_inside");
+    expectCountersEqual(r.stats().counters, cpu);
+    r.setTexelBufferLimit(1);
     r.render(inside, s);
     EXPECT_FALSE(r.stats().tiles);
-    SplatCounters cpu;
-    EXPECT_IMAGES_CLOSE(r.readback(), renderReference(deep, inside, s, &cpu), kGlVsCpu, "gl_auto_fallback");
+    EXPECT_IMAGES_CLOSE(r.readback(), reference, kGlVsCpu, "gl_auto_fallback");
     expectCountersEqual(r.stats().counters, cpu);
     EXPECT_GT(cpu.culledNear, 0u) << "the camera must be inside the volume";
     EXPECT_GT(cpu.culledOccluded, 0u) << "the second chunk must be culled against the first";

@@ -345,6 +345,11 @@ void drawStatsPanel(const StatsView& stats) {
     ImGui::Text("upload  %.1f KiB   %s", double(f.frameUploadBytes) / 1024.0, renderer::primitiveName(f));
     hint("Bytes this frame cost to upload, since the render before it: a TF edit, the 64 KiB table;\n"
          "a turn past a diagonal, that axis's lists; a new scene, all of it; otherwise nothing");
+    if (f.tileListSplits > 0) {
+        textDisabledWrapped("tile lists went again in fewer slices %d times: they did not fit at once", f.tileListSplits);
+        hint("A chunk of slices whose tile lists exceed the texel buffer they are read through\n"
+             "(GL_MAX_TEXTURE_BUFFER_SIZE) or 256 MiB goes in parts: the same image, a little slower");
+    }
     if (f.adaptiveAs != renderer::FilterMode::Adaptive)
         ImGui::Text("adaptive  every patch %s at this depth range", renderer::filterModeName(f.adaptiveAs));
     if (f.hasCounters) {

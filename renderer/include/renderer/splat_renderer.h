@@ -45,6 +45,8 @@ struct FrameStats {
     uint64_t fragments = 0;      // with counters: samples passed in the frame (GL_SAMPLES_PASSED; sheet
                                  // and resolve passes included, discarded and depth-failed ones not)
     uint64_t tileEntries = 0;    // tiled splatting: (splat, tile) pairs the composite pass walked
+    int tileListSplits = 0;      // tiled splatting: times a chunk's (or a part's) lists did not fit (the
+                                 // texel buffer, or 256 MiB) and it went again in fewer slices
     FilterMode adaptiveAs = FilterMode::Adaptive;   // an adaptive frame whose view put every patch in one
                                                     // filter (uniformAdaptiveFilter): that filter drew it
 };
