@@ -1909,13 +1909,17 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
             if (lo.x > hi.x) continue;   // no active bucket: nothing to draw or composite
             ++m_stats.slicesDrawn;
             const Rect rect = sliceRect(g.origin, g.spacing, plane, trav.axis, int(slice), lo, hi, margin);
-            if (rect.x0 >= rect.x1 || rect.y0 >= rect.y1) continue;
+            // A slice off the image draws nothing; with counters it is drawn under an empty scissor all
+            // the same, so its splats pass the guards and are counted as the CPU oracle counts them.
+            const bool offImage = rect.x0 >= rect.x1 || rect.y0 >= rect.y1;
+            if (offImage && !settings.counters) continue;
             if (stale) refreshOpaque(g.sheetFbo, false);   // mark what earlier slices made opaque
             stale = false;
             // GL's rows run bottom up.
             g.lap(GpuPass::Splats);
             glEnable(GL_SCISSOR_TEST);
-            glScissor(rect.x0, plane.height - rect.y1, rect.x1 - rect.x0, rect.y1 - rect.y0);
+            if (offImage) glScissor(0, 0, 0, 0);
+            else glScissor(rect.x0, plane.height - rect.y1, rect.x1 - rect.x0, rect.y1 - rect.y0);
             glClearNamedFramebufferfv(g.sheetFbo, GL_COLOR, 0, zero);
             if (settings.heatmap) glClearNamedFramebufferfv(g.sheetFbo, GL_COLOR, 1, zero);
             glBindFramebuffer(GL_FRAMEBUFFER, g.sheetFbo);

@@ -133,6 +133,43 @@ TEST_F(GlTest, FrontToBackSplattingCullsHiddenSplatsLikeTheCpu) {
     }
 }
 
+TEST_F(GlTest, RasterisedSheetsCountTheSlicesTheySkipOffTheImage) {
+    // A column of voxels along z in one corner (x, y < 5) and a ball in the middle; air is transparent
+    // to the bucket. Close up the corner lies off the image in the nearer slices, so rasterised sheets skip
+    // those slices' draws; with counters they draw them under an empty scissor, and the corner's
+    // voxels are counted offscreen as the oracle counts them (before: not at all).
+    Volume v;
+    v.dims = {24, 24, 24};
+    v.values.assign(v.voxelCount(), 0.0f);
+    for (int z = 0; z < 24; ++z)
+        for (int y = 0; y < 24; ++y)
+            for (int x = 0; x < 24; ++x) {
+                const double r = glm::length(glm::dvec3(x, y, z) - glm::dvec3(11.5));
+                const bool corner = x < 5 && y < 5;
+                v.values[(size_t(z) * 24 + size_t(y)) * 24 + size_t(x)] = corner ? 0.8f : r < 6.0 ? 0.6f : 0.0f;
+            }
+    updateRange(v);
+    const TransferFunction clearAir{"clear-air", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.2, {0.2, 0.4, 1.0}, 0.0},
+                                                  {1.0, {1.0, 0.8, 0.3}, 0.9}}};
+    const Frame f = frame(v, clearAir, Camera{.azimuthDeg = 0, .elevationDeg = 89, .fovYDeg = 10}, 48, 48);
+    ASSERT_EQ(chooseTraversal(f.plane).axis, 2) << "the corner column must cross every slice";
+    SplatRenderer r;
+    r.setScene(f.scene);
+    for (auto mode : {Compositing::SheetBackToFront, Compositing::SheetFrontToBack}) {
+        SCOPED_TRACE(compositingName(mode));
+        SplatSettings s;
+        s.compositing = mode;
+        s.primitive = SplatSettings::Primitive::Raster;
+        s.counters = true;
+        r.render(f.plane, s);
+        SplatCounters cpu;
+        const Image cpuImage = renderReference(f.scene, f.plane, s, &cpu);
+        EXPECT_GE(cpu.culledOffscreen, 8u * 25u) << "the corner column must lie off the image in several slices";
+        expectCountersEqual(r.stats().counters, cpu);
+        EXPECT_IMAGES_CLOSE(r.readback(), cpuImage, kGlVsCpu, std::string("gl_offscreen_slices_") + compositingName(mode));
+    }
+}
+
 TEST_F(GlTest, HeatmapCountersAndPatchModesMatchCpu) {
     // A close, wide view of a deep volume: all three modes appear under the adaptive classifier.
     Volume v = makeSphereShells(20, 5.0, 2.0);
