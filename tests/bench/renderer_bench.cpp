@@ -256,14 +256,18 @@ int main(int argc, char** argv) {
             add(n + "/ewa/splat-every-sample/refresh-" + std::to_string(refresh),
                 [=](benchmark::State& st) { renderFrames(st, d, s); });
         }
-        // Adaptive against full EWA where it can choose: close up (magnified) and far away (minified).
+        // Adaptive against full EWA where it can choose: close up (magnified) and far away (minified);
+        // splat-every-sample, and the editor's tiled sheets front to back.
         for (auto [view, distance] : {std::pair{"near", 1.2}, std::pair{"far", 8.0}})
-            for (auto filter : {FilterMode::Ewa, FilterMode::Adaptive}) {
-                SplatSettings v;
-                v.filter = filter;
-                add(n + "/" + view + "/" + filterModeName(filter),
-                    [=](benchmark::State& st) { renderFrames(st, d, v, Camera{.distance = distance}); });
-            }
+            for (auto comp : {Compositing::SplatEverySample, Compositing::SheetFrontToBack})
+                for (auto filter : {FilterMode::Ewa, FilterMode::Adaptive}) {
+                    SplatSettings v;
+                    v.filter = filter;
+                    v.compositing = comp;
+                    const std::string suffix = comp == Compositing::SplatEverySample ? "" : "/sheet-front-to-back";
+                    add(n + "/" + view + "/" + filterModeName(filter) + suffix,
+                        [=](benchmark::State& st) { renderFrames(st, d, v, Camera{.distance = distance}); });
+                }
         // Shading per splat (vertex stage) against per fragment, and surface splats.
         for (auto [name, shading] : {std::pair{"per-splat", SplatSettings::Shading::PerSplat},
                                      std::pair{"per-fragment", SplatSettings::Shading::PerFragment}}) {
