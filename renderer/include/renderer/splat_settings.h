@@ -62,7 +62,8 @@ struct SplatSettings {
     // (sheet and X-ray compositing only: a sheet's sum does not depend on the order within a slice).
     // Raster: points whenever every footprint fits the largest point size, quads otherwise.
     // Auto: tiles for sheets and X-ray (faster on every machine measured), raster for
-    // splat-every-sample; raster also where the tile lists might not fit (tiledSplatting()).
+    // splat-every-sample; raster also for a frame where one slice's tile lists do not fit
+    // (tiledSplatting()).
     enum class Primitive { Auto, Raster, Points, Quads, Tiles };
     Primitive primitive = Primitive::Auto;
     bool heatmap = false;               // also render the filter-mode heatmap (renderers' readback)
@@ -85,8 +86,8 @@ constexpr int kSplatTilePx = 8;
 bool frontToBack(const SplatSettings& settings);
 // Whether the frame composites with tiles' semantics: primitive Tiles, or Auto with sheets or X-ray.
 // Per-splat occlusion culling, its counter and the automatic refresh interval follow from it, on the
-// GPU and in the CPU oracle alike. (Auto falls back to the rasteriser for lists that might not fit;
-// that frame keeps these semantics: same image and counters, only slower.)
+// GPU and in the CPU oracle alike. (Auto falls back to the rasteriser where one slice's lists do not
+// fit; that frame keeps these semantics: same image and counters, only slower.)
 inline bool tiledSplatting(const SplatSettings& s) {
     return s.primitive == SplatSettings::Primitive::Tiles ||
            (s.primitive == SplatSettings::Primitive::Auto && s.compositing != Compositing::SplatEverySample);
