@@ -987,7 +987,8 @@ struct SplatRenderer::Gl {
     ~Gl() {
         for (auto [bits, p] : splatPrograms) glDeleteProgram(p);
         for (auto [bits, p] : tilePrograms) glDeleteProgram(p);
-        const GLuint tileBuffers[] = {tileSplats, tileBins, tileState, tileList, tileBusy, chunkStartMap, savedCounters};
+        const GLuint tileBuffers[] = {tileSplats, tileBins, tileState, tileList,
+                                      tileBusy, chunkStartMap, savedCounters};
         glDeleteBuffers(7, tileBuffers);
         glDeleteTextures(1, &tileListTexture);
         for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
@@ -1790,10 +1791,11 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                 const uint64_t limit = std::min(g.texelCap(), kTileListBudgetTexels);
                 if (needed > (ranks > partSlices ? limit : g.texelCap())) {
                     if (ranks <= partSlices) {
-                        refused = "tiled splatting: " + (ranks == 1 ? std::string("one slice's ") : std::to_string(ranks) + " slices' ") +
-                                  std::to_string(counts[0]) + " splats take " +
-                                  std::to_string(counts[1]) + " tile entries, over GL_MAX_TEXTURE_BUFFER_SIZE (" +
-                                  std::to_string(g.texelCap()) + " texels); use points or quads";
+                        refused = "tiled splatting: " +
+                                  (ranks == 1 ? std::string("one slice's ") : std::to_string(ranks) + " slices' ") +
+                                  std::to_string(counts[0]) + " splats take " + std::to_string(counts[1]) +
+                                  " tile entries, over GL_MAX_TEXTURE_BUFFER_SIZE (" + std::to_string(g.texelCap()) +
+                                  " texels); use points or quads";
                         break;
                     }
                     if (occlusion && !split) {   // nothing of this chunk is composited yet
@@ -1801,11 +1803,13 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                         Gl::ensureBuffer(g.chunkStartMap, g.chunkStartMapBytes, mapBytes);
                         glCopyNamedBufferSubData(g.opaqueTiles, g.chunkStartMap, 0, 0, GLsizeiptr(mapBytes));
                     }
-                    if (settings.counters) glCopyNamedBufferSubData(g.savedCounters, g.counterBuffer, 0, 0, kCounterSlots * 4);
+                    if (settings.counters)
+                        glCopyNamedBufferSubData(g.savedCounters, g.counterBuffer, 0, 0, kCounterSlots * 4);
                     split = true;
                     ++m_stats.tileListSplits;
                     // Again with as many slices as the lists' share suggests, at most half.
-                    j1 = j0 + partSlices * uint32_t(std::max<uint64_t>(1, std::min<uint64_t>(ranks * limit / needed, ranks / 2) / partSlices));
+                    const uint64_t share = std::min<uint64_t>(ranks * limit / needed, ranks / 2);
+                    j1 = j0 + partSlices * uint32_t(std::max<uint64_t>(1, share / partSlices));
                     continue;
                 }
                 m_stats.tileEntries += counts[1];
