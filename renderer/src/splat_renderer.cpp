@@ -934,8 +934,6 @@ struct SplatRenderer::Gl {
     GLuint tileSplats = 0, tileBins = 0, tileState = 0, tileList = 0, tileBusy = 0;
     GLuint tileListTexture = 0;   // buffer texture over tileList
     size_t tileSplatBytes = 0, tileBinBytes = 0, tileStateBytes = 0, tileListBytes = 0, tileBusyBytes = 0;
-    // Set while auto draws a frame again rasterised: one slice's tile lists did not fit.
-    bool rasteriseAuto = false;
     // A chunk split to fit its lists: the opaque-tile map at its start, which its parts cull against,
     // and the counters before a part that did not fit (it goes again smaller).
     GLuint chunkStartMap = 0, savedCounters = 0;
@@ -1487,6 +1485,15 @@ void SplatRenderer::setLut(const Lut& lut) {
 }
 
 void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& settings) {
+    std::string refused = drawFrame(plane, settings, false);
+    // Auto: one slice's tile lists did not fit; the same frame through the rasteriser, with tiles'
+    // semantics.
+    if (!refused.empty() && settings.primitive == SplatSettings::Primitive::Auto)
+        refused = drawFrame(plane, settings, true);
+    if (!refused.empty()) throw RenderError(refused);
+}
+
+std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSettings& settings, bool rasterise) {
     Gl& g = *m_gl;
     const auto cpuStart = std::chrono::steady_clock::now();
     if (plane.width < 1 || plane.height < 1 || plane.width > 16384 || plane.height > 16384)
@@ -1506,7 +1513,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                           "quads (its order within a slice matters)");
     // Auto tiles sheets and X-ray. A chunk of slices whose lists do not fit the texel buffer they are
     // read through goes in parts, down to single slices; where one slice's do not fit, auto draws the
-    // frame again rasterised (g.rasteriseAuto). (Deciding before the frame from a bound on footprint
+    // frame again rasterised (render()). (Deciding before the frame from a bound on footprint
     // size rasterised bonsai at distance 1.6 and nearer, 4-8x slower than tiles.)
     const Traversal trav = chooseTraversal(plane);
     const uint64_t listUpload = g.makeResident(trav.axis);
@@ -1529,7 +1536,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
                         (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
                         (settings.heatmap ? kHeatmap : 0) | (drawnFilter == FilterMode::Adaptive ? kAdaptive : 0) |
                         (earlyTermination && settings.occlusionCulling ? kOcclusion : 0);
-    const bool tiles = settings.primitive == Primitive::Tiles || (tiledSplatting(settings) && !g.rasteriseAuto);
+    const bool tiles = settings.primitive == Primitive::Tiles || (tiledSplatting(settings) && !rasterise);
     const bool points = !tiles && (settings.primitive == Primitive::Points ||
                                    (settings.primitive != Primitive::Quads && bound <= pointFits));
     if (settings.primitive == Primitive::Points && !(bound <= pointFits))
@@ -1974,16 +1981,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     glDisable(GL_BLEND);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlErrors("SplatRenderer::render");
-    if (!refused.empty()) {   // found mid-frame: acted on once the queries ended
-        if (settings.primitive == Primitive::Tiles) throw RenderError(refused);
-        g.rasteriseAuto = true;   // the same frame through the rasteriser, with tiles' semantics
-        struct Reset {
-            bool& flag;
-            ~Reset() { flag = false; }
-        } reset{g.rasteriseAuto};
-        render(plane, settings);
-        return;
-    }
+    if (!refused.empty()) return refused;   // found mid-frame: reported once the queries ended
 
     m_stats.splatsDrawn = submitted;
     m_stats.points = points;
@@ -2013,6 +2011,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
     }
     m_stats.firstUsePrograms = g.firstUses;
     m_stats.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
+    return {};
 }
 
 const char* gpuPassName(GpuPass pass) {

@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string>
 
 namespace renderer {
 
@@ -96,6 +97,10 @@ public:
     void setTexelBufferLimit(uint64_t texels);
 
 private:
+    // One attempt at render(): the reason when only drawing it told that it cannot be drawn (one
+    // slice's tile lists do not fit), else empty. `rasterise`: auto's sheets and X-ray without tiles.
+    std::string drawFrame(const ImagePlane& plane, const SplatSettings& settings, bool rasterise);
+
     struct Gl;
     std::unique_ptr<Gl> m_gl;
     FrameStats m_stats;
