@@ -280,7 +280,7 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 // What only `render` sets: GL options and extra outputs.
 const char* kPrimitiveHelp = "How splats reach pixels: auto (tiles for sheets and X-ray, else raster), raster "
-                             "(points where they fit, else quads), points, quads, or tiles (compute passes; sheets "
+                             "(per slice: points where they fit, else quads), points, quads, or tiles (compute passes; sheets "
                              "and X-ray only)";
 
 SplatSettings::Primitive parsePrimitive(const std::string& name) {

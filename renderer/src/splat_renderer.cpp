@@ -22,6 +22,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <span>
 
 namespace renderer {
 
@@ -736,7 +737,9 @@ void main() {
 
 // Bucket selection: one indirect draw per run of the frame's axis, in the frame's order; inactive
 // buckets draw 0 vertices. Runs only change with the volume, so a TF edit re-runs this pass and uploads
-// nothing; so does a turn to another axis or order (one array, not one per order: 16 bytes a run).
+// nothing; so does a turn to another axis or order (one array, not one per order). Two layouts, since
+// a frame may draw some slices as points and others as quads: the first uRuns commands draw a vertex
+// a splat, the next uRuns six (32 bytes a run).
 const char* kCommandsComp = R"(#version 450 core
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Runs { uvec4 runs[]; };     // first entry, tile, slice|bucket|dense, count
@@ -744,7 +747,6 @@ layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
 layout(std430, binding = 2) readonly buffer SliceRuns { uint sliceRuns[]; };   // as AxisLists::sliceRuns
 layout(std430, binding = 3) writeonly buffer Commands { uvec4 commands[]; };
 uniform uint uRuns;
-uniform uint uVertsPerSplat;
 uniform bool uAllBuckets;
 uniform bool uDescending;   // slices from the highest, each slice's runs in their own order
 uniform bool uReversed;     // the exact reverse (front-to-back splat-every-sample reverses each run too)
@@ -759,8 +761,9 @@ void main() {
     uint slot = uDescending ? uRuns - sliceRuns[slice + 1u] + (i - sliceRuns[slice]) : i;
     // DrawArraysIndirectCommand: count, instanceCount, first (0 for dense runs), baseInstance (selects
     // this run's aRun).
-    commands[uReversed ? uRuns - 1u - slot : slot] =
-        uvec4(selected ? run.w * uVertsPerSplat : 0u, 1u, run.x * uVertsPerSplat, i);
+    uint at = uReversed ? uRuns - 1u - slot : slot, count = selected ? run.w : 0u;
+    commands[at] = uvec4(count, 1u, run.x, i);
+    commands[uRuns + at] = uvec4(6u * count, 1u, 6u * run.x, i);
 }
 )";
 
@@ -912,13 +915,13 @@ struct SplatRenderer::Gl {
     std::array<AxisBuffers, 3> axes;
     int residentAxis = -1;   // the axis whose lists are on the GPU (-1: none yet)
     Lut lut;                             // CPU copy: which buckets are active, which slices are empty
-    // The one indirect command array (16 bytes a run of the longest axis), rewritten when the LUT, the
-    // primitive, drawAllBuckets, the axis or the order changes.
+    // The one indirect command array (both layouts: 32 bytes a run of the longest axis), rewritten when
+    // the LUT, drawAllBuckets, the axis or the order changes.
     GLuint commands = 0;
     uint64_t lutVersion = 1;
     struct CommandsKey {
         uint64_t lutVersion = 0;
-        int verts = 0, axis = -1;
+        int axis = -1;
         bool allBuckets = false, descending = false, reversed = false;
         bool operator==(const CommandsKey&) const = default;
     } commandsKey;
@@ -1233,13 +1236,12 @@ struct SplatRenderer::Gl {
 
     // Rewrites the indirect commands for the current LUT, axis and order (GPU only: nothing is
     // uploaded). Tiles read them ascending, by run.
-    void updateCommands(int axis, bool descending, bool reversed, int vertsPerSplat, bool allBuckets) {
-        const CommandsKey key{lutVersion, vertsPerSplat, axis, allBuckets, descending, reversed};
+    void updateCommands(int axis, bool descending, bool reversed, bool allBuckets) {
+        const CommandsKey key{lutVersion, axis, allBuckets, descending, reversed};
         const AxisBuffers& a = axes[size_t(axis)];
         if (commandsKey == key || a.runCount == 0) return;
         lap(GpuPass::Select);
         useProgram(commandsProgram);
-        glUniform1ui(glGetUniformLocation(commandsProgram, "uVertsPerSplat"), GLuint(vertsPerSplat));
         glUniform1i(glGetUniformLocation(commandsProgram, "uAllBuckets"), allBuckets);
         glUniform1i(glGetUniformLocation(commandsProgram, "uDescending"), descending);
         glUniform1i(glGetUniformLocation(commandsProgram, "uReversed"), reversed);
@@ -1256,14 +1258,15 @@ struct SplatRenderer::Gl {
 
 namespace {
 
-// An upper bound on any splat's cutoff half extent in this view, in pixels: ||J||^2 <= ||J||_F^2 =
-// (f/u2)^2 (2 + (u0^2 + u1^2) / u2^2) + 1, with u2 at least its smallest value over the volume's box
-// (u2 is linear) and u0^2 + u1^2 at most its largest (convex: a corner). Infinite when the box
-// reaches the near plane. Decides whether point sprites can hold every footprint.
-double maxHalfExtentBound(const glm::ivec3& dims, const glm::dvec3& origin, const glm::dvec3& spacing,
-                          const ImagePlane& plane, const SplatSettings& settings) {
+// An upper bound on the cutoff half extent, in pixels, of any splat whose voxel centre lies in the box
+// with these camera-space corners: ||J||^2 <= ||J||_F^2 = (f/u2)^2 (2 + (u0^2 + u1^2) / u2^2) + 1,
+// with u2 at least its smallest value over the box (u2 is linear) and u0^2 + u1^2 at most its largest
+// (convex: a corner). Infinite when the box reaches the near plane. Decides whether point sprites can
+// hold the footprints.
+double halfExtentBound(std::span<const glm::dvec3> corners, const glm::dvec3& spacing, const ImagePlane& plane,
+                       const SplatSettings& settings) {
     double u2min = std::numeric_limits<double>::infinity(), lateral2 = 0.0;
-    for (const glm::dvec3& u : plane.gridCorners(dims, origin, spacing)) {
+    for (const glm::dvec3& u : corners) {
         u2min = std::min(u2min, u.z);
         lateral2 = std::max(lateral2, u.x * u.x + u.y * u.y);
     }
@@ -1277,6 +1280,44 @@ double maxHalfExtentBound(const glm::ivec3& dims, const glm::dvec3& origin, cons
     }
     const double sigma = settings.kernelScale * std::max({spacing.x, spacing.y, spacing.z});
     return settings.cutoffSigmas * std::sqrt(jacobian2 * sigma * sigma + 1.0);
+}
+
+// The bound over the whole volume...
+double maxHalfExtentBound(const glm::ivec3& dims, const glm::dvec3& origin, const glm::dvec3& spacing,
+                          const ImagePlane& plane, const SplatSettings& settings) {
+    return halfExtentBound(plane.gridCorners(dims, origin, spacing), spacing, plane, settings);
+}
+
+// ...and over one slice across `axis`: the near slices of a close view may need quads where the far
+// ones fit points.
+double sliceHalfExtentBound(const glm::ivec3& dims, const glm::dvec3& origin, const glm::dvec3& spacing,
+                            const ImagePlane& plane, const SplatSettings& settings, int axis, int slice) {
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    std::array<glm::dvec3, 4> corners;
+    for (int c = 0; c < 4; ++c) {
+        glm::dvec3 ijk(0.0);
+        ijk[axis] = slice;
+        ijk[a] = (c & 1) ? dims[a] - 1 : 0;
+        ijk[b] = (c & 2) ? dims[b] - 1 : 0;
+        corners[size_t(c)] = plane.toCamera(origin + spacing * ijk);
+    }
+    return halfExtentBound(corners, spacing, plane, settings);
+}
+
+// Pixels a point sprite covers beyond a quad for the footprint at camera point u: the square around
+// the ellipse's longer side against its box. Elongated footprints (anisotropic spacing) waste that
+// fill; quads cost five more vertices instead. headsq (3.2 x 3.2 x 1.5 mm), llvmpipe, 512x512, full
+// EWA, two rounds each: points were faster at distance 8 and 5 (41-51 and 100-142 px over the slices'
+// centres), even at 3.5 and 2.5 (192-316, 348-699), 1.15x slower at 1.8 (605-1,630), 2.3x at 1.2.
+constexpr double kPointExcessPx2 = 400.0;
+double pointExcessPx2(glm::dvec3 u, const glm::dmat3& varianceCamera, const ImagePlane& plane,
+                      const SplatSettings& settings, FilterMode filter) {
+    const Footprint f = projectKernel(u, varianceCamera, plane.fPx, filter == FilterMode::Adaptive ? FilterMode::Ewa : filter,
+                                      glm::dmat2(1.0), plane.orthographic);
+    const double hx = settings.cutoffSigmas * std::sqrt(f.variancePx[0][0]);
+    const double hy = settings.cutoffSigmas * std::sqrt(f.variancePx[1][1]);
+    const double side = 2.0 * std::max(hx, hy) + 1.0;
+    return side * side - (2.0 * hx + 1.0) * (2.0 * hy + 1.0);
 }
 
 void setShadingUniforms(GLuint p, const ShadingParams& sp) {
@@ -1394,7 +1435,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         listBytes = std::max(listBytes, a.gpuBytes());
         mostRuns = std::max(mostRuns, a.hostRuns.size());
     }
-    const uint64_t commandBytes = mostRuns * 16;
+    const uint64_t commandBytes = mostRuns * 32;   // both layouts (kCommandsComp)
     uint64_t needed = scene.classes.size() * sizeof(uint16_t) + scene.lut.size() * sizeof(glm::vec4) + listBytes +
                       commandBytes + gradientBufferBytes(scene.gradients.size());
     std::optional<uint64_t> freeBytes = freeGpuMemoryBytes();
@@ -1503,10 +1544,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     requireGradients(settings, g.hasGradients, g.sceneName);
     g.ensureTargets(plane.width, plane.height);
 
-    // Points cost one vertex and one primitive a splat instead of six and two; they need every
-    // footprint to fit the largest point size, and a guard band, since a point is clipped by its centre.
     const double bound = maxHalfExtentBound(g.dims, g.origin, g.spacing, plane, settings);
-    const double pointFits = 0.5 * (g.maxPointSize - 1.0);   // gl_PointSize = 2 h + 1
     using Primitive = SplatSettings::Primitive;
     if (settings.primitive == Primitive::Tiles && settings.compositing == Compositing::SplatEverySample)
         throw RenderError("tiled splatting composites sheets and X-ray only: splat-every-sample needs points or "
@@ -1537,11 +1575,40 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                         (settings.heatmap ? kHeatmap : 0) | (drawnFilter == FilterMode::Adaptive ? kAdaptive : 0) |
                         (earlyTermination && settings.occlusionCulling ? kOcclusion : 0);
     const bool tiles = settings.primitive == Primitive::Tiles || (tiledSplatting(settings) && !rasterise);
-    const bool points = !tiles && (settings.primitive == Primitive::Points ||
-                                   (settings.primitive != Primitive::Quads && bound <= pointFits));
-    if (settings.primitive == Primitive::Points && !(bound <= pointFits))
-        throw RenderError("point sprites cannot hold this view's footprints (up to " + std::to_string(bound) +
-                          " px half extent, the driver's points reach " + std::to_string(pointFits) + ")");
+    // Rasterised, slice by slice: points cost one vertex and one primitive a splat instead of six and
+    // two; they need the slice's footprints to fit the largest point size, and a guard band, since a
+    // point is clipped by its centre. Auto and raster take quads for the other slices, and where the
+    // slice's centre voxel says points would waste fill (pointExcessPx2()).
+    const uint32_t slices = uint32_t(g.dims[trav.axis]);
+    const double pointFits = 0.5 * (g.maxPointSize - 1.0);   // gl_PointSize = 2 h + 1
+    const glm::dmat3 varianceCamera = kernelVarianceCamera(settings.kernelScale * g.spacing, plane.viewFromObject);
+    enum SliceDraw : uint8_t { kNothing, kPoints, kQuads };   // kNothing: no active bucket
+    std::vector<SliceDraw> sliceDraw(slices, kNothing);
+    bool anyPoints = false, anyQuads = false;
+    if (!tiles) {
+        double worst = 0.0;
+        for (uint32_t slice = 0; slice < slices; ++slice) {
+            bool drawn = false;
+            for (uint32_t r = axis.sliceRuns[slice]; r < axis.sliceRuns[slice + 1] && !drawn; ++r) drawn = active[axis.buckets[r]];
+            if (!drawn) continue;
+            const double b = sliceHalfExtentBound(g.dims, g.origin, g.spacing, plane, settings, trav.axis, int(slice));
+            worst = std::max(worst, b);
+            bool points = settings.primitive != Primitive::Quads && b <= pointFits;
+            if (points && settings.primitive != Primitive::Points) {
+                glm::dvec3 centre(0.0);
+                centre[trav.axis] = slice;
+                centre[(trav.axis + 1) % 3] = 0.5 * (g.dims[(trav.axis + 1) % 3] - 1);
+                centre[(trav.axis + 2) % 3] = 0.5 * (g.dims[(trav.axis + 2) % 3] - 1);
+                points = pointExcessPx2(plane.toCamera(g.origin + g.spacing * centre), varianceCamera, plane, settings,
+                                        settings.filter) <= kPointExcessPx2;
+            }
+            sliceDraw[slice] = points ? kPoints : kQuads;
+            (sliceDraw[slice] == kPoints ? anyPoints : anyQuads) = true;
+        }
+        if (settings.primitive == Primitive::Points && anyQuads)
+            throw RenderError("point sprites cannot hold this view's footprints (up to " + std::to_string(worst) +
+                              " px half extent, the driver's points reach " + std::to_string(pointFits) + ")");
+    }
 
     // Nothing below throws before the queries end: a query left active would break the next frame
     // (NVIDIA keeps a deleted active query running).
@@ -1557,16 +1624,15 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         g.lap(std::nullopt);   // the frame's start
     }
     if (settings.counters) glBeginQuery(GL_SAMPLES_PASSED, g.fragmentQuery);
-    const int verts = points ? 1 : 6;
-    const float guard = points ? float(std::ceil(0.5 * g.maxPointSize) + 1.0) : 0.0f;
+    const float guard = anyPoints ? float(std::ceil(0.5 * g.maxPointSize) + 1.0) : 0.0f;
     const Compositing mode = settings.compositing;
     const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
     const bool reversed = ftb && !sheets;   // splat-every-sample, front to back: the exact reverse
     // Slices walk back to front, except front to back; sheets only turn the slice order, splat-every-
     // sample reverses everything (the vertex stage each run). Tiles read the commands by run.
     const bool descending = trav.descending != (ftb && sheets);
-    if (tiles) g.updateCommands(trav.axis, false, false, verts, settings.drawAllBuckets);
-    else g.updateCommands(trav.axis, descending, reversed, verts, settings.drawAllBuckets);
+    if (tiles) g.updateCommands(trav.axis, false, false, settings.drawAllBuckets);
+    else g.updateCommands(trav.axis, descending, reversed, settings.drawAllBuckets);
     const int refresh = opaqueRefreshSlices(settings);
     const bool xray = mode == Compositing::XRay;
 
@@ -1597,10 +1663,9 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     }
     g.setCommonUniforms(p, plane, settings, trav.axis);
     glUniform1i(glGetUniformLocation(p, "uFilter"), int(drawnFilter));
-    const glm::mat3 varCamera(kernelVarianceCamera(settings.kernelScale * g.spacing, plane.viewFromObject));
+    const glm::mat3 varCamera(varianceCamera);
     const double meanSpacing = (g.spacing.x + g.spacing.y + g.spacing.z) / 3.0;
     const double diagonal = std::hypot(double(plane.width), double(plane.height));
-    glUniform1i(glGetUniformLocation(p, "uVertsPerSplat"), verts);
     glUniform2f(glGetUniformLocation(p, "uCentrePx"), float(plane.centrePx.x), float(plane.centrePx.y));
     glUniform2f(glGetUniformLocation(p, "uViewport"), float(plane.width), float(plane.height));
     glUniform1f(glGetUniformLocation(p, "uGuardPx"), guard);
@@ -1639,6 +1704,37 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         const uint32_t first = descending ? runCount - axis.sliceRuns[slice + 1] : r0;
         return std::pair{reversed ? runCount - first - n : first, n};
     };
+    // Draws the slices at draw positions k0 .. k1 - 1 (sliceAt(k): the slice drawn k-th), in that
+    // order: one multi-draw per stretch of adjacent commands whose slices take the same primitive (a
+    // slice without an active bucket draws nothing either way and joins any stretch).
+    const GLint vertsPerSplat = glGetUniformLocation(p, "uVertsPerSplat");
+    auto drawSlices = [&](uint32_t k0, uint32_t k1, auto sliceAt) {
+        uint32_t first = 0, last = 0;
+        bool asPoints = false;
+        auto flush = [&] {
+            if (last <= first) return;
+            glUniform1i(vertsPerSplat, asPoints ? 1 : 6);
+            glMultiDrawArraysIndirect(asPoints ? GL_POINTS : GL_TRIANGLES,
+                                      reinterpret_cast<const void*>(size_t(asPoints ? first : runCount + first) * 16),
+                                      GLsizei(last - first), 0);
+        };
+        for (uint32_t k = k0; k < k1; ++k) {
+            const uint32_t slice = sliceAt(k);
+            const auto [f, n] = sliceCommands(slice);
+            if (n == 0) continue;
+            if (sliceDraw[slice] == kNothing) {
+                if (last > first && f == last) last = f + n;
+                continue;
+            }
+            if (last <= first || f != last || (sliceDraw[slice] == kPoints) != asPoints) {
+                flush();
+                first = f;
+                asPoints = sliceDraw[slice] == kPoints;
+            }
+            last = f + n;
+        }
+        flush();
+    };
     // Front to back, every `refresh` slices: pixels whose alpha reached opaqueAlpha get depth 0.5,
     // where splats (also at 0.5) fail GL_LESS; the tile map the vertex stage culls with is redone
     // once every occlusionSlices(settings) slices (`remap`).
@@ -1666,8 +1762,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         g.useProgram(p);
         glBindVertexArray(g.splatVao);
     };
-    if (points) glEnable(GL_PROGRAM_POINT_SIZE);
-    const GLenum primitive = points ? GL_POINTS : GL_TRIANGLES;
+    if (anyPoints) glEnable(GL_PROGRAM_POINT_SIZE);
     const int guardInt = int(guard);
     glViewport(-guardInt, -guardInt, plane.width + 2 * guardInt, plane.height + 2 * guardInt);
     glDisable(GL_CULL_FACE);
@@ -1677,7 +1772,6 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     m_stats.tileEntries = 0;
     m_stats.tileListSplits = 0;
 
-    const uint32_t slices = uint32_t(g.dims[trav.axis]);
     if (tiles) {
         // Compute passes only: no framebuffer with attachments stays bound (the caller's window,
         // say). llvmpipe bins timestamp queries into a bound framebuffer's draws and runs dispatches
@@ -1862,19 +1956,17 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_LESS);
         glDepthMask(GL_FALSE);
+        auto sliceAt = [&](uint32_t k) { return descending ? k : slices - 1 - k; };   // BTF's reverse
         for (uint32_t k0 = 0; k0 < slices; k0 += uint32_t(refresh)) {
-            uint32_t first = runCount, last = 0;
-            for (uint32_t k = k0; k < std::min(slices, k0 + uint32_t(refresh)); ++k) {
-                const auto [f, n] = sliceCommands(descending ? k : slices - 1 - k);   // BTF's reverse
-                if (n > 0) first = std::min(first, f), last = std::max(last, f + n);
-            }
-            if (first >= last) continue;
+            const uint32_t k1 = std::min(slices, k0 + uint32_t(refresh));
+            bool any = false;
+            for (uint32_t k = k0; k < k1 && !any; ++k) any = sliceCommands(sliceAt(k)).second > 0;
+            if (!any) continue;
             if (k0 > 0) refreshOpaque(g.depthFbo, true);
             g.lap(GpuPass::Splats);
             glBindFramebuffer(GL_FRAMEBUFFER, g.frameFbo);
             glViewport(-guardInt, -guardInt, plane.width + 2 * guardInt, plane.height + 2 * guardInt);
-            glMultiDrawArraysIndirect(primitive, reinterpret_cast<const void*>(size_t(first) * 16),
-                                      GLsizei(last - first), 0);
+            drawSlices(k0, k1, sliceAt);
         }
         glDisable(GL_DEPTH_TEST);
         glDepthFunc(GL_LESS);
@@ -1885,7 +1977,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         if (xray) glBlendFunc(GL_ONE, GL_ONE);                 // order-free sums
         else glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);     // premultiplied "over", back to front
         g.lap(GpuPass::Splats);
-        if (axis.runCount > 0) glMultiDrawArraysIndirect(primitive, nullptr, GLsizei(axis.runCount), 0);
+        drawSlices(0, slices, [&](uint32_t k) { return descending ? slices - 1 - k : k; });
         if (xray) g.resolveXRay(plane.width, plane.height);
     } else {
         // Per slice: clear the sheet, add the slice's splats into it, composite it into the image.
@@ -1947,9 +2039,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
             } else {
                 glDisable(GL_DEPTH_TEST);
             }
-            const auto [firstCommand, commands] = sliceCommands(slice);
-            glMultiDrawArraysIndirect(primitive, reinterpret_cast<const void*>(size_t(firstCommand) * 16),
-                                      GLsizei(commands), 0);
+            drawSlices(0, 1, [&](uint32_t) { return slice; });
 
             g.lap(GpuPass::Composite);
             glBindFramebuffer(GL_FRAMEBUFFER, g.frameFbo);
@@ -1967,7 +2057,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         glDepthMask(GL_TRUE);
         glDepthFunc(GL_LESS);
     }
-    if (points) glDisable(GL_PROGRAM_POINT_SIZE);
+    if (anyPoints) glDisable(GL_PROGRAM_POINT_SIZE);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     if (settings.counters) glEndQuery(GL_SAMPLES_PASSED);
     if (timed) {
@@ -1984,7 +2074,8 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     if (!refused.empty()) return refused;   // found mid-frame: reported once the queries ended
 
     m_stats.splatsDrawn = submitted;
-    m_stats.points = points;
+    m_stats.points = anyPoints;
+    m_stats.quads = anyQuads;
     m_stats.tiles = tiles;
     m_stats.adaptiveAs = settings.filter == FilterMode::Adaptive ? drawnFilter : FilterMode::Adaptive;
     m_stats.uploadBytes = listUpload;   // uniforms, and the lists when the view's axis changed

@@ -82,7 +82,7 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
         glFinish();
         state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
-    const bool points = r.stats().points;
+    const bool points = r.stats().points, quads = r.stats().quads;
     r.collectTimers();   // the last timed frame's GPU time per pass (finished by its glFinish)
     for (int i = 0; i < kGpuPasses; ++i)
         if (const double ms = r.stats().passMs[size_t(i)]; ms > 0.0) {
@@ -99,7 +99,8 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
     state.counters["recon"] = double(c.drawnPerMode[0]);
     state.counters["lowpass"] = double(c.drawnPerMode[1]);
     state.counters["ewa"] = double(c.drawnPerMode[2]);
-    state.counters["points"] = points;
+    state.counters["points"] = points;   // 1 and 1: the slices mixed them
+    state.counters["quads"] = quads;
     state.counters["bytes_per_voxel"] = double(r.sceneBytes()) / double(scene.classes.size());
     state.counters["fragments"] = double(r.stats().fragments);
     state.counters["occluded"] = double(c.culledOccluded);
@@ -268,6 +269,10 @@ int main(int argc, char** argv) {
                     add(n + "/" + view + "/" + filterModeName(filter) + suffix,
                         [=](benchmark::State& st) { renderFrames(st, d, v, Camera{.distance = distance}); });
                 }
+        // Close up, each slice takes points where its footprints fit, against quads for every slice.
+        s = {};
+        s.primitive = SplatSettings::Primitive::Quads;
+        add(n + "/near/ewa/quads", [=](benchmark::State& st) { renderFrames(st, d, s, Camera{.distance = 1.2}); });
         // Shading per splat (vertex stage) against per fragment, and surface splats.
         for (auto [name, shading] : {std::pair{"per-splat", SplatSettings::Shading::PerSplat},
                                      std::pair{"per-fragment", SplatSettings::Shading::PerFragment}}) {

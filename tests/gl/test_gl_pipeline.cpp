@@ -229,8 +229,8 @@ TEST_F(GlTest, TfEditUploadsOnlyTheLutAndSelectsBuckets) {
     EXPECT_EQ(r.stats().uploadBytes, 0u);
     EXPECT_EQ(r.stats().frameUploadBytes, 0u);
     // GPU bytes: classes 2 a voxel, the LUT, the largest axis's lists (only the view's axis is on the
-    // GPU), one command array of 16 bytes a run of the axis with the most, and one word standing in
-    // for the gradients (3 bytes a voxel once the scene has them).
+    // GPU), one command array of 32 bytes a run of the axis with the most (points and quads), and one
+    // word standing in for the gradients (3 bytes a voxel once the scene has them).
     uint64_t expected = scene.classes.size() * 2 + kLutSize * 16 + 4;
     size_t mostRuns = 0;
     uint64_t largest = 0;
@@ -238,7 +238,7 @@ TEST_F(GlTest, TfEditUploadsOnlyTheLutAndSelectsBuckets) {
         largest = std::max(largest, listBytes(axis));
         mostRuns = std::max(mostRuns, scene.lists[size_t(axis)].runs.size());
     }
-    expected += largest + mostRuns * 16;
+    expected += largest + mostRuns * 32;
     EXPECT_EQ(r.sceneBytes(), expected);
 
     for (const char* preset : {"ct-bone", "grey-ramp", "fire"}) {
@@ -299,13 +299,75 @@ TEST_F(GlTest, AutoPrimitiveFallsBackToQuadsForHugeFootprints) {
     SplatRenderer r;
     r.setScene(f.scene);
     r.render(f.plane, SplatSettings{});
-    EXPECT_FALSE(r.stats().points);
+    EXPECT_TRUE(r.stats().quads);
     EXPECT_IMAGES_CLOSE(r.readback(), renderReference(f.scene, f.plane, SplatSettings{}), kGlVsCpu, "gl_inside");
     SplatSettings s;
     s.primitive = SplatSettings::Primitive::Points;
     EXPECT_THROW(r.render(f.plane, s), RenderError);
     // The refused frame leaves no GL query running: the next frame renders without a GL error.
     EXPECT_NO_THROW(r.render(f.plane, SplatSettings{}));
+}
+
+TEST_F(GlTest, CloseViewsDrawFarSlicesAsPointsAndNearOnesAsQuads) {
+    // Close up, the near slices' footprints outgrow any point size while the far slices' still fit:
+    // each slice takes its own primitive, in every rasterised draw order (front to back in groups of
+    // slices, back to front in one pass, sheets slice by slice), with the oracle's image and counters.
+    const Frame f = frame(makeMarschnerLobb(24), ramp(), Camera{.azimuthDeg = 20, .elevationDeg = 15, .distance = 0.5, .fovYDeg = 90},
+                          64, 64);
+    SplatRenderer r;
+    r.setScene(f.scene);
+    struct Case {
+        Compositing mode;
+        double opaqueAlpha;
+    };
+    for (const Case c : {Case{Compositing::SplatEverySample, 0.998}, Case{Compositing::SplatEverySample, 1.0},
+                         Case{Compositing::SheetBackToFront, 0.998}, Case{Compositing::SheetFrontToBack, 0.998}}) {
+        SCOPED_TRACE(std::string(compositingName(c.mode)) + " opaque alpha " + std::to_string(c.opaqueAlpha));
+        SplatSettings s;
+        s.compositing = c.mode;
+        s.opaqueAlpha = c.opaqueAlpha;
+        s.primitive = SplatSettings::Primitive::Raster;
+        s.counters = true;
+        r.render(f.plane, s);
+        EXPECT_TRUE(r.stats().points);
+        EXPECT_TRUE(r.stats().quads);
+        EXPECT_STREQ(primitiveName(r.stats()), "points and quads");
+        const Image mixed = r.readback();
+        SplatCounters cpu;
+        EXPECT_IMAGES_CLOSE(mixed, renderReference(f.scene, f.plane, s, &cpu), kGlVsCpu,
+                            std::string("gl_points_and_quads_") + compositingName(c.mode));
+        expectCountersEqual(r.stats().counters, cpu);
+
+        s.primitive = SplatSettings::Primitive::Quads;
+        r.render(f.plane, s);
+        EXPECT_FALSE(r.stats().points);
+        EXPECT_LT(compareImages(r.readback(), mixed).maxAbs, 1e-6);
+        s.primitive = SplatSettings::Primitive::Points;
+        EXPECT_THROW(r.render(f.plane, s), RenderError);
+    }
+}
+
+TEST_F(GlTest, ElongatedFootprintsTakeQuadsWherePointsWouldWasteFill) {
+    // Voxels four times as wide as deep: a point sprite, square around the footprint's longer side,
+    // would cover three times the quad's box. Every footprint fits a point either way; auto draws quads
+    // for the flat voxels, points for the same volume with cubic voxels, both with the oracle's image.
+    for (const glm::dvec3 spacing : {glm::dvec3(4.0, 4.0, 1.0), glm::dvec3(2.0)}) {
+        SCOPED_TRACE(spacing.x > spacing.z ? "flat voxels" : "cubic voxels");
+        Volume v = makeMarschnerLobb(16);
+        v.spacing = spacing;
+        const Frame f = frame(v, ramp(), Camera{.azimuthDeg = 10, .elevationDeg = 10}, 128, 128);
+        SplatRenderer r;
+        r.setScene(f.scene);
+        r.render(f.plane, SplatSettings{});
+        const bool flat = spacing.x > spacing.z;
+        EXPECT_EQ(r.stats().points, !flat);
+        EXPECT_EQ(r.stats().quads, flat);
+        EXPECT_IMAGES_CLOSE(r.readback(), renderReference(f.scene, f.plane, SplatSettings{}), kGlVsCpu,
+                            flat ? "gl_flat_voxels_quads" : "gl_cubic_voxels_points");
+        SplatSettings points;
+        points.primitive = SplatSettings::Primitive::Points;
+        EXPECT_NO_THROW(r.render(f.plane, points)) << "the footprints must fit points";
+    }
 }
 
 TEST_F(GlTest, RealScansStayWithinEightGpuBytesPerVoxel) {

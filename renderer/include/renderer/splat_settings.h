@@ -60,7 +60,8 @@ struct SplatSettings {
     // GL only: how splats reach pixels (all give the same image) and what else a frame records.
     // Tiles: compute passes bin the splats to screen tiles and composite each pixel in registers
     // (sheet and X-ray compositing only: a sheet's sum does not depend on the order within a slice).
-    // Raster: points whenever every footprint fits the largest point size, quads otherwise.
+    // Raster: slice by slice, points where the slice's footprints fit the largest point size, quads
+    // otherwise (close up, the near slices).
     // Auto: tiles for sheets and X-ray (faster on every machine measured), raster for
     // splat-every-sample; raster also for a frame where one slice's tile lists do not fit
     // (tiledSplatting()).
