@@ -22,7 +22,6 @@
 #include <map>
 #include <optional>
 #include <set>
-#include <span>
 
 namespace renderer {
 
@@ -1258,15 +1257,20 @@ struct SplatRenderer::Gl {
 
 namespace {
 
-// An upper bound on the cutoff half extent, in pixels, of any splat whose voxel centre lies in the box
-// with these camera-space corners: ||J||^2 <= ||J||_F^2 = (f/u2)^2 (2 + (u0^2 + u1^2) / u2^2) + 1,
-// with u2 at least its smallest value over the box (u2 is linear) and u0^2 + u1^2 at most its largest
-// (convex: a corner). Infinite when the box reaches the near plane. Decides whether point sprites can
-// hold the footprints.
-double halfExtentBound(std::span<const glm::dvec3> corners, const glm::dvec3& spacing, const ImagePlane& plane,
-                       const SplatSettings& settings) {
+// An upper bound on the cutoff half extent, in pixels, of any splat of slice `slice` across `axis`:
+// ||J||^2 <= ||J||_F^2 = (f/u2)^2 (2 + (u0^2 + u1^2) / u2^2) + 1, with u2 at least its smallest value
+// over the slice's corners (u2 is linear) and u0^2 + u1^2 at most its largest (convex). Infinite when
+// the slice reaches the near plane. Close up, the near slices need quads where the far ones fit
+// points, and their rasterised sheets reach further.
+double sliceHalfExtentBound(const glm::ivec3& dims, const glm::dvec3& origin, const glm::dvec3& spacing,
+                            const ImagePlane& plane, const SplatSettings& settings, int axis, int slice) {
     double u2min = std::numeric_limits<double>::infinity(), lateral2 = 0.0;
-    for (const glm::dvec3& u : corners) {
+    for (int c = 0; c < 4; ++c) {
+        glm::dvec3 ijk(0.0);
+        ijk[axis] = slice;
+        ijk[(axis + 1) % 3] = (c & 1) ? dims[(axis + 1) % 3] - 1 : 0;
+        ijk[(axis + 2) % 3] = (c & 2) ? dims[(axis + 2) % 3] - 1 : 0;
+        const glm::dvec3 u = plane.toCamera(origin + spacing * ijk);
         u2min = std::min(u2min, u.z);
         lateral2 = std::max(lateral2, u.x * u.x + u.y * u.y);
     }
@@ -1280,28 +1284,6 @@ double halfExtentBound(std::span<const glm::dvec3> corners, const glm::dvec3& sp
     }
     const double sigma = settings.kernelScale * std::max({spacing.x, spacing.y, spacing.z});
     return settings.cutoffSigmas * std::sqrt(jacobian2 * sigma * sigma + 1.0);
-}
-
-// The bound over the whole volume...
-double maxHalfExtentBound(const glm::ivec3& dims, const glm::dvec3& origin, const glm::dvec3& spacing,
-                          const ImagePlane& plane, const SplatSettings& settings) {
-    return halfExtentBound(plane.gridCorners(dims, origin, spacing), spacing, plane, settings);
-}
-
-// ...and over one slice across `axis`: the near slices of a close view may need quads where the far
-// ones fit points.
-double sliceHalfExtentBound(const glm::ivec3& dims, const glm::dvec3& origin, const glm::dvec3& spacing,
-                            const ImagePlane& plane, const SplatSettings& settings, int axis, int slice) {
-    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
-    std::array<glm::dvec3, 4> corners;
-    for (int c = 0; c < 4; ++c) {
-        glm::dvec3 ijk(0.0);
-        ijk[axis] = slice;
-        ijk[a] = (c & 1) ? dims[a] - 1 : 0;
-        ijk[b] = (c & 2) ? dims[b] - 1 : 0;
-        corners[size_t(c)] = plane.toCamera(origin + spacing * ijk);
-    }
-    return halfExtentBound(corners, spacing, plane, settings);
 }
 
 // Pixels a point sprite covers beyond a quad for the footprint at camera point u: the square around
@@ -1544,7 +1526,6 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     requireGradients(settings, g.hasGradients, g.sceneName);
     g.ensureTargets(plane.width, plane.height);
 
-    const double bound = maxHalfExtentBound(g.dims, g.origin, g.spacing, plane, settings);
     using Primitive = SplatSettings::Primitive;
     if (settings.primitive == Primitive::Tiles && settings.compositing == Compositing::SplatEverySample)
         throw RenderError("tiled splatting composites sheets and X-ray only: splat-every-sample needs points or "
@@ -1584,6 +1565,8 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     const glm::dmat3 varianceCamera = kernelVarianceCamera(settings.kernelScale * g.spacing, plane.viewFromObject);
     enum SliceDraw : uint8_t { kNothing, kPoints, kQuads };   // kNothing: no active bucket
     std::vector<SliceDraw> sliceDraw(slices, kNothing);
+    // Each drawn slice's bound on its footprints' half extent: also how far rasterised sheets reach.
+    std::vector<double> sliceBound(slices, std::numeric_limits<double>::infinity());
     bool anyPoints = false, anyQuads = false;
     if (!tiles) {
         double worst = 0.0;
@@ -1591,7 +1574,8 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
             bool drawn = false;
             for (uint32_t r = axis.sliceRuns[slice]; r < axis.sliceRuns[slice + 1] && !drawn; ++r) drawn = active[axis.buckets[r]];
             if (!drawn) continue;
-            const double b = sliceHalfExtentBound(g.dims, g.origin, g.spacing, plane, settings, trav.axis, int(slice));
+            const double b = sliceBound[slice] =
+                sliceHalfExtentBound(g.dims, g.origin, g.spacing, plane, settings, trav.axis, int(slice));
             worst = std::max(worst, b);
             bool points = settings.primitive != Primitive::Quads && b <= pointFits;
             if (points && settings.primitive != Primitive::Points) {
@@ -1982,7 +1966,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     } else {
         // Per slice: clear the sheet, add the slice's splats into it, composite it into the image.
         // Everything is scissored to the slice's reach; slices without an active bucket are skipped.
-        const double margin = std::min(bound, settings.maxFootprintFraction * diagonal);
+        const double hugeFootprint = settings.maxFootprintFraction * diagonal;
         const GLuint composite = g.compositePrograms[settings.heatmap ? 1 : 0];
         glBindTextureUnit(0, g.sheet);
         glBindTextureUnit(1, g.sheetHeat);
@@ -2011,7 +1995,8 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                 if (active[axis.buckets[r]]) lo = glm::min(lo, axis.lo[r]), hi = glm::max(hi, axis.hi[r]);
             if (lo.x > hi.x) continue;   // no active bucket: nothing to draw or composite
             ++m_stats.slicesDrawn;
-            const Rect rect = sliceRect(g.origin, g.spacing, plane, trav.axis, int(slice), lo, hi, margin);
+            const Rect rect = sliceRect(g.origin, g.spacing, plane, trav.axis, int(slice), lo, hi,
+                                        std::min(sliceBound[slice], hugeFootprint));
             // A slice off the image draws nothing; with counters it is drawn under an empty scissor all
             // the same, so its splats pass the guards and are counted as the CPU oracle counts them.
             const bool offImage = rect.x0 >= rect.x1 || rect.y0 >= rect.y1;
