@@ -2059,8 +2059,8 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     if (!refused.empty()) return refused;   // found mid-frame: reported once the queries ended
 
     m_stats.splatsDrawn = submitted;
-    m_stats.points = anyPoints;
-    m_stats.quads = anyQuads;
+    m_stats.pointSlices = int(std::count(sliceDraw.begin(), sliceDraw.end(), kPoints));
+    m_stats.quadSlices = int(std::count(sliceDraw.begin(), sliceDraw.end(), kQuads));
     m_stats.tiles = tiles;
     m_stats.adaptiveAs = settings.filter == FilterMode::Adaptive ? drawnFilter : FilterMode::Adaptive;
     m_stats.uploadBytes = listUpload;   // uniforms, and the lists when the view's axis changed
@@ -2088,6 +2088,14 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     m_stats.firstUsePrograms = g.firstUses;
     m_stats.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
     return {};
+}
+
+std::string primitiveName(const FrameStats& f) {
+    if (f.tiles) return "tiles";
+    if (f.pointSlices == 0) return "quads";
+    if (f.quadSlices == 0) return "point sprites";
+    return "points and quads (quads in " + std::to_string(f.quadSlices) + " of " +
+           std::to_string(f.pointSlices + f.quadSlices) + " slices)";
 }
 
 const char* gpuPassName(GpuPass pass) {

@@ -82,7 +82,7 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
         glFinish();
         state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
-    const bool points = r.stats().points, quads = r.stats().quads;
+    const int pointSlices = r.stats().pointSlices, quadSlices = r.stats().quadSlices;
     r.collectTimers();   // the last timed frame's GPU time per pass (finished by its glFinish)
     for (int i = 0; i < kGpuPasses; ++i)
         if (const double ms = r.stats().passMs[size_t(i)]; ms > 0.0) {
@@ -99,8 +99,8 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
     state.counters["recon"] = double(c.drawnPerMode[0]);
     state.counters["lowpass"] = double(c.drawnPerMode[1]);
     state.counters["ewa"] = double(c.drawnPerMode[2]);
-    state.counters["points"] = points;   // 1 and 1: the slices mixed them
-    state.counters["quads"] = quads;
+    state.counters["point_slices"] = pointSlices;   // rasterised: slices drawn as points, as quads
+    state.counters["quad_slices"] = quadSlices;
     state.counters["bytes_per_voxel"] = double(r.sceneBytes()) / double(scene.classes.size());
     state.counters["fragments"] = double(r.stats().fragments);
     state.counters["occluded"] = double(c.culledOccluded);

@@ -280,7 +280,7 @@ TEST_F(GlTest, PointsQuadsAndAllBucketsDrawTheSameImage) {
     for (auto primitive : {SplatSettings::Primitive::Points, SplatSettings::Primitive::Quads}) {
         s.primitive = primitive;
         r.render(f.plane, s);
-        EXPECT_EQ(r.stats().points, primitive == SplatSettings::Primitive::Points);
+        EXPECT_EQ(r.stats().pointSlices > 0, primitive == SplatSettings::Primitive::Points);
         EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu,
                             primitive == SplatSettings::Primitive::Points ? "gl_points" : "gl_quads");
     }
@@ -299,7 +299,7 @@ TEST_F(GlTest, AutoPrimitiveFallsBackToQuadsForHugeFootprints) {
     SplatRenderer r;
     r.setScene(f.scene);
     r.render(f.plane, SplatSettings{});
-    EXPECT_TRUE(r.stats().quads);
+    EXPECT_GT(r.stats().quadSlices, 0);
     EXPECT_IMAGES_CLOSE(r.readback(), renderReference(f.scene, f.plane, SplatSettings{}), kGlVsCpu, "gl_inside");
     SplatSettings s;
     s.primitive = SplatSettings::Primitive::Points;
@@ -329,9 +329,11 @@ TEST_F(GlTest, CloseViewsDrawFarSlicesAsPointsAndNearOnesAsQuads) {
         s.primitive = SplatSettings::Primitive::Raster;
         s.counters = true;
         r.render(f.plane, s);
-        EXPECT_TRUE(r.stats().points);
-        EXPECT_TRUE(r.stats().quads);
-        EXPECT_STREQ(primitiveName(r.stats()), "points and quads");
+        EXPECT_GT(r.stats().pointSlices, 0);
+        EXPECT_GT(r.stats().quadSlices, 0);
+        EXPECT_EQ(r.stats().pointSlices + r.stats().quadSlices, 24);   // every slice holds visible voxels
+        EXPECT_EQ(primitiveName(r.stats()),
+                  "points and quads (quads in " + std::to_string(r.stats().quadSlices) + " of 24 slices)");
         const Image mixed = r.readback();
         SplatCounters cpu;
         EXPECT_IMAGES_CLOSE(mixed, renderReference(f.scene, f.plane, s, &cpu), kGlVsCpu,
@@ -340,7 +342,7 @@ TEST_F(GlTest, CloseViewsDrawFarSlicesAsPointsAndNearOnesAsQuads) {
 
         s.primitive = SplatSettings::Primitive::Quads;
         r.render(f.plane, s);
-        EXPECT_FALSE(r.stats().points);
+        EXPECT_EQ(r.stats().pointSlices, 0);
         EXPECT_LT(compareImages(r.readback(), mixed).maxAbs, 1e-6);
         s.primitive = SplatSettings::Primitive::Points;
         EXPECT_THROW(r.render(f.plane, s), RenderError);
@@ -360,8 +362,8 @@ TEST_F(GlTest, ElongatedFootprintsTakeQuadsWherePointsWouldWasteFill) {
         r.setScene(f.scene);
         r.render(f.plane, SplatSettings{});
         const bool flat = spacing.x > spacing.z;
-        EXPECT_EQ(r.stats().points, !flat);
-        EXPECT_EQ(r.stats().quads, flat);
+        EXPECT_EQ(r.stats().pointSlices > 0, !flat);
+        EXPECT_EQ(r.stats().quadSlices > 0, flat);
         EXPECT_IMAGES_CLOSE(r.readback(), renderReference(f.scene, f.plane, SplatSettings{}), kGlVsCpu,
                             flat ? "gl_flat_voxels_quads" : "gl_cubic_voxels_points");
         SplatSettings points;

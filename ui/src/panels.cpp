@@ -342,9 +342,12 @@ void drawStatsPanel(const StatsView& stats) {
     drawPassBar(f);
     ImGui::Text("splats  %llu sent (%zu visible)", static_cast<unsigned long long>(f.splatsDrawn),
                 stats.visibleSplats);
-    ImGui::Text("upload  %.1f KiB   %s", double(f.frameUploadBytes) / 1024.0, renderer::primitiveName(f));
+    ImGui::Text("upload  %.1f KiB", double(f.frameUploadBytes) / 1024.0);
     hint("Bytes this frame cost to upload, since the render before it: a TF edit, the 64 KiB table;\n"
          "a turn past a diagonal, that axis's lists; a new scene, all of it; otherwise nothing");
+    ImGui::TextWrapped("drawn as  %s", renderer::primitiveName(f).c_str());
+    hint("Rasterised, each slice takes point sprites where its footprints fit the driver's point size\n"
+         "and are round enough, else two-triangle quads (close up, the near slices)");
     if (f.tileListSplits > 0) {
         textDisabledWrapped("tile lists went again in fewer slices %d times: they did not fit at once", f.tileListSplits);
         hint("A chunk of slices whose tile lists exceed the texel buffer they are read through\n"

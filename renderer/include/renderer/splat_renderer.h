@@ -38,8 +38,8 @@ struct FrameStats {
     uint64_t uploadBytes = 0;    // bytes uploaded to buffers and textures by the last call
     uint64_t frameUploadBytes = 0;   // by the last render and every call since the render before it
                                      // (a TF edit's LUT, a new scene): what the frame shown cost to upload
-    bool points = false;         // rasterised: some slices drew point sprites (their footprints fit)...
-    bool quads = false;          // ...and some two-triangle quads (the others)
+    int pointSlices = 0;         // rasterised: slices drawn as point sprites (their footprints fit)...
+    int quadSlices = 0;          // ...and as two-triangle quads (the others)
     bool tiles = false;          // the frame was tiled splatting (compute passes, no rasteriser)
     int slicesDrawn = 0;         // sheet modes: slices with an active bucket (the rest are skipped)
     bool hasCounters = false;    // SplatSettings::counters was on: `counters` holds the GPU's counts
@@ -53,10 +53,9 @@ struct FrameStats {
                                                     // filter (uniformAdaptiveFilter): that filter drew it
 };
 
-// How the frame's splats reached pixels: "tiles", "point sprites", "quads" or "points and quads".
-inline const char* primitiveName(const FrameStats& f) {
-    return f.tiles ? "tiles" : f.points && f.quads ? "points and quads" : f.points ? "point sprites" : "quads";
-}
+// How the frame's splats reached pixels: "tiles", "point sprites", "quads" or, for a frame that mixed
+// them, "points and quads (quads in 4 of 256 slices)".
+std::string primitiveName(const FrameStats& f);
 
 class SplatRenderer {
 public:
