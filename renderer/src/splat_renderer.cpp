@@ -1567,7 +1567,6 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     std::vector<SliceDraw> sliceDraw(slices, kNothing);
     // Each drawn slice's bound on its footprints' half extent: also how far rasterised sheets reach.
     std::vector<double> sliceBound(slices, std::numeric_limits<double>::infinity());
-    bool anyPoints = false, anyQuads = false;
     if (!tiles) {
         double worst = 0.0;
         for (uint32_t slice = 0; slice < slices; ++slice) {
@@ -1587,9 +1586,8 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                                         settings.filter) <= kPointExcessPx2;
             }
             sliceDraw[slice] = points ? kPoints : kQuads;
-            (sliceDraw[slice] == kPoints ? anyPoints : anyQuads) = true;
         }
-        if (settings.primitive == Primitive::Points && anyQuads)
+        if (settings.primitive == Primitive::Points && std::count(sliceDraw.begin(), sliceDraw.end(), kQuads) > 0)
             throw RenderError("point sprites cannot hold this view's footprints (up to " + std::to_string(worst) +
                               " px half extent, the driver's points reach " + std::to_string(pointFits) + ")");
     }
@@ -1608,7 +1606,8 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         g.lap(std::nullopt);   // the frame's start
     }
     if (settings.counters) glBeginQuery(GL_SAMPLES_PASSED, g.fragmentQuery);
-    const float guard = anyPoints ? float(std::ceil(0.5 * g.maxPointSize) + 1.0) : 0.0f;
+    const int pointSlices = int(std::count(sliceDraw.begin(), sliceDraw.end(), kPoints));
+    const float guard = pointSlices > 0 ? float(std::ceil(0.5 * g.maxPointSize) + 1.0) : 0.0f;
     const Compositing mode = settings.compositing;
     const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
     const bool reversed = ftb && !sheets;   // splat-every-sample, front to back: the exact reverse
@@ -1746,7 +1745,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         g.useProgram(p);
         glBindVertexArray(g.splatVao);
     };
-    if (anyPoints) glEnable(GL_PROGRAM_POINT_SIZE);
+    if (pointSlices > 0) glEnable(GL_PROGRAM_POINT_SIZE);
     const int guardInt = int(guard);
     glViewport(-guardInt, -guardInt, plane.width + 2 * guardInt, plane.height + 2 * guardInt);
     glDisable(GL_CULL_FACE);
@@ -2042,7 +2041,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         glDepthMask(GL_TRUE);
         glDepthFunc(GL_LESS);
     }
-    if (anyPoints) glDisable(GL_PROGRAM_POINT_SIZE);
+    if (pointSlices > 0) glDisable(GL_PROGRAM_POINT_SIZE);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     if (settings.counters) glEndQuery(GL_SAMPLES_PASSED);
     if (timed) {
@@ -2059,7 +2058,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     if (!refused.empty()) return refused;   // found mid-frame: reported once the queries ended
 
     m_stats.splatsDrawn = submitted;
-    m_stats.pointSlices = int(std::count(sliceDraw.begin(), sliceDraw.end(), kPoints));
+    m_stats.pointSlices = pointSlices;
     m_stats.quadSlices = int(std::count(sliceDraw.begin(), sliceDraw.end(), kQuads));
     m_stats.tiles = tiles;
     m_stats.adaptiveAs = settings.filter == FilterMode::Adaptive ? drawnFilter : FilterMode::Adaptive;
