@@ -236,6 +236,29 @@ TEST_F(GlTest, TiledSplattingCoversImagesOfManyTilesAndEmptyFrames) {
     EXPECT_EQ(imageStats(r.readback()).coveredFraction, 0.0);
 }
 
+TEST_F(GlTest, TiledSplattingTakesTheGaussianByRecurrenceOnlyWhereFootprintsHoldTheLowPass) {
+    // The composite takes the Gaussian down a column by recurrence for low-pass and EWA frames (their
+    // conic's c <= 1 bounds the products). Reconstruction-only footprints this far away have a sigma of
+    // 0.06 px (c about 240): started at the tile's first row, the products would under- and overflow,
+    // and the pixels whose centre a splat's ellipse holds would take 0 or NaN instead of the Gaussian.
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(40), ramp());
+    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 20, .elevationDeg = 15, .distance = 24},
+                                            scene.centre, scene.radius, 48, 40);
+    SplatRenderer r;
+    r.setScene(scene);
+    for (auto filter : {FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Ewa}) {
+        const std::string name = std::string("gl_tiles_far_") + filterModeName(filter);
+        SCOPED_TRACE(name);
+        SplatSettings s = tiled(Compositing::SheetFrontToBack);
+        s.filter = filter;
+        s.density = 4.0;
+        r.render(plane, s);
+        const Image cpu = renderReference(scene, plane, s);
+        EXPECT_GT(imageStats(cpu).coveredFraction, 0.01);
+        EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu, name);
+    }
+}
+
 TEST_F(GlTest, TiledSplattingCarriesTheImageAcrossChunksLikeTheCpu) {
     // 72 slices: back to front and X-ray bin them in two chunks (64 at a time), front to back in five
     // (occlusionSlices). The image and heatmap pass from chunk to chunk; X-ray resolves after the last.
