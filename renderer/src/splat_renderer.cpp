@@ -456,6 +456,12 @@ void main() {   // a grid of at most 65535 workgroups walks every splat
 }
 )";
 
+// The footprint's quadratic form at pixel offset (dx, dy) from its centre: e = a dx^2 + 2 b dx dy + c dy^2
+// for conic (a, b, c). One definition for the fragment stage and the tile composite.
+const char* kConicForm = R"(
+float conicForm(vec3 q, float dx, float dy) { return q.x * dx * dx + 2.0 * q.y * dx * dy + q.z * dy * dy; }
+)";
+
 // One workgroup per tile, one invocation per pixel column: slice by slice, each of the column's pixels
 // adds its splats into its sheet, which is composited into the pixel (front to back "under", back to
 // front "over"; X-ray: summed and resolved at the end). Early termination as the rasterised sheets: a
@@ -539,7 +545,7 @@ vec4 composite(vec4 image, vec4 sheet) {
 #ifdef COLUMN_RECURRENCE
 #define COLUMN_START \
     float dy0 = float(y0) + 0.5 - centre.y; \
-    float g = amplitude * exp(-0.5 * (conic.x * dx * dx + 2.0 * conic.y * dx * dy0 + conic.z * dy0 * dy0)); \
+    float g = amplitude * exp(-0.5 * conicForm(conic, dx, dy0)); \
     float h = exp(-(conic.y * dx + conic.z * (dy0 + 0.5))), k = exp(-conic.z);
 #define GAUSSIAN(e) g
 #define COLUMN_STEP g *= h; h *= k;
@@ -550,7 +556,7 @@ vec4 composite(vec4 image, vec4 sheet) {
 #endif
 #define ROW(r) { \
         float dy = float(y0 + r) + 0.5 - centre.y; \
-        float e = conic.x * dx * dx + 2.0 * conic.y * dx * dy + conic.z * dy * dy; \
+        float e = conicForm(conic, dx, dy); \
         float tau = live##r && e <= cutoff2 ? GAUSSIAN(e) : 0.0; \
         COLUMN_STEP \
         SHADE(r) \
@@ -643,7 +649,7 @@ layout(location = 1) out vec4 fragHeat;
 
 void main() {
     vec2 d = vec2(gl_FragCoord.x, uViewport.y - gl_FragCoord.y) - vCentre;   // y down, like the CPU
-    float e = vConic.x * d.x * d.x + 2.0 * vConic.y * d.x * d.y + vConic.z * d.y * d.y;
+    float e = conicForm(vConic, d.x, d.y);
     if (e > uCutoff * uCutoff) discard;
     float tau = vAmplitude * exp(-0.5 * e);
     // 1 - exp(-tau) loses all digits in float for tiny tau; the series is exact to 1e-10 there.
@@ -1141,7 +1147,7 @@ struct SplatRenderer::Gl {
         if (it != splatPrograms.end()) return it->second;
         const std::string header = opaqueTileHeader() + variantDefines(bits);
         const GLuint p = gl::buildProgram("splat", (header + shadingGlsl() + kSplatCommon + kOpaqueTilesRead + kSplatFootprint + kSplatVertMain).c_str(),
-                                          (header + shadingGlsl() + kSplatFragMain).c_str());
+                                          (header + shadingGlsl() + kConicForm + kSplatFragMain).c_str());
         splatPrograms[bits] = p;
         return p;
     }
@@ -1164,7 +1170,7 @@ struct SplatRenderer::Gl {
         else if (pass == kTileOffsets) source = header + kTileOffsetsComp;
         else if (pass == kTileBases) source = header + kTileBasesComp;
         else if (pass == kTileScatter) source = header + kOpaqueTilesRead + kTileScatterComp;
-        else source = header + shadingGlsl() + kTileCompositeCompMain;
+        else source = header + shadingGlsl() + kConicForm + kTileCompositeCompMain;
         const GLuint p = gl::buildComputeProgram("tiled_splatting", source.c_str());
         tilePrograms[key] = p;
         return p;
