@@ -327,6 +327,7 @@ int runEditor(const EditorOptions& options) {
     unsigned texture = 0; // the renderer's display texture; 0 until something was rendered
     int renderWidth = 0, renderHeight = 0;
     bool tfPending = false, renderPending = true, windowChanged = false, tfChanged = false;
+    bool framePending = options.fit;   // --fit, Settings > Camera > Frame or a double-click: framedCamera()
     // The Performance panel: recent renders; back to back: this UI frame follows one that rendered.
     ui::PerfHistory perfHistory;
     std::optional<std::chrono::steady_clock::time_point> lastRenderStart;
@@ -506,6 +507,14 @@ int runEditor(const EditorOptions& options) {
                 comparison.reset();
             }
         }
+        // Framing needs the viewport's aspect, known from the first frame on, and the scene's current LUT.
+        framePending |= settingsChanges.frame || viewport.frame;
+        if (framePending && splats && renderWidth > 0) {
+            framePending = false;
+            state.camera = renderer::framedCamera(state.camera, doc.scene, state.settings, renderWidth, renderHeight,
+                                                  ui::kMinDistance, ui::kMaxDistance);
+            renderPending = true;
+        }
         // Continuous rendering (Performance panel): every frame renders, turning the camera if asked
         // (scripted runs turn by a fixed 1/60 s a frame, so their pictures stay reproducible).
         const bool continuous = state.perf.renderContinuously && state.errorMessage.empty();
@@ -560,7 +569,7 @@ int runEditor(const EditorOptions& options) {
         settingsChanges = {};
         tfChanged = windowChanged = filtersShown = false;
         filtersChanges = {};
-        viewport.cameraChanged = false;
+        viewport.cameraChanged = viewport.frame = false;
         std::vector<std::string> tabsToFront = frame <= 2 ? options.tabs : std::vector<std::string>{};
         if (!g_dropped.empty()) {   // its panel opens it as its button would (and shows its errors)
             tabsToFront.push_back(ui::dropFile(state, g_dropped.front()));
@@ -577,7 +586,8 @@ int runEditor(const EditorOptions& options) {
         tfPending |= tfChanged;
         // Any edit of the view ends a measurement under way and dates the last one.
         const bool viewEdited = settingsChanges.any() || tfChanged || windowChanged || filtersChanges.settingsChanged ||
-                                viewport.cameraChanged || settingsChanges.openVolume || settingsChanges.sessionOpened;
+                                viewport.cameraChanged || settingsChanges.openVolume || settingsChanges.sessionOpened ||
+                                settingsChanges.frame || viewport.frame;
         if (viewEdited) {
             comparison.reset();
             measurementsStale = true;

@@ -13,6 +13,7 @@ struct EditorOptions {
     std::filesystem::path sessionPath;    // non-empty: open this session (after the flags, replacing them)
     std::string tfSpec = "ct-skin-bone";  // preset name or TF JSON file
     renderer::Camera camera;              // the starting view (its `up` is replaced by upAxis)
+    bool fit = false;                     // start framed (--fit): as Settings > Camera > Frame
     std::string upAxis = "z";             // object axis shown upwards: x, y, z, -x, -y, -z (headsq: -z)
     std::filesystem::path screenshotPath; // non-empty: write a PNG of the window after `frames` frames
     std::filesystem::path saveImagePath;  // non-empty: after `frames` frames, save the view (Save image)

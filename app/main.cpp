@@ -185,7 +185,7 @@ struct SceneArgs {
     std::string window = "data";
     std::string session;   // render --session: a saved editor session instead of the flags above
     double kernelScale = SplatSettings{}.kernelScale, density = 1.0;
-    bool orthographic = false;
+    bool orthographic = false, fit = false;
     std::string shading = "none";
     double surfaceFlatten = 1.0, surfaceGradient = SplatSettings{}.surfaceGradient;
     RawFlags raw;
@@ -199,6 +199,8 @@ void addSceneOptions(CLI::App* cmd, SceneArgs& a) {
         ->capture_default_str();
     cmd->add_option("--up", a.up, "Object axis shown upwards: x, y, z, -x, -y, -z (headsq: -z)")->capture_default_str();
     cmd->add_flag("--ortho", a.orthographic, "Parallel projection (framed like the perspective view)");
+    cmd->add_flag("--fit", a.fit, "Replace --camera's distance by the one at which everything the TF shows fills "
+                                  "the image");
     cmd->add_option("--tf", a.tf, "Transfer function: a preset name or a JSON file")->capture_default_str();
     cmd->add_option("--window", a.window,
                     "Values mapped onto the TF: data (min..max), p1-99, or LO,HI in data units")
@@ -224,13 +226,14 @@ struct Scene {
 
 // The volume classified by `tf` over `window`, its gradients when the settings need them, and the view.
 void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFlags& raw, const TransferFunction& tf,
-                 const WindowSettings& window, const Camera& camera, glm::ivec2 size) {
+                 const WindowSettings& window, Camera camera, glm::ivec2 size, bool fit = false) {
     const Volume volume = loadVolume(volumePath, rawOptions(raw));
     s.scene = buildSplatScene(volume, tf, windowFor(volume, window));
     if (needsGradients(s.settings)) {
         std::fprintf(stderr, "gradients\n");
         addGradients(s.scene, *computeGradients(volume, printProgress));
     }
+    if (fit) camera = framedCamera(camera, s.scene, s.settings, size.x, size.y);
     s.plane = makeImagePlane(camera, s.scene.centre, s.scene.radius, size.x, size.y);
 }
 
@@ -270,7 +273,7 @@ Scene buildScene(const SceneArgs& a) {
         throw CLI::ValidationError("--surface-gradient", "must be in [0, 1]");
     s.settings.surfaceFlatten = a.surfaceFlatten;
     s.settings.surfaceGradient = a.surfaceGradient;
-    finishScene(s, a.volume, a.raw, transferFunctionFromSpec(a.tf), parseWindow(a.window), camera, size);
+    finishScene(s, a.volume, a.raw, transferFunctionFromSpec(a.tf), parseWindow(a.window), camera, size, a.fit);
     return s;
 }
 
@@ -511,6 +514,8 @@ int main(int argc, char** argv) {
     editor->add_option("--frames", e.frames, "Exit after this many frames (0: run until closed)");
     editor->add_option("--size", editorSize, "Window size WxH")->capture_default_str();
     editor->add_option("--camera", editorCamera, "Starting view: azimuth,elevation,distance,fov");
+    editor->add_flag("--fit", e.fit, "Start framed: the distance at which everything the TF shows fills the viewport "
+                                     "(Settings > Camera > Frame)");
     editor->add_option("--filter", e.filter, "Starting filter: reconstruction, low-pass, ewa or adaptive")
         ->capture_default_str();
     editor->add_flag("--heatmap", e.heatmap, "Start with the filter-mode heatmap in the viewport");
@@ -529,7 +534,7 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
         if (*render && !r.session.empty())   // what the session sets cannot also come from a flag
-            for (const char* flag : {"--camera", "--up", "--ortho", "--tf", "--window", "--kernel-scale", "--density",
+            for (const char* flag : {"--camera", "--up", "--ortho", "--fit", "--tf", "--window", "--kernel-scale", "--density",
                                      "--shading", "--surface", "--surface-gradient", "--compositing", "--filter",
                                      "--c-min", "--c-max", "--patch-size", "--opaque-alpha", "--opaque-refresh",
                                      "--primitive"})

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace renderer {
 
@@ -47,6 +48,55 @@ ImagePlane makeImagePlane(const Camera& camera, glm::dvec3 centre, double radius
     p.nearDepth = 1e-2 * r;
     p.viewDirObject = forward;
     return p;
+}
+
+Camera frameView(Camera camera, glm::dvec3 centre, double radius, std::span<const glm::dvec3> points, int width,
+                 int height, double margin, double minDistance, double maxDistance) {
+    if (points.empty()) return camera;
+    camera.distance = 1.0;
+    camera.panPx = glm::dvec2(0.0);
+    const ImagePlane p = makeImagePlane(camera, centre, radius, width, height);   // for W and the near plane
+    const double r = std::max(radius, 1e-9), tanY = p.tanHalfFovY;
+    const glm::dvec2 t = (1.0 - margin) * tanY * glm::dvec2(double(width) / height, 1.0);
+    // Relative to the orbit centre a point is v = W (q - centre); at eye distance D, panned by s (object
+    // units in the image plane), its camera position is (v.xy + s, v.z + D). It is inside when
+    // |v.x + s.x| <= t.x (v.z + D) (orthographic, whose view is as wide as the perspective one at the
+    // centre's depth: t.x D), and likewise for y. Some s satisfies every point's bounds once
+    // max(v.x - t.x v.z) - min(v.x + t.x v.z) <= 2 t.x D: the least D.
+    const auto depthTerm = [&](const glm::dvec3& v) { return camera.orthographic ? 0.0 : v.z; };
+    std::vector<glm::dvec3> view;
+    view.reserve(points.size());
+    glm::dvec2 hiLo(-std::numeric_limits<double>::infinity()), loHi(std::numeric_limits<double>::infinity());
+    double eye = minDistance * r;
+    for (const glm::dvec3& q : points) {
+        const glm::dvec3 v = view.emplace_back(p.viewFromObject * (q - centre));
+        hiLo = glm::max(hiLo, glm::dvec2(v) - t * depthTerm(v));
+        loHi = glm::min(loHi, glm::dvec2(v) + t * depthTerm(v));
+        eye = std::max(eye, 2.0 * p.nearDepth - v.z);
+    }
+    eye = std::min(std::max({eye, (hiLo.x - loHi.x) / (2.0 * t.x), (hiLo.y - loHi.y) / (2.0 * t.y)}), maxDistance * r);
+    // s centres the points' image: the sum of their extreme positions, (v + s) / depth, grows with s, from
+    // <= 0 at s = -max v to >= 0 at s = -min v. Bisection finds its zero; that s also leaves the most room
+    // on both sides, so it is inside the bounds above wherever any s is.
+    glm::dvec2 shift(0.0);
+    for (int a = 0; a < 2; ++a) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (const glm::dvec3& v : view) lo = std::min(lo, -v[a]), hi = std::max(hi, -v[a]);
+        for (int i = 0; i < 64; ++i) {
+            const double mid = 0.5 * (lo + hi);
+            double most = -std::numeric_limits<double>::infinity(), least = -most;
+            for (const glm::dvec3& v : view) {
+                const double at = (v[a] + mid) / (camera.orthographic ? 1.0 : v.z + eye);
+                most = std::max(most, at), least = std::min(least, at);
+            }
+            (most + least > 0.0 ? hi : lo) = mid;
+        }
+        shift[a] = 0.5 * (lo + hi);
+    }
+    camera.distance = eye / r;
+    // makeImagePlane pans by panPx pixels of (eye distance tan(fov/2)) / (height / 2) object units each.
+    camera.panPx = eye > 0.0 ? shift * (0.5 * height) / (eye * tanY) : glm::dvec2(0.0);
+    return camera;
 }
 
 glm::dvec3 axisFromName(const std::string& name) {

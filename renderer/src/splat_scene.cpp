@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace renderer {
 
@@ -138,6 +139,29 @@ std::array<bool, kBuckets> activeBuckets(const Lut& lut) {
     std::array<bool, kBuckets> active{};
     for (size_t c = 0; c < lut.size(); ++c) active[c >> kBucketShift] = active[c >> kBucketShift] || lut[c].a > 0.0f;
     return active;
+}
+
+std::vector<glm::dvec3> visibleOutline(const SplatScene& scene, glm::dvec3 reach) {
+    const std::array<bool, kBuckets> active = activeBuckets(scene.lut);
+    std::vector<glm::dvec3> points;
+    // The box lo..hi (voxel indices) grown by reach: its eight corners.
+    const auto addBox = [&](glm::ivec3 lo, glm::ivec3 hi) {
+        const glm::dvec3 a = scene.origin + scene.spacing * glm::dvec3(lo) - reach;
+        const glm::dvec3 b = scene.origin + scene.spacing * glm::dvec3(hi) + reach;
+        for (int c = 0; c < 8; ++c) points.emplace_back((c & 1) ? b.x : a.x, (c & 2) ? b.y : a.y, (c & 4) ? b.z : a.z);
+    };
+    for (const SliceRun& run : scene.lists[0].runs)   // slices along x; in-slice axes y, z
+        if (active[run.bucket] && run.voxels > 0)
+            addBox({int(run.slice), run.lo.x, run.lo.y}, {int(run.slice), run.hi.x, run.hi.y});
+    if (points.empty()) addBox(glm::ivec3(0), scene.dims - 1);
+    return points;
+}
+
+Camera framedCamera(const Camera& camera, const SplatScene& scene, const SplatSettings& settings, int width, int height,
+                    double minDistance, double maxDistance) {
+    const glm::dvec3 reach = settings.cutoffSigmas * settings.kernelScale * scene.spacing;
+    return frameView(camera, scene.centre, scene.radius, visibleOutline(scene, reach), width, height, kFrameMargin,
+                     minDistance, maxDistance);
 }
 
 Traversal chooseTraversal(const ImagePlane& plane) {

@@ -240,6 +240,60 @@ TEST(Cli, EditorSavesTheViewAsRenderDrawsItAndNamesAFileItCannotWrite) {
     EXPECT_THAT(bad.output, HasSubstr(missing));
 }
 
+// The rows and columns holding pixels with alpha over 1/255, as fractions of the image's size.
+struct Covered {
+    int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+};
+Covered coveredBox(const renderer::Image& img) {
+    Covered c;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+            if (img.pixel(x, y)[3] > 1.0f / 255.0f)
+                c.x0 = std::min(c.x0, x), c.y0 = std::min(c.y0, y), c.x1 = std::max(c.x1, x), c.y1 = std::max(c.y1, y);
+    return c;
+}
+
+TEST(Cli, FitFramesEverythingVisibleAndTheEditorFramesAsRenderDoes) {
+    const std::filesystem::path dir = testing_support::testOutputDir();
+    const std::string view = " --up -z --camera 100,-30,6,30 --size 240x160 --compositing sheet-front-to-back --frames 1";
+    const std::filesystem::path far = dir / "cli_far.exr", fit = dir / "cli_fit.exr";
+    ASSERT_EQ(splatlab("render \"" + headsq() + "\"" + view + " -o \"" + far.string() + "\"").status, 0);
+    const CliRun r = splatlab("render \"" + headsq() + "\"" + view + " --fit -o \"" + fit.string() + "\"");
+    ASSERT_EQ(r.status, 0) << r.output;
+    // Far away the head is small; framed it fills the height, up to the margin (5 % of each half size),
+    // and nothing reaches the border.
+    const Covered small = coveredBox(renderer::readImage(far)), framed = coveredBox(renderer::readImage(fit));
+    EXPECT_LT(small.y1 - small.y0, 100);
+    EXPECT_GT(framed.y0, 0);
+    EXPECT_GT(framed.x0, 0);
+    EXPECT_LT(framed.y1, 159);
+    EXPECT_LT(framed.x1, 239);
+    EXPECT_GT(framed.y1 - framed.y0, 136) << "framed, the head should fill the height";
+    EXPECT_LE(std::abs((framed.y0 + framed.y1) - 159), 4) << "and be centred";
+
+    // The editor's --fit (Settings > Camera > Frame) frames its viewport as render does at that size.
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    const std::filesystem::path saved = dir / "editor_fit.exr";
+    const CliRun e = run("LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE
+                         "\" editor \"" + headsq() + "\" --up -z --camera 100,-30,6,30 --fit --frames 4 --save-image \"" +
+                         saved.string() + "\" 2>&1");
+    ASSERT_EQ(e.status, 0) << e.output;
+    const renderer::Image fromEditor = renderer::readImage(saved);
+    const std::filesystem::path image = dir / "render_fit.exr";
+    ASSERT_EQ(splatlab("render \"" + headsq() + "\" --up -z --camera 100,-30,6,30 --fit --size " +
+                       std::to_string(fromEditor.width) + "x" + std::to_string(fromEditor.height) +
+                       " --compositing sheet-front-to-back --frames 1 -o \"" + image.string() + "\"")
+                  .status,
+              0);
+    const renderer::Image fromCli = renderer::readImage(image);
+    ASSERT_EQ(fromCli.rgba.size(), fromEditor.rgba.size());
+    float worst = 0.0f;
+    for (size_t i = 0; i < fromCli.rgba.size(); ++i) worst = std::max(worst, std::abs(fromCli.rgba[i] - fromEditor.rgba[i]));
+    EXPECT_LE(worst, 1e-5f);
+    EXPECT_GT(coveredBox(fromEditor).y1 - coveredBox(fromEditor).y0, int(0.85 * fromEditor.height));
+}
+
 TEST(Cli, RenderOpensASessionAsTheFlagsItStandsForWouldDrawIt) {
     // A view designed in the editor (saved as a session) rendered headless at another size.
     const std::filesystem::path dir = testing_support::testOutputDir("cli_session");

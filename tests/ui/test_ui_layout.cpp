@@ -281,6 +281,41 @@ TEST_F(ImGuiNull, ResetCameraButtonRestoresTheDefaultCamera) {
     EXPECT_EQ(state.camera.distance, renderer::Camera{}.distance);
 }
 
+TEST_F(ImGuiNull, FrameButtonBesideResetAndADoubleClickInTheViewportAskTheAppToFrameTheView) {
+    ui::EditorState state;
+    ui::SettingsChanges changes;
+    ImGuiID resetId = 0, frameId = 0;
+    auto body = [&] {
+        resetId = ImGui::GetID("Reset camera");
+        frameId = ImGui::GetID("Frame");
+        const ui::SettingsChanges c = ui::drawSettingsPanel(state);
+        changes.frame |= c.frame;
+        changes.cameraChanged |= c.cameraChanged;
+    };
+    frame(body);
+    const float y = findItem(resetId, 30.0f, 0.0f, 700.0f, body);
+    ASSERT_GE(y, 0.0f);
+    const float x = findItemInRow(frameId, y, body);
+    ASSERT_GE(x, 0.0f) << "no Frame button beside Reset camera";
+    EXPECT_FALSE(changes.frame);
+    click(x, y, body);
+    EXPECT_TRUE(changes.frame);
+    EXPECT_FALSE(changes.cameraChanged) << "the app frames the camera: it knows the scene and the viewport";
+
+    // In the viewport one click does nothing; a second within ImGui's double-click time frames.
+    const renderer::Camera before = state.camera;
+    bool framed = false;
+    auto viewport = [&] { framed |= ui::drawViewportPanel(state, 0).frame; };
+    mouse(200, 300, false);
+    frame(viewport);
+    click(200, 300, viewport);
+    EXPECT_FALSE(framed);
+    click(200, 300, viewport);
+    EXPECT_TRUE(framed);
+    EXPECT_EQ(state.camera.distance, before.distance);
+    EXPECT_EQ(state.camera.azimuthDeg, before.azimuthDeg);
+}
+
 TEST_F(ImGuiNull, LeftDragInViewportOrbitsByTheStatedGain) {
     ui::EditorState state;
     const double azimuth = state.camera.azimuthDeg;

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <numbers>
 #include <numeric>
+#include <random>
 
 using namespace renderer;
 using ::testing::HasSubstr;
@@ -64,6 +65,108 @@ TEST(Camera, UpAxisNamesParse) {
     EXPECT_EQ(axisFromName("-z"), glm::dvec3(0, 0, -1));
     EXPECT_EQ(axisFromName("+y"), glm::dvec3(0, 1, 0));
     EXPECT_THROW(axisFromName("w"), RenderError);
+}
+
+// Where frameView() put each point: the largest of |pixel - centre| / (half size), over the points and
+// both image axes, and the nearest depth. Framed: at most 1 - margin, and beyond the near plane.
+struct Framed {
+    double extent = 0.0, nearest = std::numeric_limits<double>::infinity();
+    glm::dvec2 lo{std::numeric_limits<double>::infinity()}, hi{-std::numeric_limits<double>::infinity()};
+};
+Framed placed(const Camera& c, glm::dvec3 centre, double radius, const std::vector<glm::dvec3>& points, int w, int h) {
+    const ImagePlane p = makeImagePlane(c, centre, radius, w, h);
+    Framed f;
+    for (const glm::dvec3& q : points) {
+        const glm::dvec3 u = p.toCamera(q);
+        const glm::dvec2 at = (p.project(u) - p.centrePx) / (0.5 * glm::dvec2(w, h));
+        f.extent = std::max({f.extent, std::abs(at.x), std::abs(at.y)});
+        f.nearest = std::min(f.nearest, u.z);
+        f.lo = glm::min(f.lo, at);
+        f.hi = glm::max(f.hi, at);
+    }
+    return f;
+}
+
+TEST(Camera, FrameViewFitsEveryPointInsideTheMarginAtTheLeastDistance) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    const double margin = 0.05;
+    for (int trial = 0; trial < 200; ++trial) {
+        const glm::dvec3 centre(u01(rng) * 10, u01(rng) * 10, u01(rng) * 10);
+        // An elongated, off-centre cloud: the pan has to centre it.
+        const glm::dvec3 size(1 + u01(rng) * 9, 1 + u01(rng) * 3, 1 + u01(rng) * 20), shift(u01(rng) * 4 - 2, 1, 0);
+        std::vector<glm::dvec3> points;
+        for (int i = 0; i < 20; ++i)
+            points.push_back(centre + shift + size * glm::dvec3(u01(rng) - 0.5, u01(rng) - 0.5, u01(rng) - 0.5));
+        Camera c{u01(rng) * 360 - 180, u01(rng) * 170 - 85, 9.0, 10 + u01(rng) * 80, {13, -4},
+                 trial % 3 == 0 ? glm::dvec3(0, 0, -1) : glm::dvec3(0, 1, 0), trial % 4 == 0};
+        const int w = 64 + int(u01(rng) * 600), h = 64 + int(u01(rng) * 600);
+        const double radius = glm::length(size);
+        const Camera framed = frameView(c, centre, radius, points, w, h, margin, 0.0, 1e9);
+        SCOPED_TRACE("trial " + std::to_string(trial));
+        EXPECT_EQ(framed.azimuthDeg, c.azimuthDeg);
+        EXPECT_EQ(framed.fovYDeg, c.fovYDeg);
+        const Framed f = placed(framed, centre, radius, points, w, h);
+        EXPECT_GT(f.nearest, makeImagePlane(framed, centre, radius, w, h).nearDepth);
+        const bool nearBound = f.nearest <= 2.0 * makeImagePlane(framed, centre, radius, w, h).nearDepth * (1 + 1e-9);
+        // Inside, and touching: nearer would push a point out (unless the near plane set the distance).
+        EXPECT_LE(f.extent, 1.0 - margin + 1e-9);
+        if (!nearBound) {
+            EXPECT_NEAR(f.extent, 1.0 - margin, 1e-9);
+            // Centred along the axis that set the distance: its extremes touch both edges.
+            const bool alongX = std::abs(std::max(-f.lo.x, f.hi.x) - (1.0 - margin)) < 1e-9;
+            const int axis = alongX ? 0 : 1;
+            EXPECT_NEAR(-f.lo[axis], f.hi[axis], 1e-8);
+        }
+    }
+}
+
+TEST(Camera, FrameViewKeepsTheDistanceWithinItsLimitsAndCentresWhatItFrames) {
+    const glm::dvec3 centre(0.0);
+    const std::vector<glm::dvec3> small{{0.1, 0.2, 0.3}, {0.2, 0.25, 0.35}};   // off-centre and tiny
+    for (bool ortho : {false, true}) {
+        const Camera c{30, 20, 2.5, 30, {0, 0}, {0, 0, 1}, ortho};
+        const Camera near = frameView(c, centre, 1.0, small, 200, 100, 0.05, 1.05, 20.0);
+        EXPECT_DOUBLE_EQ(near.distance, 1.05);
+        Framed f = placed(near, centre, 1.0, small, 200, 100);
+        EXPECT_LT(f.extent, 0.5);
+        EXPECT_NEAR(f.lo.x + f.hi.x, 0.0, 1e-9);   // the pan centres them
+        EXPECT_NEAR(f.lo.y + f.hi.y, 0.0, 1e-9);
+        const std::vector<glm::dvec3> huge{{-500, 0, 0}, {500, 0, 0}};
+        EXPECT_DOUBLE_EQ(frameView(c, centre, 1.0, huge, 200, 100, 0.05, 1.05, 20.0).distance, 20.0);
+        EXPECT_EQ(frameView(c, centre, 1.0, {}, 200, 100, 0.05, 1.05, 20.0).distance, c.distance);
+    }
+}
+
+TEST(SplatScene, VisibleOutlineHoldsTheVoxelsTheLutShowsAndOnlyTheirBuckets) {
+    Volume v;
+    v.name = "block";
+    v.dims = {9, 10, 11};
+    v.spacing = {0.5, 1.0, 2.0};
+    v.origin = {1.0, -2.0, 3.0};
+    v.range = {0.0f, 1.0f};
+    v.values.assign(size_t(9 * 10 * 11), 0.0f);
+    for (int z = 4; z <= 6; ++z)
+        for (int y = 2; y <= 7; ++y)
+            for (int x = 3; x <= 5; ++x) v.values[size_t(x + 9 * (y + 10 * z))] = (x + y + z) % 2 ? 1.0f : 0.7f;
+    v.values[size_t(8 + 9 * (9 + 10 * 10))] = 0.2f;   // a far corner, shown only by the second TF
+    const TransferFunction above = {"above", {{0.0, {1, 1, 1}, 0.0}, {0.5, {1, 1, 1}, 0.0}, {0.6, {1, 1, 1}, 1.0},
+                                              {1.0, {1, 1, 1}, 1.0}}};
+    SplatScene scene = buildSplatScene(v, above);
+    auto box = [](const std::vector<glm::dvec3>& points) {
+        std::pair<glm::dvec3, glm::dvec3> b{glm::dvec3(1e30), glm::dvec3(-1e30)};
+        for (const glm::dvec3& p : points) b = {glm::min(b.first, p), glm::max(b.second, p)};
+        return b;
+    };
+    const auto shown = box(visibleOutline(scene));
+    EXPECT_EQ(shown.first, v.origin + v.spacing * glm::dvec3(3, 2, 4));
+    EXPECT_EQ(shown.second, v.origin + v.spacing * glm::dvec3(5, 7, 6));
+    setTransferFunction(scene, flat(0.5));
+    EXPECT_EQ(box(visibleOutline(scene)).second, v.origin + v.spacing * glm::dvec3(8, 9, 10));
+    setTransferFunction(scene, flat(0.0));   // nothing visible: the whole grid
+    const auto all = box(visibleOutline(scene));
+    EXPECT_EQ(all.first, v.origin);
+    EXPECT_EQ(all.second, v.origin + v.spacing * glm::dvec3(8, 9, 10));
 }
 
 TEST(TransferFunction, LutInterpolatesControlPoints) {

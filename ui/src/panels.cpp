@@ -207,6 +207,10 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
         state.camera = reset;
         changes.cameraChanged = true;
     }
+    ImGui::SameLine();
+    changes.frame = ImGui::Button("Frame");
+    hint("Frame: move the camera along its line of sight until everything the transfer function shows fills\n"
+         "the viewport (the pan is reset). A double-click in the viewport does the same");
     const renderer::Camera& c = state.camera;
     ImGui::TextDisabled("azimuth %.1f  elevation %.1f  distance %.2f", c.azimuthDeg, c.elevationDeg,
                         c.distance);
@@ -271,6 +275,7 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
 
     ViewportResult result;
     result.cameraChanged = applyOrbitInput(state.camera, input);
+    result.frame = ImGui::IsItemHovered() && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left);
     result.widthPx = std::max(1, int(std::lround(extent.x * io.DisplayFramebufferScale.x)));
     result.heightPx = std::max(1, int(std::lround(extent.y * io.DisplayFramebufferScale.y)));
 
@@ -389,6 +394,7 @@ void drawHelpPanel() {
     ImGui::BulletText("Left drag in the viewport: orbit");
     ImGui::BulletText("Right or middle drag: pan");
     ImGui::BulletText("Wheel: zoom (distance %.2f to %.0f bounding radii)", kMinDistance, kMaxDistance);
+    ImGui::BulletText("Double-click: frame everything visible (Settings > Camera > Frame)");
     ImGui::BulletText("Drag the bars between regions to resize them");
     ImGui::BulletText("Transfer function curve: drag a point, click empty space to add one, right-click to remove");
     ImGui::BulletText("3D mouse: twist to orbit, tilt to look from above or below, push or pull to zoom, slide to pan");

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <span>
 #include <string>
 
 namespace renderer {
@@ -62,5 +63,12 @@ struct ImagePlane {
 
 // `centre` is the orbit centre and `radius` the bounding radius, both in object units.
 ImagePlane makeImagePlane(const Camera& camera, glm::dvec3 centre, double radius, int width, int height);
+
+// `camera` moved so that every point of `points` (object space) lies inside the image less `margin` of
+// each half size, and beyond the near plane: its direction, field of view, up and projection stay; its
+// distance (within minDistance .. maxDistance radii) becomes the least that allows it, and its pan centres
+// the points' extent. An empty `points` changes nothing.
+Camera frameView(Camera camera, glm::dvec3 centre, double radius, std::span<const glm::dvec3> points, int width,
+                 int height, double margin, double minDistance, double maxDistance);
 
 } // namespace renderer

@@ -6,11 +6,13 @@
 #pragma once
 #include "renderer/camera.h"
 #include "renderer/gradients.h"
+#include "renderer/splat_settings.h"
 #include "renderer/transfer_function.h"
 #include "renderer/volume.h"
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -83,6 +85,19 @@ void setTransferFunction(SplatScene& scene, const TransferFunction& tf);
 
 // Buckets holding at least one class with opacity > 0: the only ones drawn.
 std::array<bool, kBuckets> activeBuckets(const Lut& lut);
+
+// Points whose convex hull holds every voxel centre the LUT can show, each grown by `reach` (object units
+// per axis): the corners of each active bucket's in-slice bounds (SliceRun::lo, hi) in every slice along
+// x. Bucket by bucket, so the hull can hold transparent voxels of a bucket with visible classes. The
+// grid's corners when nothing is visible.
+std::vector<glm::dvec3> visibleOutline(const SplatScene& scene, glm::dvec3 reach = glm::dvec3(0.0));
+
+// How much of each half size of the image a framed view leaves free around what it frames.
+constexpr double kFrameMargin = 0.05;
+// frameView() of visibleOutline(), grown by the kernels' cutoff: the view along `camera`'s line of sight
+// that shows everything visible, as large as a width x height image allows.
+Camera framedCamera(const Camera& camera, const SplatScene& scene, const SplatSettings& settings, int width, int height,
+                    double minDistance = 0.0, double maxDistance = std::numeric_limits<double>::infinity());
 
 // Splat-every-sample draws along the object axis most parallel to the view, far slices first.
 struct Traversal {

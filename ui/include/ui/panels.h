@@ -29,6 +29,7 @@ struct SettingsChanges {
     bool sessionOpened = false;
     std::filesystem::path sessionVolume;
     bool saveImage = false;       // "Save image": the app writes the view shown to state.imageFile
+    bool frame = false;           // "Frame": the app moves the camera to renderer::framedCamera()
     bool any() const { return settingsChanged || cameraChanged; }
 };
 
@@ -99,6 +100,7 @@ bool applyOrbitInput(renderer::Camera& camera, const OrbitInput& input);
 struct ViewportResult {
     int widthPx = 0, heightPx = 0; // framebuffer pixels the panel shows: render at this size
     bool cameraChanged = false;
+    bool frame = false;            // a left double-click: frame the view, as Settings > Camera > Frame
 };
 
 // Shows `texture` (a GL texture name, 0 for none) stretched over the panel's whole content region;
