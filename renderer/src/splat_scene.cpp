@@ -150,9 +150,16 @@ std::vector<glm::dvec3> visibleOutline(const SplatScene& scene, glm::dvec3 reach
         const glm::dvec3 b = scene.origin + scene.spacing * glm::dvec3(hi) + reach;
         for (int c = 0; c < 8; ++c) points.emplace_back((c & 1) ? b.x : a.x, (c & 2) ? b.y : a.y, (c & 4) ? b.z : a.z);
     };
-    for (const SliceRun& run : scene.lists[0].runs)   // slices along x; in-slice axes y, z
-        if (active[run.bucket] && run.voxels > 0)
-            addBox({int(run.slice), run.lo.x, run.lo.y}, {int(run.slice), run.hi.x, run.hi.y});
+    const AxisLists& lists = scene.lists[0];   // slices along x; in-slice axes y, z
+    for (int x = 0; x < scene.dims.x; ++x) {       // a box per slice: the union of its active buckets'
+        glm::ivec2 lo(std::numeric_limits<int>::max()), hi(-1);
+        for (uint32_t r = lists.sliceRuns[size_t(x)]; r < lists.sliceRuns[size_t(x) + 1]; ++r) {
+            const SliceRun& run = lists.runs[r];
+            if (!active[run.bucket] || run.voxels == 0) continue;
+            lo = glm::min(lo, glm::ivec2(run.lo)), hi = glm::max(hi, glm::ivec2(run.hi));
+        }
+        if (hi.x >= 0) addBox({x, lo.x, lo.y}, {x, hi.x, hi.y});
+    }
     if (points.empty()) addBox(glm::ivec3(0), scene.dims - 1);
     return points;
 }

@@ -86,10 +86,10 @@ void setTransferFunction(SplatScene& scene, const TransferFunction& tf);
 // Buckets holding at least one class with opacity > 0: the only ones drawn.
 std::array<bool, kBuckets> activeBuckets(const Lut& lut);
 
-// Points whose convex hull holds every voxel centre the LUT can show, each grown by `reach` (object units
-// per axis): the corners of each active bucket's in-slice bounds (SliceRun::lo, hi) in every slice along
-// x. Bucket by bucket, so the hull can hold transparent voxels of a bucket with visible classes. The
-// grid's corners when nothing is visible.
+// Points whose convex hull holds every voxel centre the LUT can show, grown by `reach` (object units per
+// axis): the corners of each slice along x's box around its active buckets' bounds (SliceRun::lo, hi).
+// Bucket by bucket, so the hull can hold transparent voxels of a bucket with visible classes. The grid's
+// corners when nothing is visible.
 std::vector<glm::dvec3> visibleOutline(const SplatScene& scene, glm::dvec3 reach = glm::dvec3(0.0));
 
 // How much of each half size of the image a framed view leaves free around what it frames.
