@@ -52,7 +52,7 @@ ImagePlane makeImagePlane(const Camera& camera, glm::dvec3 centre, double radius
 
 Camera frameView(Camera camera, glm::dvec3 centre, double radius, std::span<const glm::dvec3> points, int width,
                  int height, double margin, double minDistance, double maxDistance) {
-    if (points.empty()) return camera;
+    if (points.empty() || width <= 0 || height <= 0) return camera;
     camera.distance = 1.0;
     camera.panPx = glm::dvec2(0.0);
     const ImagePlane p = makeImagePlane(camera, centre, radius, width, height);   // for W and the near plane

@@ -135,6 +135,7 @@ TEST(Camera, FrameViewKeepsTheDistanceWithinItsLimitsAndCentresWhatItFrames) {
         const std::vector<glm::dvec3> huge{{-500, 0, 0}, {500, 0, 0}};
         EXPECT_DOUBLE_EQ(frameView(c, centre, 1.0, huge, 200, 100, 0.05, 1.05, 20.0).distance, 20.0);
         EXPECT_EQ(frameView(c, centre, 1.0, {}, 200, 100, 0.05, 1.05, 20.0).distance, c.distance);
+        EXPECT_EQ(frameView(c, centre, 1.0, huge, 0, 100, 0.05, 1.05, 20.0).distance, c.distance);
     }
 }
 

@@ -67,7 +67,7 @@ ImagePlane makeImagePlane(const Camera& camera, glm::dvec3 centre, double radius
 // `camera` moved so that every point of `points` (object space) lies inside the image less `margin` of
 // each half size, and beyond the near plane: its direction, field of view, up and projection stay; its
 // distance (within minDistance .. maxDistance radii) becomes the least that allows it, and its pan centres
-// the points' extent. An empty `points` changes nothing.
+// the points' extent. An empty `points` or image changes nothing.
 Camera frameView(Camera camera, glm::dvec3 centre, double radius, std::span<const glm::dvec3> points, int width,
                  int height, double margin, double minDistance, double maxDistance);
 
