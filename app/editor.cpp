@@ -508,8 +508,8 @@ int runEditor(const EditorOptions& options) {
             }
         }
         // Framing needs the viewport's aspect, known from the first frame on, and the scene's current LUT.
-        framePending |= settingsChanges.frame || viewport.frame;
-        if (framePending && splats && renderWidth > 0) {
+        framePending = (framePending || settingsChanges.frame || viewport.frame) && splats;   // none: nothing to frame
+        if (framePending && renderWidth > 0) {
             framePending = false;
             state.camera = renderer::framedCamera(state.camera, doc.scene, state.settings, renderWidth, renderHeight,
                                                   ui::kMinDistance, ui::kMaxDistance);
