@@ -199,8 +199,8 @@ void addSceneOptions(CLI::App* cmd, SceneArgs& a) {
         ->capture_default_str();
     cmd->add_option("--up", a.up, "Object axis shown upwards: x, y, z, -x, -y, -z (headsq: -z)")->capture_default_str();
     cmd->add_flag("--ortho", a.orthographic, "Parallel projection (framed like the perspective view)");
-    cmd->add_flag("--fit", a.fit, "Replace --camera's distance by the one at which everything the TF shows fills "
-                                  "the image");
+    cmd->add_flag("--fit", a.fit, "Move the camera along its line of sight, and pan, until everything the TF shows "
+                                  "fills the image");
     cmd->add_option("--tf", a.tf, "Transfer function: a preset name or a JSON file")->capture_default_str();
     cmd->add_option("--window", a.window,
                     "Values mapped onto the TF: data (min..max), p1-99, or LO,HI in data units")
@@ -514,7 +514,7 @@ int main(int argc, char** argv) {
     editor->add_option("--frames", e.frames, "Exit after this many frames (0: run until closed)");
     editor->add_option("--size", editorSize, "Window size WxH")->capture_default_str();
     editor->add_option("--camera", editorCamera, "Starting view: azimuth,elevation,distance,fov");
-    editor->add_flag("--fit", e.fit, "Start framed: the distance at which everything the TF shows fills the viewport "
+    editor->add_flag("--fit", e.fit, "Start framed: everything the TF shows fills the viewport, centred "
                                      "(Settings > Camera > Frame)");
     editor->add_option("--filter", e.filter, "Starting filter: reconstruction, low-pass, ewa or adaptive")
         ->capture_default_str();

@@ -209,8 +209,8 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     }
     ImGui::SameLine();
     changes.frame = ImGui::Button("Frame");
-    hint("Frame: move the camera along its line of sight until everything the transfer function shows fills\n"
-         "the viewport (the pan is reset). A double-click in the viewport does the same");
+    hint("Frame: move the camera along its line of sight, and pan, until everything the transfer function\n"
+         "shows fills the viewport, centred. A double-click in the viewport does the same");
     const renderer::Camera& c = state.camera;
     ImGui::TextDisabled("azimuth %.1f  elevation %.1f  distance %.2f", c.azimuthDeg, c.elevationDeg,
                         c.distance);
