@@ -42,6 +42,24 @@ CliRun splatlab(const std::string& args) {
     return run("env -u DISPLAY LIBGL_ALWAYS_SOFTWARE=1 \"" SPLATLAB_EXE "\" " + args + " 2>&1");
 }
 
+// Two renders of one view front to back: the largest difference at pixels under the early-termination
+// opacity, and at pixels over it in both. Whether such a pixel's alpha has reached the threshold at a
+// refresh can turn on the order of a tile's splats within a slice, which varies from run to run; one
+// run then stops a refresh before the other, and the pixel differs by what it would still take: at most
+// 1 - threshold.
+struct Difference {
+    float elsewhere = 0.0f, atOpaque = 0.0f;
+};
+Difference worstDifference(const renderer::Image& a, const renderer::Image& b, float opaqueAlpha = 0.998f) {
+    Difference d;
+    for (size_t p = 0; p + 3 < a.rgba.size() && p + 3 < b.rgba.size(); p += 4) {
+        const bool opaque = std::min(a.rgba[p + 3], b.rgba[p + 3]) >= opaqueAlpha;
+        float& worst = opaque ? d.atOpaque : d.elsewhere;
+        for (size_t c = p; c < p + 4; ++c) worst = std::max(worst, std::abs(a.rgba[c] - b.rgba[c]));
+    }
+    return d;
+}
+
 std::string headsq() { return (testing_support::assetDir() / "volumes" / "headsq.nhdr").string(); }
 
 } // namespace
@@ -97,10 +115,9 @@ TEST(Cli, TiledSplattingRendersTheSameImageAsTheRasteriser) {
         }
         images[tiles] = renderer::readImage(out);
     }
-    double worst = 0.0;
-    for (size_t i = 0; i < images[0].rgba.size(); ++i)
-        worst = std::max(worst, double(std::abs(images[0].rgba[i] - images[1].rgba[i])));
-    EXPECT_LT(worst, 1e-4);
+    const Difference d = worstDifference(images[0], images[1]);
+    EXPECT_LT(d.elsewhere, 1e-4);
+    EXPECT_LE(d.atOpaque, 2e-3f);
     EXPECT_GT(renderer::imageStats(images[1]).coveredFraction, 0.2);
 }
 
@@ -230,9 +247,9 @@ TEST(Cli, EditorSavesTheViewAsRenderDrawsItAndNamesAFileItCannotWrite) {
         ASSERT_EQ(r.status, 0) << r.output;
         const renderer::Image fromCli = renderer::readImage(heatmap ? heat : image);
         ASSERT_EQ(fromCli.rgba.size(), fromEditor.rgba.size());
-        float worst = 0.0f;
-        for (size_t i = 0; i < fromCli.rgba.size(); ++i) worst = std::max(worst, std::abs(fromCli.rgba[i] - fromEditor.rgba[i]));
-        EXPECT_LE(worst, 1e-5f) << (heatmap ? "heatmap" : "image");
+        const Difference d = worstDifference(fromCli, fromEditor);
+        EXPECT_LE(d.elsewhere, 1e-5f) << (heatmap ? "heatmap" : "image");
+        EXPECT_LE(d.atOpaque, 2e-3f) << (heatmap ? "heatmap" : "image");
     }
     const std::string missing = (dir / "no_such_folder" / "view.png").string();
     const CliRun bad = run(editor + "--save-image \"" + missing + "\" 2>&1");
@@ -271,29 +288,26 @@ TEST(Cli, FitFramesEverythingVisibleAndTheEditorFramesAsRenderDoes) {
     EXPECT_GT(framed.y1 - framed.y0, 136) << "framed, the head should fill the height";
     EXPECT_LE(std::abs((framed.y0 + framed.y1) - 159), 4) << "and be centred";
 
-    // The editor's --fit (Settings > Camera > Frame) frames its viewport as render does at that size. Back to
-    // front: with early termination, a pixel near the opacity threshold may stop a splat earlier in one
-    // run than in the other, as the order of a tile's splats within a slice varies.
+    // The editor's --fit (Settings > Camera > Frame) frames its viewport as render does at that size.
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
     const std::filesystem::path saved = dir / "editor_fit.exr";
     const CliRun e = run("LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE
-                         "\" editor \"" + headsq() + "\" --up -z --camera 100,-30,6,30 --fit --compositing sheet-back-to-front "
-                         "--frames 4 --save-image \"" +
+                         "\" editor \"" + headsq() + "\" --up -z --camera 100,-30,6,30 --fit --frames 4 --save-image \"" +
                          saved.string() + "\" 2>&1");
     ASSERT_EQ(e.status, 0) << e.output;
     const renderer::Image fromEditor = renderer::readImage(saved);
     const std::filesystem::path image = dir / "render_fit.exr";
     ASSERT_EQ(splatlab("render \"" + headsq() + "\" --up -z --camera 100,-30,6,30 --fit --size " +
                        std::to_string(fromEditor.width) + "x" + std::to_string(fromEditor.height) +
-                       " --compositing sheet-back-to-front --frames 1 -o \"" + image.string() + "\"")
+                       " --compositing sheet-front-to-back --frames 1 -o \"" + image.string() + "\"")
                   .status,
               0);
     const renderer::Image fromCli = renderer::readImage(image);
     ASSERT_EQ(fromCli.rgba.size(), fromEditor.rgba.size());
-    float worst = 0.0f;
-    for (size_t i = 0; i < fromCli.rgba.size(); ++i) worst = std::max(worst, std::abs(fromCli.rgba[i] - fromEditor.rgba[i]));
-    EXPECT_LE(worst, 1e-5f);
+    const Difference d = worstDifference(fromCli, fromEditor);
+    EXPECT_LE(d.elsewhere, 1e-5f);
+    EXPECT_LE(d.atOpaque, 2e-3f);
     EXPECT_GT(coveredBox(fromEditor).y1 - coveredBox(fromEditor).y0, int(0.85 * fromEditor.height));
 }
 
@@ -326,9 +340,9 @@ TEST(Cli, RenderOpensASessionAsTheFlagsItStandsForWouldDrawIt) {
     const renderer::Image a = renderer::readImage(dir / "session.exr"), b = renderer::readImage(dir / "flags.exr");
     ASSERT_EQ(a.width, 160);
     ASSERT_EQ(a.rgba.size(), b.rgba.size());
-    float worst = 0.0f;
-    for (size_t i = 0; i < a.rgba.size(); ++i) worst = std::max(worst, std::abs(a.rgba[i] - b.rgba[i]));
-    EXPECT_LE(worst, 1e-6f);
+    const Difference d = worstDifference(a, b);
+    EXPECT_LE(d.elsewhere, 1e-6f);
+    EXPECT_LE(d.atOpaque, 2e-3f);
     EXPECT_GT(renderer::imageStats(a).coveredFraction, 0.2);
 
     // A PNG goes over the session's background, as the editor shows it.
