@@ -64,4 +64,14 @@ Comparison compareImages(const renderer::Image& a, const renderer::Image& e, con
     return ::testing::AssertionFailure() << msg.str();
 }
 
+RenderDifference renderDifference(const renderer::Image& a, const renderer::Image& b, float opaqueAlpha) {
+    RenderDifference d;
+    for (size_t p = 0; p + 3 < a.rgba.size() && p + 3 < b.rgba.size(); p += 4) {
+        const bool opaque = std::min(a.rgba[p + 3], b.rgba[p + 3]) >= opaqueAlpha;
+        float& worst = opaque ? d.atOpaque : d.elsewhere;
+        for (size_t c = p; c < p + 4; ++c) worst = std::max(worst, std::abs(a.rgba[c] - b.rgba[c]));
+    }
+    return d;
+}
+
 } // namespace testing_support

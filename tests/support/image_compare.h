@@ -4,6 +4,7 @@
 // too, so slow drift is caught. On failure it writes actual, expected and an amplified diff.
 #pragma once
 #include "renderer/image.h"
+#include "renderer/splat_settings.h"
 
 #include <gtest/gtest.h>
 
@@ -30,6 +31,17 @@ Comparison compareImages(const renderer::Image& actual, const renderer::Image& e
 // gtest assertion: ::testing::AssertionResult so the message lands in the test log.
 ::testing::AssertionResult imagesClose(const renderer::Image& actual, const renderer::Image& expected,
                                        const Tolerance& tol, const std::string& name);
+
+// Two renders of one view front to back: the largest channel difference at pixels under the
+// early-termination opacity, and at pixels over it in both. Whether such a pixel's alpha has reached the
+// threshold at a refresh can turn on the order of a tile's splats within a slice, which varies from run
+// to run; one run then stops a refresh before the other, and the pixel differs by what it would still
+// take: at most 1 - threshold.
+struct RenderDifference {
+    float elsewhere = 0.0f, atOpaque = 0.0f;
+};
+RenderDifference renderDifference(const renderer::Image& a, const renderer::Image& b,
+                                  float opaqueAlpha = float(renderer::SplatSettings{}.opaqueAlpha));
 
 } // namespace testing_support
 

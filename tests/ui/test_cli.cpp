@@ -1,5 +1,6 @@
 // The command line as a user meets it: `render` writes a picture without an X server, `info` reports
 // the volume, `accuracy` writes its report, and mistakes get one clear line on stderr and a non-zero exit.
+#include "image_compare.h"
 #include "renderer/image.h"
 #include "test_paths.h"
 #include "ui/session.h"
@@ -40,24 +41,6 @@ CliRun run(const std::string& command) {
 CliRun splatlab(const std::string& args) {
     // No DISPLAY: render and info must not need an X server.
     return run("env -u DISPLAY LIBGL_ALWAYS_SOFTWARE=1 \"" SPLATLAB_EXE "\" " + args + " 2>&1");
-}
-
-// Two renders of one view front to back: the largest difference at pixels under the early-termination
-// opacity, and at pixels over it in both. Whether such a pixel's alpha has reached the threshold at a
-// refresh can turn on the order of a tile's splats within a slice, which varies from run to run; one
-// run then stops a refresh before the other, and the pixel differs by what it would still take: at most
-// 1 - threshold.
-struct Difference {
-    float elsewhere = 0.0f, atOpaque = 0.0f;
-};
-Difference worstDifference(const renderer::Image& a, const renderer::Image& b, float opaqueAlpha = 0.998f) {
-    Difference d;
-    for (size_t p = 0; p + 3 < a.rgba.size() && p + 3 < b.rgba.size(); p += 4) {
-        const bool opaque = std::min(a.rgba[p + 3], b.rgba[p + 3]) >= opaqueAlpha;
-        float& worst = opaque ? d.atOpaque : d.elsewhere;
-        for (size_t c = p; c < p + 4; ++c) worst = std::max(worst, std::abs(a.rgba[c] - b.rgba[c]));
-    }
-    return d;
 }
 
 std::string headsq() { return (testing_support::assetDir() / "volumes" / "headsq.nhdr").string(); }
@@ -115,7 +98,7 @@ TEST(Cli, TiledSplattingRendersTheSameImageAsTheRasteriser) {
         }
         images[tiles] = renderer::readImage(out);
     }
-    const Difference d = worstDifference(images[0], images[1]);
+    const auto d = testing_support::renderDifference(images[0], images[1]);
     EXPECT_LT(d.elsewhere, 1e-4);
     EXPECT_LE(d.atOpaque, 2e-3f);
     EXPECT_GT(renderer::imageStats(images[1]).coveredFraction, 0.2);
@@ -247,7 +230,7 @@ TEST(Cli, EditorSavesTheViewAsRenderDrawsItAndNamesAFileItCannotWrite) {
         ASSERT_EQ(r.status, 0) << r.output;
         const renderer::Image fromCli = renderer::readImage(heatmap ? heat : image);
         ASSERT_EQ(fromCli.rgba.size(), fromEditor.rgba.size());
-        const Difference d = worstDifference(fromCli, fromEditor);
+        const auto d = testing_support::renderDifference(fromCli, fromEditor);
         EXPECT_LE(d.elsewhere, 1e-5f) << (heatmap ? "heatmap" : "image");
         EXPECT_LE(d.atOpaque, 2e-3f) << (heatmap ? "heatmap" : "image");
     }
@@ -305,7 +288,7 @@ TEST(Cli, FitFramesEverythingVisibleAndTheEditorFramesAsRenderDoes) {
               0);
     const renderer::Image fromCli = renderer::readImage(image);
     ASSERT_EQ(fromCli.rgba.size(), fromEditor.rgba.size());
-    const Difference d = worstDifference(fromCli, fromEditor);
+    const auto d = testing_support::renderDifference(fromCli, fromEditor);
     EXPECT_LE(d.elsewhere, 1e-5f);
     EXPECT_LE(d.atOpaque, 2e-3f);
     EXPECT_GT(coveredBox(fromEditor).y1 - coveredBox(fromEditor).y0, int(0.85 * fromEditor.height));
@@ -340,7 +323,7 @@ TEST(Cli, RenderOpensASessionAsTheFlagsItStandsForWouldDrawIt) {
     const renderer::Image a = renderer::readImage(dir / "session.exr"), b = renderer::readImage(dir / "flags.exr");
     ASSERT_EQ(a.width, 160);
     ASSERT_EQ(a.rgba.size(), b.rgba.size());
-    const Difference d = worstDifference(a, b);
+    const auto d = testing_support::renderDifference(a, b);
     EXPECT_LE(d.elsewhere, 1e-6f);
     EXPECT_LE(d.atOpaque, 2e-3f);
     EXPECT_GT(renderer::imageStats(a).coveredFraction, 0.2);
