@@ -1633,7 +1633,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     m_stats.frame = ++g.renders;
     g.firstUses = 0;
     const size_t slot = size_t(g.timerNext);
-    const bool timed = !g.timerPending[slot];   // ring full of unfinished frames: skip, never stall
+    const bool timed = m_stats.timed = !g.timerPending[slot];   // ring full of unfinished frames: skip, never stall
     if (timed) {
         g.timing = &g.laps[slot];
         g.timing->used = 0;

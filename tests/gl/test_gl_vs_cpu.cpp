@@ -83,8 +83,8 @@ TEST_F(GlTest, BundledHeadsqMatchesCpu) {
     const Volume v = loadVolume(testing_support::assetDir() / "volumes" / "headsq.nhdr");
     const Case c = renderBoth(v, builtinPreset("ct-skin-bone"), Camera{}, SplatSettings{}, 128, 128);
     EXPECT_GT(imageStats(c.cpu).meanAlpha, 0.1);
-    writeImage(c.gl, testing_support::testOutputDir() / "headsq_gl.png");   // for a person to look at
     EXPECT_IMAGES_CLOSE(c.gl, c.cpu, kGlVsCpu, "gl_vs_cpu_headsq");
+    writeImage(c.gl, testing_support::testOutputDir() / "headsq_gl.png");   // last, for a person to look at
 }
 
 TEST_F(GlTest, AdaptivePerPatchMatchesCpu) {

@@ -26,6 +26,8 @@ const char* gpuPassName(GpuPass pass);
 
 struct FrameStats {
     uint64_t frame = 0;          // renders so far: the number of the last one
+    bool timed = false;          // the last render's GPU times will come (false: the ring held only
+                                 // unfinished renders, as when a GPU runs several behind, so it was not timed)
     uint64_t gpuFrame = 0;       // the render gpuMs and passMs are of (0: none timed yet)
     double gpuMs = 0.0;          // GPU time of the last frame whose timer query is ready (ring, no stall)
     std::array<double, kGpuPasses> passMs{};   // that frame's GPU time per GpuPass, from its start to
