@@ -292,7 +292,7 @@ SplatSettings::Primitive parsePrimitive(const std::string& name) {
 
 struct RenderArgs {
     int frames = 5;
-    bool cpu = false, counters = false;
+    bool cpu = false, counters = false, noOcclusionCulling = false;
     std::string heatmap, primitive = "auto";
     double opaqueAlpha = SplatSettings{}.opaqueAlpha, cMin = SplatSettings{}.cMin, cMax = SplatSettings{}.cMax;
     int patchSize = SplatSettings{}.patchSize;
@@ -329,6 +329,7 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     if (a.session.empty()) {   // a session has its own
         s.settings.opaqueAlpha = ra.opaqueAlpha;
         s.settings.opaqueRefreshSlices = ra.opaqueRefresh;
+        s.settings.occlusionCulling = !ra.noOcclusionCulling;
         s.settings.cMin = ra.cMin;
         s.settings.cMax = ra.cMax;
         s.settings.patchSize = ra.patchSize;
@@ -455,6 +456,9 @@ int main(int argc, char** argv) {
     render->add_option("--opaque-refresh", ra.opaqueRefresh,
                        "Slices between refreshes of the opaque pixels (occlusion culling; 0: auto, every slice "
                        "with tiles, every 8 rasterised)")->capture_default_str();
+    render->add_flag("--no-occlusion-culling", ra.noOcclusionCulling,
+                     "Front to back, keep splats whose tiles or pixels are already opaque (early termination still "
+                     "skips those pixels): the baseline culling is measured against");
     render->add_option("--primitive", ra.primitive, kPrimitiveHelp)->capture_default_str();
     render->add_option("--heatmap", ra.heatmap, "Also write the filter-mode heatmap (red reconstruction, green "
                                                 "low-pass, blue EWA, weighted by opacity)");
@@ -537,7 +541,7 @@ int main(int argc, char** argv) {
             for (const char* flag : {"--camera", "--up", "--ortho", "--fit", "--tf", "--window", "--kernel-scale", "--density",
                                      "--shading", "--surface", "--surface-gradient", "--compositing", "--filter",
                                      "--c-min", "--c-max", "--patch-size", "--opaque-alpha", "--opaque-refresh",
-                                     "--primitive"})
+                                     "--no-occlusion-culling", "--primitive"})
                 if (render->get_option(flag)->count() > 0)
                     throw CLI::ValidationError(flag, "not with --session: the session sets it");
         if (*render) return runRender(r, ra);

@@ -104,6 +104,34 @@ TEST(Cli, TiledSplattingRendersTheSameImageAsTheRasteriser) {
     EXPECT_GT(renderer::imageStats(images[1]).coveredFraction, 0.2);
 }
 
+TEST(Cli, NoOcclusionCullingKeepsHiddenSplatsForTheSameImage) {
+    // headsq made dense (--density 30) turns tiles opaque front to back: with culling the splats behind
+    // them are dropped, without it they are drawn and early termination skips their pixels, so the image
+    // is the same.
+    const auto dir = testing_support::testOutputDir("cli_occlusion");
+    renderer::Image images[2];
+    unsigned long long hidden[2] = {0, 0}, drawn[2] = {0, 0};
+    for (int culled = 0; culled < 2; ++culled) {
+        const auto out = dir / (culled ? "culled.exr" : "kept.exr");
+        const CliRun r = splatlab("render \"" + headsq() + "\" --out \"" + out.string() +
+                                  "\" --compositing sheet-front-to-back --size 96x80 --frames 1 --up -z --counters" +
+                                  " --density 30" + (culled ? "" : " --no-occlusion-culling"));
+        ASSERT_EQ(r.status, 0) << r.output;
+        const size_t at = r.output.find("hidden behind opaque ");
+        ASSERT_NE(at, std::string::npos) << r.output;
+        hidden[culled] = std::stoull(r.output.substr(at + 21));
+        drawn[culled] = std::stoull(r.output.substr(r.output.find("drawn ") + 6));
+        images[culled] = renderer::readImage(out);
+    }
+    EXPECT_EQ(hidden[0], 0u);
+    EXPECT_GT(hidden[1], 1000u);
+    EXPECT_EQ(drawn[0], drawn[1] + hidden[1]);   // what culling removed, and only that
+    const auto d = testing_support::renderDifference(images[0], images[1]);
+    EXPECT_LT(d.elsewhere, 1e-4);
+    EXPECT_LE(d.atOpaque, 2e-3f);
+    EXPECT_GT(renderer::imageStats(images[1]).coveredFraction, 0.2);
+}
+
 TEST(Cli, BadRenderOptionsNameTheFlag) {
     const auto out = (testing_support::testOutputDir() / "cli_bad.png").string();
     for (auto [args, flag] : {std::pair{"--shading phong", "--shading"}, std::pair{"--surface 0.5", "--surface"},

@@ -45,6 +45,7 @@ ui::EditorState unusualState() {
     p.primitive = renderer::SplatSettings::Primitive::Tiles;
     p.opaqueAlpha = 0.95;
     p.opaqueRefreshSlices = 3;
+    p.occlusionCulling = false;
     p.shading = renderer::SplatSettings::Shading::PerFragment;
     p.shadingParams.specular = 0.6;
     p.surfaceFlatten = 4.0;
@@ -88,6 +89,7 @@ void expectSameSession(const ui::EditorState& a, const ui::EditorState& b) {
     EXPECT_EQ(p.primitive, q.primitive);
     EXPECT_EQ(p.opaqueAlpha, q.opaqueAlpha);
     EXPECT_EQ(p.opaqueRefreshSlices, q.opaqueRefreshSlices);
+    EXPECT_EQ(p.occlusionCulling, q.occlusionCulling);
     EXPECT_EQ(p.shading, q.shading);
     EXPECT_EQ(p.shadingParams.ambient, q.shadingParams.ambient);
     EXPECT_EQ(p.shadingParams.specular, q.shadingParams.specular);

@@ -232,33 +232,60 @@ TEST_F(ImGuiNull, ClickingCompositingComboAndXrayItemSelectsXray) {
     EXPECT_FALSE(changes.cameraChanged);
 }
 
-TEST_F(ImGuiNull, TiledSplattingCheckboxSwitchesSheetsBetweenTilesAndTheRasteriser) {
+// The Settings panel's checkbox `label`: found by hovering down its column, then clicked.
+class SettingsCheckbox : public ImGuiNull {
+protected:
+    // The checkbox's row in the panel, or a negative number when the panel does not show it.
+    float find(ui::EditorState& state, const char* label) {
+        ImGuiID id = 0;
+        auto body = [&] {
+            id = ImGui::GetID(label);   // inside the panel's window, as the checkbox takes it
+            ui::drawSettingsPanel(state);
+        };
+        mouse(900.0f, 700.0f, false);
+        frame(body);
+        return findItem(id, 20.0f, 0.0f, 700.0f, body);
+    }
+    // Clicks it at row y; returns whether the panel reported a settings change.
+    bool click(ui::EditorState& state, float y) {
+        bool changed = false;
+        ImGuiNull::click(20.0f, y, [&] { changed |= ui::drawSettingsPanel(state).settingsChanged; });
+        return changed;
+    }
+};
+
+TEST_F(SettingsCheckbox, TiledSplattingSwitchesSheetsBetweenTilesAndTheRasteriser) {
     ui::EditorState state;
     state.settings.compositing = renderer::Compositing::SheetFrontToBack;
     ASSERT_TRUE(renderer::tiledSplatting(state.settings)) << "sheets start tiled (auto)";
-    bool changed = false;
-    ImGuiID boxId = 0;
-    auto body = [&] {
-        boxId = ImGui::GetID("Tiled splatting");
-        changed |= ui::drawSettingsPanel(state).settingsChanged;
-    };
-    frame(body);
-    const float y = findItem(boxId, 20.0f, 0.0f, 700.0f, body);
+    const float y = find(state, "Tiled splatting");
     ASSERT_GE(y, 0.0f) << "no Tiled splatting checkbox for sheets";
-    EXPECT_FALSE(changed);
-    click(20.0f, y, body);
-    EXPECT_TRUE(changed);
+    EXPECT_TRUE(click(state, y));
     EXPECT_EQ(state.settings.primitive, renderer::SplatSettings::Primitive::Raster);
     EXPECT_FALSE(renderer::tiledSplatting(state.settings));
-    click(20.0f, y, body);
+    EXPECT_TRUE(click(state, y));
     EXPECT_TRUE(renderer::tiledSplatting(state.settings));
     // Splat-every-sample cannot be tiled: an explicit Tiles falls back to the automatic choice.
     state.settings.primitive = renderer::SplatSettings::Primitive::Tiles;
     state.settings.compositing = renderer::Compositing::SplatEverySample;
-    mouse(900.0f, 700.0f, false);
-    frame(body);
+    EXPECT_LT(find(state, "Tiled splatting"), 0.0f);
     EXPECT_EQ(state.settings.primitive, renderer::SplatSettings::Primitive::Auto);
     EXPECT_FALSE(renderer::tiledSplatting(state.settings));
+}
+
+TEST_F(SettingsCheckbox, CullHiddenSplatsTurnsOcclusionCullingOffAndOnFrontToBackOnly) {
+    ui::EditorState state;
+    state.settings.compositing = renderer::Compositing::SheetFrontToBack;
+    ASSERT_TRUE(state.settings.occlusionCulling);
+    const float y = find(state, "Cull hidden splats");
+    ASSERT_GE(y, 0.0f) << "no Cull hidden splats checkbox front to back";
+    EXPECT_TRUE(click(state, y));
+    EXPECT_FALSE(state.settings.occlusionCulling);
+    EXPECT_TRUE(click(state, y));
+    EXPECT_TRUE(state.settings.occlusionCulling);
+    // Back to front nothing is culled, so the box is not offered.
+    state.settings.compositing = renderer::Compositing::SheetBackToFront;
+    EXPECT_LT(find(state, "Cull hidden splats"), 0.0f);
 }
 
 TEST_F(ImGuiNull, ResetCameraButtonRestoresTheDefaultCamera) {

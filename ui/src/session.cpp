@@ -119,6 +119,7 @@ void saveSession(const EditorState& state, const std::filesystem::path& volume, 
                       {"primitive", renderer::primitiveName(s.primitive)},
                       {"opaque_alpha", s.opaqueAlpha},
                       {"opaque_refresh_slices", s.opaqueRefreshSlices},
+                      {"occlusion_culling", s.occlusionCulling},
                       {"shading", renderer::shadingName(s.shading)},
                       {"ambient", s.shadingParams.ambient},
                       {"diffuse", s.shadingParams.diffuse},
@@ -209,6 +210,7 @@ std::filesystem::path loadSession(const std::filesystem::path& file, EditorState
         splatting.fail("primitive", "tiles need sheet or X-ray compositing");
     splatting.number("opaque_alpha", s.opaqueAlpha, 0.5, 1.0);
     splatting.integer("opaque_refresh_slices", s.opaqueRefreshSlices, 0, 4096);
+    splatting.boolean("occlusion_culling", s.occlusionCulling);
     splatting.name("shading", s.shading, &renderer::shadingFromName);
     splatting.number("ambient", s.shadingParams.ambient, 0.0, 10.0);
     splatting.number("diffuse", s.shadingParams.diffuse, 0.0, 10.0);

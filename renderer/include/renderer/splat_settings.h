@@ -52,8 +52,8 @@ struct SplatSettings {
     // tile was opaque at the last snapshot (occlusionSlices()) are culled before they are drawn or binned.
     double opaqueAlpha = 0.998;
     int opaqueRefreshSlices = 0;        // 0: auto, opaqueRefreshSlices() below
-    bool occlusionCulling = true;       // baseline for measurements: false keeps hidden splats (early
-                                        // termination still skips their pixels)
+    bool occlusionCulling = true;       // false keeps hidden splats (early termination still skips their
+                                        // pixels): a baseline, and faster tiles on a GPU (see the README)
     bool drawAllBuckets = false;        // baseline for measurements: every voxel reaches the vertex
                                         // stage, transparent ones are culled there
 
