@@ -291,11 +291,12 @@ layout(std430, binding = 5) readonly buffer Runs { uvec4 runs[]; };
 layout(std430, binding = 6) readonly buffer Commands { uvec4 commands[]; };   // count 0: no active bucket
 layout(std430, binding = 7) writeonly buffer Splats { vec4 splats[]; };
 layout(std430, binding = 8) buffer Bins { uint bins[]; };                     // per tile and chunk rank
-layout(std430, binding = 9) buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
 uniform uint uRunFirst, uRuns, uGroupsX;   // the chunk's runs
 uniform ivec2 uTiles;
 uniform int uSlices, uRank0, uRanks;       // the chunk: ranks uRank0 .. uRank0 + uRanks - 1
 uniform bool uRankDescending;   // rank 0 is the highest slice
+uniform uint uSegments;         // workgroups a run's voxels are dealt to (gl_WorkGroupID.z)
+uniform uint uProbe;            // 2: the trip count of the loop that ends main()
 
 bool countingInvocation() { return true; }
 
@@ -305,7 +306,8 @@ void main() {
     uvec4 run = runs[r];
     int slice = int(run.z & 0xffffu);
     uint rank = uint((uRankDescending ? uSlices - 1 - slice : slice) - uRank0);
-    for (uint k = gl_LocalInvocationID.x; k < run.w; k += uint(RUN_LANES)) {
+    for (uint k = gl_WorkGroupID.z * uint(RUN_LANES) + gl_LocalInvocationID.x; k < run.w;
+         k += uint(RUN_LANES) * uSegments) {
         Footprint f;
         if (!footprint(run, k, f)) continue;
 #ifdef OCCLUSION
@@ -336,7 +338,20 @@ void main() {
                 atomicAdd(bins[t * uRanks + int(rank)], 1u);
             }
     }
+    // llvmpipe ends every loop of an invocation once its loops have run 65535 iterations together, so a
+    // long run (or huge boxes) would lose splats without a word. A loop of uProbe (2) iterations that
+    // stops after one says so; the host then deals the runs to more workgroups.
+    uint probe = 0u;
+    for (uint i = 0u; i < uProbe; ++i) ++probe;
+    if (probe < uProbe) atomicOr(cut, 1u);
 }
+)";
+
+// What the tile passes of a part share: splats recorded, list entries, the most entries one tile has (the
+// composite's loop over them), whether a record-pass invocation was cut short (llvmpipe's loop limit:
+// the end of kTileSplatCompMain), then each tile's count and later where its list starts.
+const char* kTileState = R"(
+layout(std430, binding = 9) buffer TileState { uint splatCount; uint entryCount; uint tileMost; uint cut; uint tileBase[]; };
 )";
 
 // Counts to offsets: per tile over its ranks (bins become where each rank starts in the tile's list,
@@ -344,7 +359,6 @@ void main() {
 const char* kTileOffsetsComp = R"(
 layout(local_size_x = 64) in;
 layout(std430, binding = 8) buffer Bins { uint bins[]; };
-layout(std430, binding = 9) buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
 uniform int uTileCount, uRanks;
 void main() {
     int t = int(gl_GlobalInvocationID.x);
@@ -364,33 +378,36 @@ void main() {
 // BUSY_ROW wide: a dimension may be capped at 65535) and their count.
 const char* kTileBasesComp = R"(
 layout(local_size_x = 1024) in;
-layout(std430, binding = 9) buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
 layout(std430, binding = 12) writeonly buffer Busy { uvec4 busyGroups; uint busyTiles[]; };
 uniform int uTileCount;
-shared uint partial[1024], partialBusy[1024];
+shared uint partial[1024], partialBusy[1024], partialMost[1024];
 void main() {
     uint id = gl_LocalInvocationID.x;
     uint per = (uint(uTileCount) + 1023u) / 1024u;
     uint i0 = min(id * per, uint(uTileCount)), i1 = min(i0 + per, uint(uTileCount));
-    uint sum = 0u, busy = 0u;
+    uint sum = 0u, busy = 0u, most = 0u;
     for (uint i = i0; i < i1; ++i) {
         uint c = tileBase[i];
         sum += c;
         busy += c > 0u ? 1u : 0u;
+        most = max(most, c);
     }
     partial[id] = sum;
     partialBusy[id] = busy;
+    partialMost[id] = most;
     barrier();
     if (id == 0u) {
-        uint running = 0u, runningBusy = 0u;
+        uint running = 0u, runningBusy = 0u, runningMost = 0u;
         for (uint j = 0u; j < 1024u; ++j) {
             uint v = partial[j], b = partialBusy[j];
             partial[j] = running;
             partialBusy[j] = runningBusy;
             running += v;
             runningBusy += b;
+            runningMost = max(runningMost, partialMost[j]);
         }
         entryCount = running;
+        tileMost = runningMost;
         busyGroups = uvec4(min(runningBusy, BUSY_ROW), (runningBusy + BUSY_ROW - 1u) / BUSY_ROW, 1u, runningBusy);
     }
     barrier();
@@ -414,7 +431,6 @@ const char* kTileScatterComp = R"(
 layout(local_size_x = 64) in;
 layout(std430, binding = 7) readonly buffer Splats { vec4 splats[]; };
 layout(std430, binding = 8) buffer Bins { uint bins[]; };
-layout(std430, binding = 9) readonly buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
 layout(std430, binding = 10) writeonly buffer Entries { vec4 entries[]; };
 uniform ivec2 uTiles;
 uniform int uRanks;
@@ -483,7 +499,6 @@ layout(local_size_x = SPLAT_TILE) in;
 layout(binding = 0) uniform samplerBuffer entries;
 layout(binding = 1) uniform samplerBuffer lut;   // without SPLAT_SHADING: the colour by LUT class
 layout(std430, binding = 8) readonly buffer Bins { uint bins[]; };   // where each rank ends in its tile's list
-layout(std430, binding = 9) readonly buffer TileState { uint splatCount; uint entryCount; uint tileBase[]; };
 // The image and heatmap so far (earlier chunks; cleared before the first), rows bottom up.
 layout(rgba32f, binding = 0) uniform image2D outImage;
 layout(rgba32f, binding = 1) uniform image2D outHeat;
@@ -819,6 +834,12 @@ constexpr uint32_t kTileListChunkSlices = 64;
 // chunk goes in parts. One slice cannot be split (its sheet is one sum), so only the driver's
 // GL_MAX_TEXTURE_BUFFER_SIZE bounds it.
 constexpr uint64_t kTileListBudgetTexels = uint64_t(1) << 24;
+// Where the driver ends a shader's loops after a number of iterations, all loops together (llvmpipe:
+// 65535, Gl::loopLimit), the composite's loops beyond the busiest tile's entries and the ranks' stay
+// under this; a chunk whose busiest tile needs more goes in parts.
+constexpr uint64_t kCompositeLoopSlack = 64;
+// The most workgroups the record pass deals one run to when that limit cuts a run short.
+constexpr GLuint kMaxRunSegments = 4096;
 
 constexpr uint64_t kMiB = uint64_t(1) << 20;
 
@@ -1010,6 +1031,9 @@ struct SplatRenderer::Gl {
     // bits) looping over the run, 5 % faster on bonsai than 64 (fewer idle rows, each started once);
     // a GPU keeps full warps.
     int runLanes = 64;
+    // Loop iterations the driver lets one shader invocation run, all its loops together (llvmpipe
+    // ends them at 65535; measured at start by measureLoopLimit()); 0: no limit found.
+    uint32_t loopLimit = 0;
     GLuint fragmentQuery = 0;   // GL_SAMPLES_PASSED of a counted frame
     // Scene constants the vertex stage needs.
     glm::ivec3 dims{0};
@@ -1162,7 +1186,7 @@ struct SplatRenderer::Gl {
         if (it != tilePrograms.end()) return it->second;
         const std::string header = opaqueTileHeader() + variantDefines(bits) + (bits & kTileXRay ? "#define XRAY\n" : "") +
                                    (bits & kTileColumnRecurrence ? "#define COLUMN_RECURRENCE\n" : "") +
-                                   "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n#define BUSY_ROW 4096u\n" +
+                                   "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n#define BUSY_ROW 4096u\n" + kTileState +
                                    "#define RECORD_VEC4S " + std::to_string(recordVec4s(bits)) + "u\n#define ENTRY_TEXELS " +
                                    std::to_string(entryTexels(bits)) + "u\n";
         std::string source;
@@ -1376,6 +1400,43 @@ Rect sliceRect(const glm::dvec3& origin, const glm::dvec3& spacing, const ImageP
 
 } // namespace
 
+namespace {
+
+// How many iterations the driver lets one invocation's loops run: a loop of 2^20 iterations counts
+// them. llvmpipe stops it at 65535 (its LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop of the
+// shader), and then silently ends every later loop after one iteration. 0: it ran to the end.
+uint32_t measureLoopLimit() {
+    static const char* kSource = R"(#version 450 core
+layout(local_size_x = 1) in;
+layout(std430, binding = 0) buffer Result { uint iterations; };
+uniform uint uN;
+void main() {
+    uint n = 0u;
+    for (uint i = 0u; i < uN; ++i) ++n;
+    iterations = n;
+}
+)";
+    constexpr GLuint kTrip = 1u << 20;
+    const GLuint program = gl::buildComputeProgram("loop_limit", kSource);
+    GLuint buffer = 0;
+    glCreateBuffers(1, &buffer);
+    glNamedBufferStorage(buffer, 4, nullptr, 0);
+    glUseProgram(program);
+    glUniform1ui(glGetUniformLocation(program, "uN"), kTrip);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    GLuint iterations = 0;
+    glGetNamedBufferSubData(buffer, 0, 4, &iterations);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+    glUseProgram(0);
+    glDeleteBuffers(1, &buffer);
+    glDeleteProgram(program);
+    return iterations < kTrip ? iterations : 0;
+}
+
+} // namespace
+
 SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     if (epoxy_gl_version() < 45)
         throw GlError("SplatRenderer", "needs OpenGL 4.5 core, the current context has " + glVersionString());
@@ -1408,6 +1469,7 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &g.maxTexelBuffer);
     glCreateFramebuffers(1, &g.computeFbo);
     if (glRendererName().rfind("llvmpipe", 0) == 0) g.runLanes = 8;
+    g.loopLimit = measureLoopLimit();
     checkGlErrors("SplatRenderer setup");
 }
 
@@ -1807,6 +1869,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         uint32_t chunk = occlusion ? uint32_t(occlusionSlices(settings)) : kTileListChunkSlices;
         const size_t binBytes = size_t(tileCount) * std::min(occlusion ? 4 * chunk : chunk, slices) * 4;
         bool anyOpaque = false;   // occlusion: whether the map has an opaque tile yet
+        GLuint segments = 1;      // workgroups a run is dealt to in the record pass (more where a loop limit cut one)
         const uint32_t partSlices = earlyTermination ? uint32_t(refresh) : 1;
         auto advance = [&](uint32_t& k0) {
             k0 += chunk;
@@ -1814,7 +1877,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         };
         Gl::ensureBuffer(g.tileSplats, g.tileSplatBytes, std::max<uint64_t>(submitted, 1) * recordBytes);
         Gl::ensureBuffer(g.tileBins, g.tileBinBytes, binBytes);
-        Gl::ensureBuffer(g.tileState, g.tileStateBytes, (2 + size_t(tileCount)) * 4);
+        Gl::ensureBuffer(g.tileState, g.tileStateBytes, (4 + size_t(tileCount)) * 4);
         Gl::ensureBuffer(g.tileBusy, g.tileBusyBytes, (4 + size_t(tileCount)) * 4);
         if (!g.tileListTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileListTexture);
         const GLuint offsets = g.tileProgram(Gl::kTileOffsets, 0);
@@ -1884,7 +1947,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                 g.lap(GpuPass::Splats);
                 glClearNamedBufferSubData(g.tileBins, GL_R32UI, 0, GLsizeiptr(size_t(tileCount) * ranks * 4),
                                           GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-                glClearNamedBufferSubData(g.tileState, GL_R32UI, 0, 8, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+                glClearNamedBufferSubData(g.tileState, GL_R32UI, 0, 16, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
                 const GLuint groupsX = std::min<GLuint>(runs, 32768);
                 g.useProgram(p);
                 glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, cullMap);
@@ -1893,7 +1956,9 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                 glUniform1ui(glGetUniformLocation(p, "uGroupsX"), groupsX);
                 glUniform1i(glGetUniformLocation(p, "uRank0"), GLint(j0));
                 glUniform1i(glGetUniformLocation(p, "uRanks"), GLint(ranks));
-                glDispatchCompute(groupsX, (runs + groupsX - 1) / groupsX, 1);
+                glUniform1ui(glGetUniformLocation(p, "uSegments"), segments);
+                glUniform1ui(glGetUniformLocation(p, "uProbe"), 2);
+                glDispatchCompute(groupsX, (runs + groupsX - 1) / groupsX, segments);
                 glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
                 g.lap(GpuPass::Offsets);
@@ -1904,18 +1969,41 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                 g.useProgram(bases);
                 glDispatchCompute(1, 1, 1);
                 glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-                // The list's length sizes its buffer: the one wait of a part (a few bytes).
-                GLuint counts[2] = {0, 0};
+                // Splats, entries (they size the lists' buffer), the busiest tile's entries and whether a
+                // record invocation was cut short: the one wait of a part (a few bytes).
+                GLuint counts[4] = {0, 0, 0, 0};
                 glGetNamedBufferSubData(g.tileState, 0, sizeof(counts), counts);
+                if (counts[3]) {   // llvmpipe's loop limit stopped a run part way: deal the runs wider
+                    if (settings.counters)
+                        glCopyNamedBufferSubData(g.savedCounters, g.counterBuffer, 0, 0, kCounterSlots * 4);
+                    if (segments >= kMaxRunSegments) {
+                        refused = "tiled splatting: the driver ends a shader's loops after " +
+                                  std::to_string(g.loopLimit) + " iterations, too few for these footprints' boxes; "
+                                  "use points or quads";
+                        break;
+                    }
+                    segments *= 8;
+                    continue;
+                }
                 const uint64_t needed = uint64_t(counts[1]) * texels;
                 const uint64_t limit = std::min(g.texelCap(), kTileListBudgetTexels);
-                if (needed > (ranks > partSlices ? limit : g.texelCap())) {
+                // The composite's loops: the busiest tile's entries and each rank (twice).
+                const uint64_t loops = uint64_t(counts[2]) + 2 * uint64_t(ranks) + kCompositeLoopSlack;
+                const bool overTexels = needed > (ranks > partSlices ? limit : g.texelCap());
+                const bool overLoops = g.loopLimit && loops > g.loopLimit;
+                if (overTexels || overLoops) {
+                    const std::string slicesPut =
+                        ranks == 1 ? std::string("one slice's ") : std::to_string(ranks) + " slices' ";
+                    if (ranks <= partSlices && overTexels) {
+                        refused = "tiled splatting: " + slicesPut + std::to_string(counts[0]) + " splats take " +
+                                  std::to_string(counts[1]) + " tile entries, over GL_MAX_TEXTURE_BUFFER_SIZE (" +
+                                  std::to_string(g.texelCap()) + " texels); use points or quads";
+                        break;
+                    }
                     if (ranks <= partSlices) {
-                        refused = "tiled splatting: " +
-                                  (ranks == 1 ? std::string("one slice's ") : std::to_string(ranks) + " slices' ") +
-                                  std::to_string(counts[0]) + " splats take " + std::to_string(counts[1]) +
-                                  " tile entries, over GL_MAX_TEXTURE_BUFFER_SIZE (" + std::to_string(g.texelCap()) +
-                                  " texels); use points or quads";
+                        refused = "tiled splatting: " + slicesPut + "splats put " + std::to_string(counts[2]) +
+                                  " entries on one tile, more than the driver's limit of " +
+                                  std::to_string(g.loopLimit) + " loop iterations a shader lets it walk; use points or quads";
                         break;
                     }
                     if (occlusion && !split) {   // nothing of this chunk is composited yet
@@ -1927,8 +2015,10 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                         glCopyNamedBufferSubData(g.savedCounters, g.counterBuffer, 0, 0, kCounterSlots * 4);
                     split = true;
                     ++m_stats.tileListSplits;
-                    // Again with as many slices as the lists' share suggests, at most half.
-                    const uint64_t share = std::min<uint64_t>(ranks * limit / needed, ranks / 2);
+                    // Again with as many slices as the lists' (or the busiest tile's) share suggests, at most half.
+                    const double over = std::max(double(needed) / double(limit),
+                                                 g.loopLimit ? double(loops) / double(g.loopLimit) : 0.0);
+                    const uint64_t share = std::min<uint64_t>(uint64_t(double(ranks) / over), ranks / 2);
                     j1 = j0 + partSlices * uint32_t(std::max<uint64_t>(1, share / partSlices));
                     continue;
                 }
