@@ -2223,6 +2223,12 @@ std::string primitiveName(const FrameStats& f) {
            std::to_string(f.pointSlices + f.quadSlices) + " slices)";
 }
 
+std::string tileSplitsText(const FrameStats& f) {
+    if (f.tileListSplits == 0) return "";
+    return "tile lists went again in fewer slices " + std::to_string(f.tileListSplits) +
+           " times: too many entries at once for the list buffer, or on one tile for the driver's loop limit";
+}
+
 const char* gpuPassName(GpuPass pass) {
     switch (pass) {
     case GpuPass::Select: return "select buckets";

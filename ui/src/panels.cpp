@@ -358,9 +358,11 @@ void drawStatsPanel(const StatsView& stats) {
     hint("Rasterised, each slice takes point sprites where its footprints fit the driver's point size\n"
          "and are round enough, else two-triangle quads (close up, the near slices)");
     if (f.tileListSplits > 0) {
-        textDisabledWrapped("tile lists went again in fewer slices %d times: they did not fit at once", f.tileListSplits);
+        textDisabledWrapped("%s", renderer::tileSplitsText(f).c_str());
         hint("A chunk of slices whose tile lists exceed the texel buffer they are read through\n"
-             "(GL_MAX_TEXTURE_BUFFER_SIZE) or 256 MiB goes in parts: the same image, a little slower");
+             "(GL_MAX_TEXTURE_BUFFER_SIZE) or 256 MiB goes in parts, and so does one whose busiest tile\n"
+             "has more entries than the driver lets a shader's loops walk (llvmpipe: 65,535): the same\n"
+             "image, a little slower");
     }
     if (f.adaptiveAs != renderer::FilterMode::Adaptive)
         ImGui::Text("adaptive  every patch %s at this depth range", renderer::filterModeName(f.adaptiveAs));

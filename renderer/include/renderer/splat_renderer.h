@@ -49,8 +49,9 @@ struct FrameStats {
     uint64_t fragments = 0;      // with counters: samples passed in the frame (GL_SAMPLES_PASSED; sheet
                                  // and resolve passes included, discarded and depth-failed ones not)
     uint64_t tileEntries = 0;    // tiled splatting: (splat, tile) pairs the composite pass walked
-    int tileListSplits = 0;      // tiled splatting: times a chunk's (or a part's) lists did not fit (the
-                                 // texel buffer, or 256 MiB) and it went again in fewer slices
+    int tileListSplits = 0;      // tiled splatting: times a chunk (or a part) went again in fewer slices:
+                                 // its lists did not fit (the texel buffer, or 256 MiB), or its busiest
+                                 // tile took more entries than the driver's loop limit lets one walk
     FilterMode adaptiveAs = FilterMode::Adaptive;   // an adaptive frame whose view put every patch in one
                                                     // filter (uniformAdaptiveFilter): that filter drew it
 };
@@ -58,6 +59,8 @@ struct FrameStats {
 // How the frame's splats reached pixels: "tiles", "point sprites", "quads" or, for a frame that mixed
 // them, "points and quads (quads in 4 of 256 slices)".
 std::string primitiveName(const FrameStats& f);
+// "tile lists went again in fewer slices 2 times: ..." for a frame whose chunks went in parts, else "".
+std::string tileSplitsText(const FrameStats& f);
 
 class SplatRenderer {
 public:
