@@ -1398,10 +1398,6 @@ Rect sliceRect(const glm::dvec3& origin, const glm::dvec3& spacing, const ImageP
     return r;
 }
 
-} // namespace
-
-namespace {
-
 // How many iterations the driver lets one invocation's loops run: a loop of 2^20 iterations counts
 // them. llvmpipe stops it at 65535 (its LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop of the
 // shader), and then silently ends every later loop after one iteration. 0: it ran to the end.

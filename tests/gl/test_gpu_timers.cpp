@@ -148,36 +148,38 @@ TEST_F(GpuTimers, TiledPassesKeepTheirTimesWhenTheCallersFramebufferIsBound) {
     glCreateFramebuffers(1, &fbo);
     glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, colour, 0);
     timedFrame(r, plane, s);   // compiles the programs
-    // Per pass, the median share over 5 frames: a machine that stalls once (a CI run stretched one
-    // 32-tile offsets lap to 4.6 ms) must not fail it, while the shift shows in every frame.
-    auto shares = [&](GLuint callers) {
-        std::array<std::vector<double>, kGpuPasses> each;
-        for (int k = 0; k < 5; ++k) {
-            glBindFramebuffer(GL_FRAMEBUFFER, callers);   // as a window would be, with a draw pending
-            if (callers) {
-                glClearColor(0.2f, 0.3f, 0.4f, 1.0f);
-                glClear(GL_COLOR_BUFFER_BIT);
-            }
-            timedFrame(r, plane, s);
-            const FrameStats& f = r.stats();
-            EXPECT_EQ(f.gpuFrame, f.frame);
-            double sum = 0.0;
-            for (double ms : f.passMs) sum += ms;
-            for (int i = 0; i < kGpuPasses; ++i) each[size_t(i)].push_back(f.passMs[size_t(i)] / sum);
+    // Per pass, the median share over 7 frames each way, taken in turns so that a machine slowing down
+    // weighs on both: a CI run once stretched one 32-tile offsets lap to 4.6 ms, and an ASan build moved
+    // a share by 0.12, while the shift moves the time of one pass whole.
+    std::array<std::vector<double>, kGpuPasses> each[2];   // [0]: no framebuffer bound, [1]: the caller's
+    for (int k = 0; k < 14; ++k) {
+        const int callers = k % 2;
+        glBindFramebuffer(GL_FRAMEBUFFER, callers ? fbo : 0);   // as a window would be, with a draw pending
+        if (callers) {
+            glClearColor(0.2f, 0.3f, 0.4f, 1.0f);
+            glClear(GL_COLOR_BUFFER_BIT);
         }
-        std::array<double, kGpuPasses> median{};
-        for (int i = 0; i < kGpuPasses; ++i) {
-            std::sort(each[size_t(i)].begin(), each[size_t(i)].end());
-            median[size_t(i)] = each[size_t(i)][2];
+        timedFrame(r, plane, s);
+        const FrameStats& f = r.stats();
+        EXPECT_EQ(f.gpuFrame, f.frame);
+        double sum = 0.0;
+        for (double ms : f.passMs) sum += ms;
+        for (int i = 0; i < kGpuPasses; ++i) each[callers][size_t(i)].push_back(f.passMs[size_t(i)] / sum);
+    }
+    std::array<double, kGpuPasses> free{}, bound{};
+    for (int i = 0; i < kGpuPasses; ++i)
+        for (auto [way, median] : {std::pair{0, &free}, std::pair{1, &bound}}) {
+            std::vector<double>& v = each[way][size_t(i)];
+            std::sort(v.begin(), v.end());
+            (*median)[size_t(i)] = v[v.size() / 2];
         }
-        return median;
-    };
-    const auto free = shares(0), bound = shares(fbo);
+    // Each pass keeps its share within 0.1 plus half of it. With the shift (llvmpipe, fix removed) the
+    // offsets went from 0.0076 to 0.35 and the scatter from 0.34 to 0.0018.
     for (int i = 0; i < kGpuPasses; ++i) {
         if (free[size_t(i)] == 0.0 && bound[size_t(i)] == 0.0) continue;
         std::cout << "[ timers   ] " << gpuPassName(GpuPass(i)) << ": " << free[size_t(i)] << " of the frame, "
                   << bound[size_t(i)] << " with a framebuffer bound\n";
-        EXPECT_NEAR(bound[size_t(i)], free[size_t(i)], 0.1) << gpuPassName(GpuPass(i));
+        EXPECT_NEAR(bound[size_t(i)], free[size_t(i)], 0.1 + 0.5 * free[size_t(i)]) << gpuPassName(GpuPass(i));
     }
     // A shift by one pass shows: some pass's share differs from the one before it by more than 0.2.
     double step = 0.0;
