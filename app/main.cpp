@@ -381,7 +381,7 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
                 std::printf("  %llu fragments passed (all passes)\n", (unsigned long long)gl.stats().fragments);
         }
         std::printf("  %s, %.2f GPU bytes per voxel\n", primitiveName(gl.stats()).c_str(), double(gl.sceneBytes()) / double(s.scene.classes.size()));
-        if (gl.stats().tileListSplits > 0) std::printf("  %s\n", tileSplitsText(gl.stats()).c_str());
+        if (const std::string splits = tileSplitsText(gl.stats()); !splits.empty()) std::printf("  %s\n", splits.c_str());
     }
     writeImage(image, a.out, s.background.data());
     if (s.settings.heatmap) writeImage(heatmap, ra.heatmap, s.background.data());

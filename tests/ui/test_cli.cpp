@@ -45,6 +45,12 @@ CliRun splatlab(const std::string& args) {
 
 std::string headsq() { return (testing_support::assetDir() / "volumes" / "headsq.nhdr").string(); }
 
+// Bundled headsq front to back at 96x80 with GPU counters, written to `out`; `flags` say what differs.
+CliRun renderHeadsqFrontToBack(const std::filesystem::path& out, const std::string& flags) {
+    return splatlab("render \"" + headsq() + "\" --out \"" + out.string() +
+                    "\" --compositing sheet-front-to-back --size 96x80 --frames 1 --up -z --counters " + flags);
+}
+
 } // namespace
 
 TEST(Cli, RenderWritesAPictureOfTheVolumeHeadless) {
@@ -89,9 +95,8 @@ TEST(Cli, TiledSplattingRendersTheSameImageAsTheRasteriser) {
     renderer::Image images[2];
     for (int tiles = 0; tiles < 2; ++tiles) {
         const auto out = dir / (tiles ? "tiles.exr" : "quads.exr");
-        const CliRun r = splatlab("render \"" + headsq() + "\" --out \"" + out.string() +
-                                  "\" --compositing sheet-front-to-back --size 96x80 --frames 1 --up -z --counters" +
-                                  " --opaque-refresh 8 --primitive " + (tiles ? "tiles" : "quads"));
+        const CliRun r =
+            renderHeadsqFrontToBack(out, std::string("--opaque-refresh 8 --primitive ") + (tiles ? "tiles" : "quads"));
         ASSERT_EQ(r.status, 0) << r.output;
         if (tiles) {
             EXPECT_THAT(r.output, HasSubstr("splat-tile pairs composited"));
@@ -113,9 +118,7 @@ TEST(Cli, NoOcclusionCullingKeepsHiddenSplatsForTheSameImage) {
     unsigned long long hidden[2] = {0, 0}, drawn[2] = {0, 0};
     for (int culled = 0; culled < 2; ++culled) {
         const auto out = dir / (culled ? "culled.exr" : "kept.exr");
-        const CliRun r = splatlab("render \"" + headsq() + "\" --out \"" + out.string() +
-                                  "\" --compositing sheet-front-to-back --size 96x80 --frames 1 --up -z --counters" +
-                                  " --density 30" + (culled ? "" : " --no-occlusion-culling"));
+        const CliRun r = renderHeadsqFrontToBack(out, std::string("--density 30") + (culled ? "" : " --no-occlusion-culling"));
         ASSERT_EQ(r.status, 0) << r.output;
         const size_t at = r.output.find("hidden behind opaque ");
         ASSERT_NE(at, std::string::npos) << r.output;

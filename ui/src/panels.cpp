@@ -357,8 +357,8 @@ void drawStatsPanel(const StatsView& stats) {
     ImGui::TextWrapped("drawn as  %s", renderer::primitiveName(f).c_str());
     hint("Rasterised, each slice takes point sprites where its footprints fit the driver's point size\n"
          "and are round enough, else two-triangle quads (close up, the near slices)");
-    if (f.tileListSplits > 0) {
-        textDisabledWrapped("%s", renderer::tileSplitsText(f).c_str());
+    if (const std::string splits = renderer::tileSplitsText(f); !splits.empty()) {
+        textDisabledWrapped("%s", splits.c_str());
         hint("A chunk of slices whose tile lists exceed the texel buffer they are read through\n"
              "(GL_MAX_TEXTURE_BUFFER_SIZE) or 256 MiB goes in parts, and so does one whose busiest tile\n"
              "has more entries than the driver lets a shader's loops walk (llvmpipe: 65,535): the same\n"
