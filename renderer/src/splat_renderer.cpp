@@ -96,7 +96,8 @@ int resolveFilter(ivec3 ijk, int previous) { return uFilter == 3 ? classifyPatch
 // the same order, counted in the same slots.
 const char* kSplatFootprint = R"(
 layout(std430, binding = 0) readonly buffer Entries { uint entries[]; };   // 16-bit offsets, two a word
-layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
+// The LUT through texel fetches: on llvmpipe a storage-buffer load of a vec4 cost a third of the footprint.
+layout(binding = 4) uniform samplerBuffer lutTexels;
 layout(std430, binding = 2) buffer Counters { uint counters[]; };
 layout(std430, binding = 3) readonly buffer Gradients { uint gradients[]; };   // 3 bytes a voxel (shading.h)
 layout(std430, binding = 4) readonly buffer PatchModes { uint patchModes[]; };
@@ -147,7 +148,7 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
     if (dense && (cls >> 6) != ((run.z >> 16) & 0xffu)) return false;   // another bucket's voxel
     count(0);
     f.lutClass = cls;
-    vec4 tf = lut[cls];
+    vec4 tf = texelFetch(lutTexels, int(cls));
     if (!(tf.a > 0.0)) { count(1); return false; }
 
     vec3 u = uViewFromObject * (uSpacing * vec3(ijk)) + uTranslation;
@@ -429,22 +430,23 @@ void main() {
 // takes 7 stored floats instead of 12 (llvmpipe pays per stored component).
 const char* kTileScatterComp = R"(
 layout(local_size_x = 64) in;
-layout(std430, binding = 7) readonly buffer Splats { vec4 splats[]; };
+layout(binding = 6) uniform samplerBuffer splatTexels;
 layout(std430, binding = 8) buffer Bins { uint bins[]; };
 layout(std430, binding = 10) writeonly buffer Entries { vec4 entries[]; };
 uniform ivec2 uTiles;
 uniform int uRanks;
 uniform vec2 uViewport;
 void scatter(uint i) {
-    vec4 box = splats[RECORD_VEC4S * i], conic = splats[RECORD_VEC4S * i + 1];
+    int r = int(RECORD_VEC4S * i);
+    vec4 box = texelFetch(splatTexels, r), conic = texelFetch(splatTexels, r + 1);
 #ifdef SPLAT_SHADING
-    vec4 colour = splats[RECORD_VEC4S * i + 2];
+    vec4 colour = texelFetch(splatTexels, r + 2);
     float bits = colour.w;
 #else
-    float bits = splats[RECORD_VEC4S * i + 2].w;
+    float bits = texelFetch(splatTexels, r + 2).w;
 #endif
 #ifdef FRAGMENT_SHADING
-    vec3 gradient = splats[RECORD_VEC4S * i + 3].xyz;
+    vec3 gradient = texelFetch(splatTexels, r + 3).xyz;
 #endif
     int rank = int(floatBitsToUint(bits) & 0xffffu);
     // The same box as the count pass: the same floats through the same formulas.
@@ -993,6 +995,7 @@ struct SplatRenderer::Gl {
     std::map<int, GLuint> tilePrograms;
     GLuint tileSplats = 0, tileBins = 0, tileState = 0, tileList = 0, tileBusy = 0;
     GLuint tileListTexture = 0;   // buffer texture over tileList
+    GLuint tileSplatTexture = 0;  // buffer texture over tileSplats
     size_t tileSplatBytes = 0, tileBinBytes = 0, tileStateBytes = 0, tileListBytes = 0, tileBusyBytes = 0;
     // A chunk split to fit its lists: the opaque-tile map at its start, which its parts cull against,
     // and the counters before a part that did not fit (it goes again smaller).
@@ -1052,6 +1055,7 @@ struct SplatRenderer::Gl {
                                       tileBusy, chunkStartMap, savedCounters};
         glDeleteBuffers(7, tileBuffers);
         glDeleteTextures(1, &tileListTexture);
+        glDeleteTextures(1, &tileSplatTexture);
         for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
                          commandsProgram, patchProgram, opaqueTilesProgram})
             glDeleteProgram(p);
@@ -1769,8 +1773,8 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     glUniform3f(glGetUniformLocation(p, "uSigma"), float(sigma.x), float(sigma.y), float(sigma.z));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, g.gradientBuffer);
     glBindTextureUnit(0, g.classTexture);
+    glBindTextureUnit(4, g.lutTexture);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, axis.entries);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.lutBuffer);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.counterBuffer);
     glBindVertexArray(g.splatVao);
     glVertexArrayVertexBuffer(g.splatVao, 0, axis.runs, 0, sizeof(glm::uvec4));
@@ -1879,6 +1883,12 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         Gl::ensureBuffer(g.tileState, g.tileStateBytes, (4 + size_t(tileCount)) * 4);
         Gl::ensureBuffer(g.tileBusy, g.tileBusyBytes, (4 + size_t(tileCount)) * 4);
         if (!g.tileListTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileListTexture);
+        // The scatter reads the records through texel fetches (a storage-buffer load of a vec4 costs
+        // llvmpipe a loop over the lanes per component), as many as the driver allows.
+        if (!g.tileSplatTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileSplatTexture);
+        glTextureBufferRange(g.tileSplatTexture, GL_RGBA32F, g.tileSplats, 0,
+                             GLsizeiptr(std::min<uint64_t>(g.tileSplatBytes / 16, g.texelCap()) * 16));
+        glBindTextureUnit(6, g.tileSplatTexture);
         const GLuint offsets = g.tileProgram(Gl::kTileOffsets, 0);
         const GLuint bases = g.tileProgram(Gl::kTileBases, 0);
         const GLuint scatter = g.tileProgram(Gl::kTileScatter, variant & (kSplatShading | kFragmentShading | kOcclusion));
@@ -1958,7 +1968,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                 glUniform1ui(glGetUniformLocation(p, "uSegments"), segments);
                 glUniform1ui(glGetUniformLocation(p, "uProbe"), 2);
                 glDispatchCompute(groupsX, (runs + groupsX - 1) / groupsX, segments);
-                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);   // records: the scatter's texels
 
                 g.lap(GpuPass::Offsets);
                 g.useProgram(offsets);
@@ -1984,7 +1994,8 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                     segments *= 8;
                     continue;
                 }
-                const uint64_t needed = uint64_t(counts[1]) * texels;
+                // Texels of the lists, or of the records where they take more.
+                const uint64_t needed = std::max(uint64_t(counts[1]) * texels, uint64_t(counts[0]) * recordVec4s(variant));
                 const uint64_t limit = std::min(g.texelCap(), kTileListBudgetTexels);
                 // The composite's loops: the busiest tile's entries and each rank (twice).
                 const uint64_t loops = uint64_t(counts[2]) + 2 * uint64_t(ranks) + kCompositeLoopSlack;

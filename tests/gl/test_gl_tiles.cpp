@@ -397,6 +397,31 @@ TEST_F(GlTest, ChunksWhoseListsDoNotFitGoInPartsWithTheCpuOraclesImageAndCounter
     }
 }
 
+TEST_F(GlTest, ChunksWhoseRecordsDoNotFitGoInPartsToo) {
+    // The scatter reads the records through a texel buffer too, 3 texels a splat against 2 an entry.
+    // Footprints of 0.06 px (reconstruction only, far away) touch one tile each, so the records need more
+    // texels than the lists: a cap between the two must split the chunk, or the scatter would read
+    // records past the end of what the driver lets it see.
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(40), ramp());
+    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 20, .elevationDeg = 15, .distance = 24},
+                                            scene.centre, scene.radius, 48, 40);
+    SplatRenderer r;
+    r.setScene(scene);
+    SplatSettings s = tiled(Compositing::XRay);
+    s.filter = FilterMode::Reconstruction;
+    s.counters = true;
+    r.render(plane, s);
+    const uint64_t splats = r.stats().counters.drawn, entries = r.stats().tileEntries;
+    ASSERT_GT(3 * splats, 2 * entries + 16) << "the records must take more texels than the lists";
+    r.setTexelBufferLimit(entries + splats + splats / 2);   // between 2 texels an entry and 3 a splat
+    r.render(plane, s);
+    EXPECT_GT(r.stats().tileListSplits, 0);
+    EXPECT_EQ(r.stats().tileEntries, entries);
+    const Image cpu = renderReference(scene, plane, s);
+    EXPECT_GT(imageStats(cpu).coveredFraction, 0.01);
+    EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu, "gl_tiles_record_parts");
+}
+
 TEST_F(GlTest, AutoTilesSheetsAndXRayRastersTheRestAndFallsBackWhereASlicesListsDoNotFit) {
     const SplatScene scene = buildSplatScene(makeMarschnerLobb(16), ramp());
     SplatRenderer r;
