@@ -32,12 +32,12 @@ std::string opaqueTileHeader() {
     return "#version 450 core\n#define OPAQUE_TILE " + std::to_string(kOpaqueTilePx) + "\n";
 }
 
-// Reading the opaque-tile map (1 where every pixel of the tile is opaque) for occlusion culling. (A
-// storage buffer: texel fetches, cheaper elsewhere on llvmpipe, measured the same here.)
+// Reading the opaque-tile map (1 where every pixel of the tile is opaque) for occlusion culling, through
+// texel fetches (Gl::bindCullMap): llvmpipe loads from a storage buffer lane by lane.
 const char* kOpaqueTilesRead = R"(
 #ifdef OCCLUSION
-layout(std430, binding = 11) readonly buffer OpaqueTiles { uint opaqueTiles[]; };
-bool tileOpaque(int t) { return opaqueTiles[t] != 0u; }
+layout(binding = 7) uniform usamplerBuffer opaqueTexels;
+bool tileOpaque(int t) { return texelFetch(opaqueTexels, t).r != 0u; }
 #endif
 )";
 
@@ -996,6 +996,7 @@ struct SplatRenderer::Gl {
     GLuint tileSplats = 0, tileBins = 0, tileState = 0, tileList = 0, tileBusy = 0;
     GLuint tileListTexture = 0;   // buffer texture over tileList
     GLuint tileSplatTexture = 0;  // buffer texture over tileSplats
+    GLuint opaqueTexture = 0;     // buffer texture over the map splats are culled against
     size_t tileSplatBytes = 0, tileBinBytes = 0, tileStateBytes = 0, tileListBytes = 0, tileBusyBytes = 0;
     // A chunk split to fit its lists: the opaque-tile map at its start, which its parts cull against,
     // and the counters before a part that did not fit (it goes again smaller).
@@ -1056,6 +1057,7 @@ struct SplatRenderer::Gl {
         glDeleteBuffers(7, tileBuffers);
         glDeleteTextures(1, &tileListTexture);
         glDeleteTextures(1, &tileSplatTexture);
+        glDeleteTextures(1, &opaqueTexture);
         for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
                          commandsProgram, patchProgram, opaqueTilesProgram})
             glDeleteProgram(p);
@@ -1170,7 +1172,15 @@ struct SplatRenderer::Gl {
         glUniform2i(glGetUniformLocation(opaqueTilesProgram, "uTiles"), tiles.x, tiles.y);
         glBindTextureUnit(2, image);
         glDispatchCompute(GLuint((tiles.x + 7) / 8), GLuint((tiles.y + 7) / 8), 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    }
+
+    // The opaque-tile map occlusion culling reads (kOpaqueTilesRead), as texels.
+    void bindCullMap(GLuint map) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, map);
+        if (!opaqueTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &opaqueTexture);
+        glTextureBuffer(opaqueTexture, GL_R32UI, map);
+        glBindTextureUnit(7, opaqueTexture);
     }
 
     GLuint splatProgram(int bits) {
@@ -1760,7 +1770,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     glUniform1i(glGetUniformLocation(p, "uAdditive"), sheets || xray);
     glUniform1i(glGetUniformLocation(p, "uReverse"), reversed);
     glUniform1i(glGetUniformLocation(p, "uTilesX"), g.tiles.x);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, g.opaqueTiles);
+    g.bindCullMap(g.opaqueTiles);
     if (earlyTermination) {   // nothing is opaque yet
         const GLuint zeroWord = 0;
         glClearNamedBufferData(g.opaqueTiles, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zeroWord);
@@ -1959,7 +1969,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                 glClearNamedBufferSubData(g.tileState, GL_R32UI, 0, 16, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
                 const GLuint groupsX = std::min<GLuint>(runs, 32768);
                 g.useProgram(p);
-                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, cullMap);
+                g.bindCullMap(cullMap);
                 glUniform1ui(glGetUniformLocation(p, "uRunFirst"), runFirst);
                 glUniform1ui(glGetUniformLocation(p, "uRuns"), runs);
                 glUniform1ui(glGetUniformLocation(p, "uGroupsX"), groupsX);
@@ -2054,7 +2064,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                 // A workgroup per tile with entries (listed by the bases pass); with OCCLUSION it also
                 // leaves the opaque-tile map for the next chunk.
                 glDispatchComputeIndirect(0);
-                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
                 next();
             }
             if (occlusion && !anyOpaque) anyOpaque = g.anyTileOpaque();
