@@ -431,6 +431,7 @@ void main() {
 const char* kTileScatterComp = R"(
 layout(local_size_x = 64) in;
 layout(binding = 6) uniform samplerBuffer splatTexels;
+layout(binding = 5) uniform usamplerBuffer stateTexels;   // TileState as texels: tileBase[t] is texel 4 + t
 layout(std430, binding = 8) buffer Bins { uint bins[]; };
 layout(std430, binding = 10) writeonly buffer Entries { vec4 entries[]; };
 uniform ivec2 uTiles;
@@ -458,7 +459,7 @@ void scatter(uint i) {
 #ifdef OCCLUSION   // as the count pass
             if (tileOpaque(t)) continue;
 #endif
-            uint e = ENTRY_TEXELS * (tileBase[t] + atomicAdd(bins[t * uRanks + rank], 1u));
+            uint e = ENTRY_TEXELS * (texelFetch(stateTexels, 4 + t).r + atomicAdd(bins[t * uRanks + rank], 1u));
             entries[e] = vec4(box.xy, conic.xy);
             entries[e + 1u].xyz = vec3(conic.zw, bits);
 #ifdef SPLAT_SHADING
@@ -996,6 +997,7 @@ struct SplatRenderer::Gl {
     GLuint tileSplats = 0, tileBins = 0, tileState = 0, tileList = 0, tileBusy = 0;
     GLuint tileListTexture = 0;   // buffer texture over tileList
     GLuint tileSplatTexture = 0;  // buffer texture over tileSplats
+    GLuint tileStateTexture = 0;  // buffer texture over tileState (the scatter's tile bases)
     GLuint opaqueTexture = 0;     // buffer texture over the map splats are culled against
     size_t tileSplatBytes = 0, tileBinBytes = 0, tileStateBytes = 0, tileListBytes = 0, tileBusyBytes = 0;
     // A chunk split to fit its lists: the opaque-tile map at its start, which its parts cull against,
@@ -1058,6 +1060,7 @@ struct SplatRenderer::Gl {
         glDeleteTextures(1, &tileListTexture);
         glDeleteTextures(1, &tileSplatTexture);
         glDeleteTextures(1, &opaqueTexture);
+        glDeleteTextures(1, &tileStateTexture);
         for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
                          commandsProgram, patchProgram, opaqueTilesProgram})
             glDeleteProgram(p);
@@ -1899,6 +1902,9 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         glTextureBufferRange(g.tileSplatTexture, GL_RGBA32F, g.tileSplats, 0,
                              GLsizeiptr(std::min<uint64_t>(g.tileSplatBytes / 16, g.texelCap()) * 16));
         glBindTextureUnit(6, g.tileSplatTexture);
+        if (!g.tileStateTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileStateTexture);
+        glTextureBuffer(g.tileStateTexture, GL_R32UI, g.tileState);
+        glBindTextureUnit(5, g.tileStateTexture);
         const GLuint offsets = g.tileProgram(Gl::kTileOffsets, 0);
         const GLuint bases = g.tileProgram(Gl::kTileBases, 0);
         const GLuint scatter = g.tileProgram(Gl::kTileScatter, variant & (kSplatShading | kFragmentShading | kOcclusion));
@@ -1987,7 +1993,8 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                 glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
                 g.useProgram(bases);
                 glDispatchCompute(1, 1, 1);
-                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
+                                GL_TEXTURE_FETCH_BARRIER_BIT);
                 // Splats, entries (they size the lists' buffer), the busiest tile's entries and whether a
                 // record invocation was cut short: the one wait of a part (a few bytes).
                 GLuint counts[4] = {0, 0, 0, 0};
