@@ -353,12 +353,8 @@ int runEditor(const EditorOptions& options) {
     // What the Performance panel's figures are of, for its Copy: volume, image size, mode, GL_RENDERER.
     auto perfContext = [&] {
         if (!doc.volume || !lastPlane || !splats) return "no volume, " + glRenderer;
-        const renderer::FrameStats& f = splats->stats();
-        const glm::ivec3 d = doc.volume->dims;
-        return doc.volume->name + " " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z) +
-               ", " + std::to_string(lastPlane->width) + "x" + std::to_string(lastPlane->height) + " px, " +
-               renderer::filterModeName(state.settings.filter) + ", " + renderer::compositingName(state.settings.compositing) +
-               " (" + renderer::primitiveName(f) + "), " + glRenderer;
+        return ui::renderContext(doc.volume->name, doc.volume->dims, {lastPlane->width, lastPlane->height},
+                                 state.settings, splats->stats(), glRenderer);
     };
     std::vector<renderer::FilterMeasurement> measurements;
     bool measurementsStale = false;

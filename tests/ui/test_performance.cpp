@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 namespace {
 
@@ -115,6 +116,27 @@ TEST(PerfHistory, SummaryTextGivesTheContextAndTheFiguresForAReport) {
               "passes (medians): splats 9.10 ms, composite 40.40 ms\n");
     s.intervals = 0;
     EXPECT_THAT(ui::summaryText(s, ""), HasSubstr("renders seen: none back to back"));
+}
+
+TEST(PerfHistory, RenderContextNamesWhatChangesTheWork) {
+    renderer::SplatSettings s;
+    s.compositing = renderer::Compositing::SheetFrontToBack;
+    renderer::FrameStats f;
+    f.tiles = true;
+    const auto context = [&] { return ui::renderContext("bonsai", {256, 256, 256}, {512, 512}, s, f, "llvmpipe"); };
+    EXPECT_EQ(context(), "bonsai 256x256x256, 512x512 px, ewa, sheet-front-to-back (tiles), llvmpipe");
+    s.occlusionCulling = false;
+    EXPECT_EQ(context(), "bonsai 256x256x256, 512x512 px, ewa, sheet-front-to-back (tiles), no occlusion culling, llvmpipe");
+    s.opaqueAlpha = 1.0;   // no early termination: nothing to cull against either
+    EXPECT_EQ(context(), "bonsai 256x256x256, 512x512 px, ewa, sheet-front-to-back (tiles), no early termination, llvmpipe");
+    s.opaqueAlpha = 0.998;
+    s.compositing = renderer::Compositing::SheetBackToFront;   // culling acts front to back only
+    EXPECT_THAT(context(), Not(HasSubstr("culling")));
+    s.compositing = renderer::Compositing::SplatEverySample;
+    EXPECT_THAT(context(), HasSubstr("no occlusion culling"));
+    s.shading = renderer::SplatSettings::Shading::PerSplat;
+    s.surfaceFlatten = 8.0;
+    EXPECT_THAT(context(), HasSubstr(", shaded per-splat, surface splats, no occlusion culling, llvmpipe"));
 }
 
 TEST_F(ImGuiNull, PerformancePanelCopiesItsFiguresWithTheirContext) {

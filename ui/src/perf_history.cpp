@@ -1,5 +1,7 @@
 #include "ui/perf_history.h"
 
+#include "renderer/ewa.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -88,6 +90,25 @@ std::string passListText(const std::array<double, renderer::kGpuPasses>& passMs,
             text += (text.empty() ? "" : separator) + item;
         }
     return text;
+}
+
+std::string renderContext(const std::string& volume, glm::ivec3 dims, glm::ivec2 imageSize,
+                          const renderer::SplatSettings& s, const renderer::FrameStats& frame,
+                          const std::string& glRenderer) {
+    using renderer::Compositing;
+    std::string text = volume + " " + std::to_string(dims.x) + "x" + std::to_string(dims.y) + "x" +
+                       std::to_string(dims.z) + ", " + std::to_string(imageSize.x) + "x" +
+                       std::to_string(imageSize.y) + " px, " + renderer::filterModeName(s.filter) + ", " +
+                       renderer::compositingName(s.compositing) + " (" + renderer::primitiveName(frame) + ")";
+    if (s.shading != renderer::SplatSettings::Shading::None)
+        text += std::string(", shaded ") + renderer::shadingName(s.shading);
+    if (s.surfaceFlatten != 1.0) text += ", surface splats";
+    // Front to back is where early termination and culling act (splat-every-sample: while opaqueAlpha < 1).
+    if (s.compositing == Compositing::SheetFrontToBack && s.opaqueAlpha >= 1.0) text += ", no early termination";
+    else if ((s.compositing == Compositing::SheetFrontToBack || s.compositing == Compositing::SplatEverySample) &&
+             s.opaqueAlpha < 1.0 && !s.occlusionCulling)
+        text += ", no occlusion culling";
+    return text + ", " + glRenderer;
 }
 
 std::string summaryText(const PerfSummary& s, const std::string& context) {

@@ -39,6 +39,13 @@ std::string passListText(const std::array<double, renderer::kGpuPasses>& passMs,
 // rendered, where), then the figures the panel shows, in milliseconds.
 std::string summaryText(const PerfSummary& summary, const std::string& context);
 
+// What a render's figures are of, for summaryText: the volume and its size, the image size, filter,
+// compositing (with the primitive `frame` used) and what changes the work from the defaults (shading,
+// surface splats, early termination or occlusion culling turned off), then GL_RENDERER.
+std::string renderContext(const std::string& volume, glm::ivec3 dims, glm::ivec2 imageSize,
+                          const renderer::SplatSettings& settings, const renderer::FrameStats& frame,
+                          const std::string& glRenderer);
+
 class PerfHistory {
 public:
     static constexpr size_t kCapacity = 240;   // renders kept: the oldest leave first
