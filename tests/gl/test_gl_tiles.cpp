@@ -40,7 +40,7 @@ void expectFrameMatchesCpu(const SplatRenderer& r, const SplatScene& scene, cons
     expectCountersEqual(r.stats().counters, cpuCounters);
 }
 
-struct WallsAndFill {
+struct SceneView {
     SplatScene scene;
     ImagePlane plane;
 };
@@ -50,10 +50,10 @@ struct WallsAndFill {
 // the first two chunks (16 slices each), so the third takes 32 (nextOcclusionChunk()) and none of the
 // fill behind the left wall is culled; then chunks of 16: the last fill is culled against both walls.
 // Chunks of 16 throughout, or chunks that never return to 16, cull other splats: the counters differ.
-WallsAndFill wallsAndFill() {
+SceneView wallsAndFill() {
     const glm::dvec3 centre(19.5, 19.5, 47.5);
     const double radius = std::sqrt(2.0 * 19.5 * 19.5 + 47.5 * 47.5);
-    WallsAndFill w{.scene = {}, .plane = makeImagePlane(Camera{.azimuthDeg = 10, .elevationDeg = 75}, centre, radius, 128, 128)};
+    SceneView w{.scene = {}, .plane = makeImagePlane(Camera{.azimuthDeg = 10, .elevationDeg = 75}, centre, radius, 128, 128)};
     const Traversal order = chooseTraversal(w.plane);
     EXPECT_EQ(order.axis, 2);
     Volume v;
@@ -74,6 +74,14 @@ WallsAndFill wallsAndFill() {
     EXPECT_LT(glm::length(w.scene.centre - centre), 1e-9) << "the plane must frame the scene";
     EXPECT_NEAR(w.scene.radius, radius, 1e-9);
     return w;
+}
+
+// A Marschner-Lobb volume from far away: reconstruction-only footprints there have a sigma of 0.06 px.
+SceneView farMarschnerLobb() {
+    SceneView v{.scene = buildSplatScene(makeMarschnerLobb(40), ramp()), .plane = {}};
+    v.plane = makeImagePlane(Camera{.azimuthDeg = 20, .elevationDeg = 15, .distance = 24}, v.scene.centre,
+                             v.scene.radius, 48, 40);
+    return v;
 }
 
 } // namespace
@@ -296,9 +304,7 @@ TEST_F(GlTest, TiledSplattingTakesTheGaussianByRecurrenceOnlyWhereFootprintsHold
     // conic's c <= 1 bounds the products). Reconstruction-only footprints this far away have a sigma of
     // 0.06 px (c about 240): started at the tile's first row, the products would under- and overflow,
     // and the pixels whose centre a splat's ellipse holds would take 0 or NaN instead of the Gaussian.
-    const SplatScene scene = buildSplatScene(makeMarschnerLobb(40), ramp());
-    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 20, .elevationDeg = 15, .distance = 24},
-                                            scene.centre, scene.radius, 48, 40);
+    const auto [scene, plane] = farMarschnerLobb();
     SplatRenderer r;
     r.setScene(scene);
     for (auto filter : {FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Ewa}) {
@@ -402,9 +408,7 @@ TEST_F(GlTest, ChunksWhoseRecordsDoNotFitGoInPartsToo) {
     // Footprints of 0.06 px (reconstruction only, far away) touch one tile each, so the records need more
     // texels than the lists: a cap between the two must split the chunk, or the scatter would read
     // records past the end of what the driver lets it see.
-    const SplatScene scene = buildSplatScene(makeMarschnerLobb(40), ramp());
-    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 20, .elevationDeg = 15, .distance = 24},
-                                            scene.centre, scene.radius, 48, 40);
+    const auto [scene, plane] = farMarschnerLobb();
     SplatRenderer r;
     r.setScene(scene);
     SplatSettings s = tiled(Compositing::XRay);
