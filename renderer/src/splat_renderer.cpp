@@ -1180,7 +1180,6 @@ struct SplatRenderer::Gl {
 
     // The opaque-tile map occlusion culling reads (kOpaqueTilesRead), as texels.
     void bindCullMap(GLuint map) {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, map);
         if (!opaqueTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &opaqueTexture);
         glTextureBuffer(opaqueTexture, GL_R32UI, map);
         glBindTextureUnit(7, opaqueTexture);
@@ -1773,6 +1772,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     glUniform1i(glGetUniformLocation(p, "uAdditive"), sheets || xray);
     glUniform1i(glGetUniformLocation(p, "uReverse"), reversed);
     glUniform1i(glGetUniformLocation(p, "uTilesX"), g.tiles.x);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, g.opaqueTiles);   // updateOpaqueTiles() writes it
     g.bindCullMap(g.opaqueTiles);
     if (earlyTermination) {   // nothing is opaque yet
         const GLuint zeroWord = 0;
