@@ -1125,7 +1125,7 @@ struct SplatRenderer::Gl {
         depthFbo = makeFbo({}, depth);   // the opaque mask of splat-every-sample: reads the image
         tiles = glm::ivec2((w + kOpaqueTilePx - 1) / kOpaqueTilePx, (h + kOpaqueTilePx - 1) / kOpaqueTilePx);
         glCreateBuffers(1, &opaqueTiles);
-        glNamedBufferStorage(opaqueTiles, GLsizeiptr((size_t(tiles.x) * size_t(tiles.y) + 1) * 4), nullptr, 0);
+        glNamedBufferStorage(opaqueTiles, GLsizeiptr(opaqueMapBytes()), nullptr, 0);
         width = w;
         height = h;
     }
@@ -1178,12 +1178,21 @@ struct SplatRenderer::Gl {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     }
 
-    // The opaque-tile map occlusion culling reads (kOpaqueTilesRead), as texels.
-    void bindCullMap(GLuint map) {
-        if (!opaqueTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &opaqueTexture);
-        glTextureBuffer(opaqueTexture, GL_R32UI, map);
-        glBindTextureUnit(7, opaqueTexture);
+    // Binds to `unit` the buffer texture `texture` (created on first use) over the first `bytes` of
+    // `buffer`: llvmpipe fetches texels lane by lane as a gather, storage-buffer values component by
+    // component, so the passes read what they do not write as texels.
+    static void bindTexels(GLuint& texture, GLenum format, GLuint buffer, GLsizeiptr bytes, GLuint unit) {
+        if (!texture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &texture);
+        glTextureBufferRange(texture, format, buffer, 0, bytes);
+        glBindTextureUnit(unit, texture);
     }
+
+    // The opaque-tile map occlusion culling reads (kOpaqueTilesRead).
+    void bindCullMap(GLuint map) {
+        bindTexels(opaqueTexture, GL_R32UI, map, GLsizeiptr(opaqueMapBytes()), 7);
+    }
+    // The map: a word a tile, then one that says whether any tile is opaque.
+    size_t opaqueMapBytes() const { return (size_t(tiles.x) * size_t(tiles.y) + 1) * 4; }
 
     GLuint splatProgram(int bits) {
         auto it = splatPrograms.find(bits);
@@ -1895,16 +1904,10 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         Gl::ensureBuffer(g.tileBins, g.tileBinBytes, binBytes);
         Gl::ensureBuffer(g.tileState, g.tileStateBytes, (4 + size_t(tileCount)) * 4);
         Gl::ensureBuffer(g.tileBusy, g.tileBusyBytes, (4 + size_t(tileCount)) * 4);
-        if (!g.tileListTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileListTexture);
-        // The scatter reads the records through texel fetches (a storage-buffer load of a vec4 costs
-        // llvmpipe a loop over the lanes per component), as many as the driver allows.
-        if (!g.tileSplatTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileSplatTexture);
-        glTextureBufferRange(g.tileSplatTexture, GL_RGBA32F, g.tileSplats, 0,
-                             GLsizeiptr(std::min<uint64_t>(g.tileSplatBytes / 16, g.texelCap()) * 16));
-        glBindTextureUnit(6, g.tileSplatTexture);
-        if (!g.tileStateTexture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tileStateTexture);
-        glTextureBuffer(g.tileStateTexture, GL_R32UI, g.tileState);
-        glBindTextureUnit(5, g.tileStateTexture);
+        // The scatter's records (as many as the driver allows) and tile bases.
+        Gl::bindTexels(g.tileSplatTexture, GL_RGBA32F, g.tileSplats,
+                       GLsizeiptr(std::min<uint64_t>(g.tileSplatBytes / 16, g.texelCap()) * 16), 6);
+        Gl::bindTexels(g.tileStateTexture, GL_R32UI, g.tileState, GLsizeiptr(g.tileStateBytes), 5);
         const GLuint offsets = g.tileProgram(Gl::kTileOffsets, 0);
         const GLuint bases = g.tileProgram(Gl::kTileBases, 0);
         const GLuint scatter = g.tileProgram(Gl::kTileScatter, variant & (kSplatShading | kFragmentShading | kOcclusion));
@@ -2034,7 +2037,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                         break;
                     }
                     if (occlusion && !split) {   // nothing of this chunk is composited yet
-                        const size_t mapBytes = (size_t(g.tiles.x) * size_t(g.tiles.y) + 1) * 4;
+                        const size_t mapBytes = g.opaqueMapBytes();
                         Gl::ensureBuffer(g.chunkStartMap, g.chunkStartMapBytes, mapBytes);
                         glCopyNamedBufferSubData(g.opaqueTiles, g.chunkStartMap, 0, 0, GLsizeiptr(mapBytes));
                     }
@@ -2064,9 +2067,8 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                 glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, g.opaqueTiles);
                 glUniform1i(glGetUniformLocation(composite, "uRank0"), GLint(j0));
                 glUniform1i(glGetUniformLocation(composite, "uRanks"), GLint(ranks));
-                glTextureBufferRange(g.tileListTexture, GL_RGBA32F, g.tileList, 0,
-                                     GLsizeiptr(std::max<GLuint>(counts[1], 1) * texels * 16));
-                glBindTextureUnit(0, g.tileListTexture);
+                Gl::bindTexels(g.tileListTexture, GL_RGBA32F, g.tileList,
+                               GLsizeiptr(std::max<GLuint>(counts[1], 1) * texels * 16), 0);
                 glBindTextureUnit(1, g.lutTexture);
                 // A workgroup per tile with entries (listed by the bases pass); with OCCLUSION it also
                 // leaves the opaque-tile map for the next chunk.
