@@ -103,11 +103,9 @@ std::string renderContext(const std::string& volume, glm::ivec3 dims, glm::ivec2
     if (s.shading != renderer::SplatSettings::Shading::None)
         text += std::string(", shaded ") + renderer::shadingName(s.shading);
     if (s.surfaceFlatten != 1.0) text += ", surface splats";
-    // Front to back is where early termination and culling act (splat-every-sample: while opaqueAlpha < 1).
+    // Early termination and culling act front to back (splat-every-sample turns back to front without them).
     if (s.compositing == Compositing::SheetFrontToBack && s.opaqueAlpha >= 1.0) text += ", no early termination";
-    else if ((s.compositing == Compositing::SheetFrontToBack || s.compositing == Compositing::SplatEverySample) &&
-             s.opaqueAlpha < 1.0 && !s.occlusionCulling)
-        text += ", no occlusion culling";
+    else if (renderer::frontToBack(s) && s.opaqueAlpha < 1.0 && !s.occlusionCulling) text += ", no occlusion culling";
     return text + ", " + glRenderer;
 }
 
