@@ -47,9 +47,10 @@ struct SceneView {
 
 // 96 slices seen along z, by front-to-back rank: 36 empty; a wall over the left half (x < 20); 24 of
 // faint fill (never opaque); a wall over the right half; 12 empty; 16 of fill. Nothing is opaque after
-// the first two chunks (16 slices each), so the third takes 32 (nextOcclusionChunk()) and none of the
-// fill behind the left wall is culled; then chunks of 16: the last fill is culled against both walls.
-// Chunks of 16 throughout, or chunks that never return to 16, cull other splats: the counters differ.
+// the first two chunks (8 slices each, kTileChunkSlices), so the next ones double (nextOcclusionChunk()):
+// ranks 16-31, then 32-63, which holds the left wall and the fill behind it, so none of that fill is
+// culled; then chunks of 8: the last fill is culled against both walls. Chunks of 8 throughout, or
+// chunks that stop doubling at 16, cull other splats (23.2 k and 15.1 k against 13.4 k): the counters differ.
 SceneView wallsAndFill() {
     const glm::dvec3 centre(19.5, 19.5, 47.5);
     const double radius = std::sqrt(2.0 * 19.5 * 19.5 + 47.5 * 47.5);
@@ -117,8 +118,9 @@ TEST_F(GlTest, TiledSplattingMatchesCpuInEverySheetAndXRayMode) {
 
 TEST_F(GlTest, TiledSplattingStopsAtOpaquePixelsLikeTheCpu) {
     // Front to back, refreshed every slice (auto): only early termination changes a pixel, by at most
-    // 1 - opaqueAlpha. The 24 slices go in two chunks (occlusionSlices): the second is binned against
-    // the tiles the first made opaque, so splats are culled and tiles lose entries; the CPU agrees.
+    // 1 - opaqueAlpha. The 24 slices go in several chunks (occlusionSlices): each later one is binned
+    // against the tiles the ones before made opaque, so splats are culled and tiles lose entries; the
+    // CPU agrees.
     const SplatScene scene = buildSplatScene(makeSphereShells(24, 8.0, 3.0), ramp(1.0));
     const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 25, .elevationDeg = 10}, scene.centre, scene.radius, 72, 64);
     SplatRenderer r;
@@ -132,7 +134,7 @@ TEST_F(GlTest, TiledSplattingStopsAtOpaquePixelsLikeTheCpu) {
     const uint64_t allEntries = r.stats().tileEntries;
     s.opaqueAlpha = 0.95;
     ASSERT_EQ(opaqueRefreshSlices(s), 1);
-    ASSERT_EQ(occlusionSlices(s), 16);
+    ASSERT_LE(occlusionSlices(s), 12) << "the 24 slices must go in two chunks or more";
     r.render(plane, s);
     const Image early = r.readback();
     SplatCounters cpu;
