@@ -1889,10 +1889,11 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                               (plane.height + kSplatTilePx - 1) / kSplatTilePx);
         const GLint tileCount = grid.x * grid.y;
         const size_t recordBytes = size_t(recordVec4s(variant)) * 16, texels = size_t(entryTexels(variant));
-        // Chunks: occlusion ones (nextOcclusionChunk(), at most four times the first), else 64 slices.
+        // Chunks: occlusion ones (nextOcclusionChunk(), at most maxOcclusionChunk()), else 64 slices.
         const bool occlusion = variant & kOcclusion;
         uint32_t chunk = occlusion ? uint32_t(occlusionSlices(settings)) : kTileListChunkSlices;
-        const size_t binBytes = size_t(tileCount) * std::min(occlusion ? 4 * chunk : chunk, slices) * 4;
+        const size_t binBytes =
+            size_t(tileCount) * std::min(occlusion ? uint32_t(maxOcclusionChunk(settings)) : chunk, slices) * 4;
         bool anyOpaque = false;   // occlusion: whether the map has an opaque tile yet
         GLuint segments = 1;      // workgroups a run is dealt to in the record pass (more where a loop limit cut one)
         const uint32_t partSlices = earlyTermination ? uint32_t(refresh) : 1;

@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <map>
+#include <vector>
 #include <optional>
 #include <numbers>
 
@@ -275,6 +276,32 @@ TEST(SplatEverySample, FrontToBackIsTheExactReverseOfBackToFront) {
         EXPECT_GT(early.maxAbs, 1e-6) << refresh;
         EXPECT_LE(early.maxAbs, 0.01 + 1e-6) << refresh;
     }
+}
+
+TEST(EarlyTermination, OcclusionChunksDoubleWhileNothingIsOpaqueUpToTheirMaximum) {
+    // The tiled renderer sizes its bins by maxOcclusionChunk(): no chunk may exceed it.
+    SplatSettings s;
+    s.compositing = Compositing::SheetFrontToBack;
+    s.primitive = SplatSettings::Primitive::Tiles;
+    const int first = occlusionSlices(s);
+    std::vector<int> layout;
+    int chunk = first;
+    for (int start = 0; start < 1000; start += chunk) {
+        if (start > 0) chunk = nextOcclusionChunk(s, start, chunk, false);
+        layout.push_back(chunk);
+    }
+    ASSERT_GE(layout.size(), 4u);
+    EXPECT_EQ(layout[0], first);
+    EXPECT_EQ(layout[1], first);
+    EXPECT_EQ(layout[2], 2 * first);
+    for (int c : layout) EXPECT_LE(c, maxOcclusionChunk(s));
+    EXPECT_EQ(layout.back(), maxOcclusionChunk(s));
+    EXPECT_GT(maxOcclusionChunk(s), first);
+    EXPECT_EQ(nextOcclusionChunk(s, 1000, maxOcclusionChunk(s), true), first) << "an opaque tile: back to the first";
+    // The rasteriser snapshots at every refresh.
+    s.primitive = SplatSettings::Primitive::Raster;
+    EXPECT_EQ(maxOcclusionChunk(s), occlusionSlices(s));
+    EXPECT_EQ(nextOcclusionChunk(s, 1000, occlusionSlices(s), false), occlusionSlices(s));
 }
 
 // == Ground truth
