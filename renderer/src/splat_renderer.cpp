@@ -832,10 +832,6 @@ void main() {
 constexpr int kTimerRing = 4;
 // Tiled splatting culls against the opaque-tile map with its own tile indices.
 static_assert(kOpaqueTilePx == kSplatTilePx);
-// Slices tiled splatting bins at once where nothing is culled (back to front, X-ray, no early
-// termination): chunks only bound the lists' memory there (bonsai back to front: 126 MB for its
-// largest chunk against 255 MB for all slices at once, at the same speed; 16 slices cost 5 % more).
-constexpr uint32_t kTileListChunkSlices = 64;
 // Texels a chunk of several slices may give its lists (256 MiB at 16 bytes a texel); more, and the
 // chunk goes in parts. One slice cannot be split (its sheet is one sum), so only the driver's
 // GL_MAX_TEXTURE_BUFFER_SIZE bounds it.
@@ -1040,6 +1036,12 @@ struct SplatRenderer::Gl {
     // bits) looping over the run, 5 % faster on bonsai than 64 (fewer idle rows, each started once);
     // a GPU keeps full warps.
     int runLanes = 64;
+    // Slices tiled splatting bins at once where nothing is culled (back to front, X-ray, no early
+    // termination). A GPU waits for each chunk's read-back, so it takes 64 (bonsai back to front: 126 MB
+    // for its largest chunk against 255 MB for all slices at once, at the same speed). llvmpipe: 16,
+    // whose smaller lists stay in cache: bonsai and engine 3-5 % faster than 64, headsq 2-14 %.
+    uint32_t listChunkSlices = 64;
+    uint32_t listChunkSlicesSet = 0;   // setListChunkSlices(); 0: listChunkSlices
     // Loop iterations the driver lets one shader invocation run, all its loops together (llvmpipe
     // ends them at 65535; measured at start by measureLoopLimit()); 0: no limit found.
     uint32_t loopLimit = 0;
@@ -1492,7 +1494,10 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     g.maxPointSize = GLint(pointRange[1]);
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &g.maxTexelBuffer);
     glCreateFramebuffers(1, &g.computeFbo);
-    if (glRendererName().rfind("llvmpipe", 0) == 0) g.runLanes = 8;
+    if (glRendererName().rfind("llvmpipe", 0) == 0) {
+        g.runLanes = 8;
+        g.listChunkSlices = 16;
+    }
     g.loopLimit = measureLoopLimit();
     checkGlErrors("SplatRenderer setup");
 }
@@ -1889,9 +1894,10 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
                               (plane.height + kSplatTilePx - 1) / kSplatTilePx);
         const GLint tileCount = grid.x * grid.y;
         const size_t recordBytes = size_t(recordVec4s(variant)) * 16, texels = size_t(entryTexels(variant));
-        // Chunks: occlusion ones (nextOcclusionChunk(), at most maxOcclusionChunk()), else 64 slices.
+        // Chunks: occlusion ones (nextOcclusionChunk(), at most maxOcclusionChunk()), else listChunkSlices.
         const bool occlusion = variant & kOcclusion;
-        uint32_t chunk = occlusion ? uint32_t(occlusionSlices(settings)) : kTileListChunkSlices;
+        uint32_t chunk = occlusion ? uint32_t(occlusionSlices(settings))
+                                   : (g.listChunkSlicesSet ? g.listChunkSlicesSet : g.listChunkSlices);
         const size_t binBytes =
             size_t(tileCount) * std::min(occlusion ? uint32_t(maxOcclusionChunk(settings)) : chunk, slices) * 4;
         bool anyOpaque = false;   // occlusion: whether the map has an opaque tile yet
@@ -2346,5 +2352,6 @@ uint64_t SplatRenderer::sceneBytes() const { return m_gl->sceneBytes; }
 
 void SplatRenderer::setMemoryLimit(uint64_t bytes) { m_gl->memoryLimit = bytes; }
 void SplatRenderer::setTexelBufferLimit(uint64_t texels) { m_gl->texelLimit = texels; }
+void SplatRenderer::setListChunkSlices(uint32_t slices) { m_gl->listChunkSlicesSet = slices; }
 
 } // namespace renderer

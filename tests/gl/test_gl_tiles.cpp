@@ -405,6 +405,26 @@ TEST_F(GlTest, ChunksWhoseListsDoNotFitGoInPartsWithTheCpuOraclesImageAndCounter
     }
 }
 
+TEST_F(GlTest, ListChunksOfAnySizeGiveTheCpuOraclesImage) {
+    // Back to front and X-ray bin the slices in chunks only to bound memory (16 on llvmpipe, 64 on a
+    // GPU): one slice a chunk, an odd size and all 20 slices at once give the oracle's image.
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(20), ramp());
+    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 35, .elevationDeg = 25}, scene.centre, scene.radius, 64, 56);
+    SplatRenderer r;
+    r.setScene(scene);
+    for (auto mode : {Compositing::SheetBackToFront, Compositing::XRay}) {
+        const SplatSettings s = tiled(mode);
+        const Image cpu = renderReference(scene, plane, s);
+        EXPECT_GT(imageStats(cpu).coveredFraction, 0.2);
+        for (uint32_t slices : {1u, 7u, 64u}) {
+            r.setListChunkSlices(slices);
+            r.render(plane, s);
+            EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu,
+                                std::string("gl_tiles_list_chunks_") + compositingName(mode) + "_" + std::to_string(slices));
+        }
+    }
+}
+
 TEST_F(GlTest, ChunksWhoseRecordsDoNotFitGoInPartsToo) {
     // The scatter reads the records through a texel buffer too, 3 texels a splat against 2 an entry.
     // Footprints of 0.06 px (reconstruction only, far away) touch one tile each, so the records need more
@@ -413,6 +433,7 @@ TEST_F(GlTest, ChunksWhoseRecordsDoNotFitGoInPartsToo) {
     const auto [scene, plane] = farMarschnerLobb();
     SplatRenderer r;
     r.setScene(scene);
+    r.setListChunkSlices(64);   // the 40 slices in one chunk, so the frame's counts are the chunk's
     SplatSettings s = tiled(Compositing::XRay);
     s.filter = FilterMode::Reconstruction;
     s.counters = true;

@@ -102,6 +102,9 @@ public:
     // Caps the texels a tiled frame's lists may take (0: GL_MAX_TEXTURE_BUFFER_SIZE alone), as a GPU
     // with a smaller limit would: auto then rasterises with tiles' semantics. For tests.
     void setTexelBufferLimit(uint64_t texels);
+    // Slices a tiled frame bins at once where nothing is culled (back to front, X-ray, no early
+    // termination; 0: this driver's choice, 16 on llvmpipe and 64 elsewhere). For tests, and to compare.
+    void setListChunkSlices(uint32_t slices);
 
 private:
     // One attempt at render(): the reason when only drawing it told that it cannot be drawn (one
