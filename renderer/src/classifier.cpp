@@ -55,6 +55,19 @@ std::optional<FilterMode> uniformAdaptiveFilter(glm::ivec3 dims, glm::dvec3 orig
     return std::nullopt;
 }
 
+bool footprintsHoldThePixel(FilterMode drawn, glm::ivec3 dims, glm::dvec3 origin, glm::dvec3 spacing,
+                            const ImagePlane& plane, const SplatSettings& s) {
+    if (drawn == FilterMode::LowPass || drawn == FilterMode::Ewa) return true;
+    if (s.surfaceFlatten > 1.0) return false;
+    const AdaptiveThresholds t = adaptiveThresholds(spacing, plane, s);
+    const double margin = 1.001;   // for the GPU's float footprints, as uniformAdaptiveFilter's
+    // Pixels per unit are least at the farthest voxel (none is drawn where that lies behind the eye).
+    const double farthest = plane.depthRange(dims, origin, spacing).y;
+    const double pxMin = plane.orthographic ? plane.fPx : (farthest > 0.0 ? plane.fPx / farthest : 0.0);
+    if (t.sigmaMin * pxMin >= margin) return true;
+    return drawn == FilterMode::Adaptive && t.reconstructionAbovePx >= (1.0 + std::max(s.hysteresis, 0.0)) * margin;
+}
+
 FilterDepths filterDepths(const AdaptiveThresholds& t, const ImagePlane& plane) {
     const double inf = std::numeric_limits<double>::infinity();
     if (plane.orthographic) {   // pixels per unit do not change with depth: one filter for the view

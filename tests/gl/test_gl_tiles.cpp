@@ -3,6 +3,7 @@
 // and early termination against the CPU oracle (tolerance: gl_fixture.h), counters included.
 #include "gl_fixture.h"
 
+#include "renderer/classifier.h"
 #include "renderer/errors.h"
 #include "renderer/gradients.h"
 #include "renderer/metrics.h"
@@ -302,10 +303,11 @@ TEST_F(GlTest, TiledSplattingKeepsEveryEntryOfCrowdedTilesWithinTheDriversLoopLi
 }
 
 TEST_F(GlTest, TiledSplattingTakesTheGaussianByRecurrenceOnlyWhereFootprintsHoldTheLowPass) {
-    // The composite takes the Gaussian down a column by recurrence for low-pass and EWA frames (their
-    // conic's c <= 1 bounds the products). Reconstruction-only footprints this far away have a sigma of
-    // 0.06 px (c about 240): started at the tile's first row, the products would under- and overflow,
-    // and the pixels whose centre a splat's ellipse holds would take 0 or NaN instead of the Gaussian.
+    // The composite takes the Gaussian down a column by recurrence where every footprint's conic is at
+    // most 1 (footprintsHoldThePixel): low-pass and EWA, and reconstruction-only and adaptive where the
+    // kernels span a pixel or more. Reconstruction-only footprints this far away have a sigma of 0.06 px
+    // (c about 240): started at the tile's first row, the products would under- and overflow, and the
+    // pixels whose centre a splat's ellipse holds would take 0 or NaN instead of the Gaussian.
     const auto [scene, plane] = farMarschnerLobb();
     SplatRenderer r;
     r.setScene(scene);
@@ -315,11 +317,33 @@ TEST_F(GlTest, TiledSplattingTakesTheGaussianByRecurrenceOnlyWhereFootprintsHold
         SplatSettings s = tiled(Compositing::SheetFrontToBack);
         s.filter = filter;
         s.density = 4.0;
+        EXPECT_EQ(footprintsHoldThePixel(filter, scene.dims, scene.origin, scene.spacing, plane, s),
+                  filter != FilterMode::Reconstruction);
         r.render(plane, s);
         const Image cpu = renderReference(scene, plane, s);
         EXPECT_GT(imageStats(cpu).coveredFraction, 0.01);
         EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu, name);
     }
+    // Close up, reconstruction-only kernels of 2 px and more: by recurrence, with the oracle's image,
+    // forced and where adaptive mixes reconstruction-only patches with EWA ones (hysteresis on).
+    const ImagePlane near = makeImagePlane(Camera{.azimuthDeg = 20, .elevationDeg = 15, .distance = 1.3}, scene.centre,
+                                           scene.radius, 96, 84);
+    for (auto filter : {FilterMode::Reconstruction, FilterMode::Adaptive})
+        for (auto mode : {Compositing::SheetFrontToBack, Compositing::XRay}) {
+            const std::string name = std::string("gl_tiles_near_") + filterModeName(filter) + "_" + compositingName(mode);
+            SCOPED_TRACE(name);
+            SplatSettings s = tiled(mode);
+            s.filter = filter;
+            s.hysteresis = 0.25;
+            s.density = 4.0;
+            s.heatmap = true;
+            s.counters = true;
+            ASSERT_TRUE(footprintsHoldThePixel(filter, scene.dims, scene.origin, scene.spacing, near, s));
+            r.render(near, s);
+            expectFrameMatchesCpu(r, scene, near, s, name);
+            EXPECT_GT(r.stats().counters.drawnPerMode[0], 0u);
+            if (filter == FilterMode::Adaptive) EXPECT_GT(r.stats().counters.drawnPerMode[2], 0u);
+        }
 }
 
 TEST_F(GlTest, TiledSplattingCarriesTheImageAcrossChunksLikeTheCpu) {

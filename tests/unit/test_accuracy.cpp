@@ -14,6 +14,7 @@
 #include <map>
 #include <vector>
 #include <optional>
+#include <tuple>
 #include <numbers>
 
 using namespace renderer;
@@ -26,6 +27,16 @@ TransferFunction flat(double opacity, glm::dvec3 colour = {1, 1, 1}) {
 
 TransferFunction ramp() {
     return {"ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.3}, {1.0, {1.0, 0.8, 0.3}, 0.9}}};
+}
+
+// A volume of one value at half opacity: every voxel a splat.
+SplatScene uniformBlock(glm::ivec3 dims, glm::dvec3 spacing) {
+    Volume v;
+    v.dims = dims;
+    v.spacing = spacing;
+    v.values.assign(v.voxelCount(), 1.0f);
+    v.range = {0.0f, 1.0f};
+    return buildSplatScene(v, flat(0.5));
 }
 
 Volume oneVoxel() {
@@ -166,16 +177,8 @@ TEST(Classifier, AViewDecidesEveryPatchOnlyWhereEachPatchAgrees) {
     // there, minified at the bar's far end) to far away, perspective and orthographic: wherever
     // uniformAdaptiveFilter names a filter, every patch takes it, whatever its last frame's filter and
     // the hysteresis. Each filter is decided somewhere, and some views are left to the patches.
-    auto volume = [](glm::ivec3 dims, glm::dvec3 spacing) {
-        Volume v;
-        v.dims = dims;
-        v.spacing = spacing;
-        v.values.assign(v.voxelCount(), 1.0f);
-        v.range = {0.0f, 1.0f};
-        return buildSplatScene(v, flat(0.5));
-    };
     std::map<std::optional<FilterMode>, int> decided;
-    for (const SplatScene& scene : {volume({12, 10, 8}, {1.0, 1.5, 0.7}), volume({2, 2, 600}, {1.0, 1.0, 1.0})})
+    for (const SplatScene& scene : {uniformBlock({12, 10, 8}, {1.0, 1.5, 0.7}), uniformBlock({2, 2, 600}, {1.0, 1.0, 1.0})})
         for (double distance : {0.5, 1.05, 1.5, 3.0, 8.0, 30.0, 120.0})
             for (double fov : {10.0, 40.0, 90.0})
                 for (bool ortho : {false, true})
@@ -203,6 +206,72 @@ TEST(Classifier, AViewDecidesEveryPatchOnlyWhereEachPatchAgrees) {
     EXPECT_GT(decided[FilterMode::LowPass], 0);
     EXPECT_GT(decided[FilterMode::Ewa], 0);
     EXPECT_GT(decided[std::nullopt], 0);
+}
+
+TEST(Classifier, FootprintsHoldThePixelWhereverThePredicateSaysSo) {
+    // The tile composite's recurrence needs every drawn footprint's conic at most 1 (its variance at
+    // least the 1-px low-pass). Over the views of the test above, forced reconstruction and adaptive
+    // (c_min 0.3, 0.9 and 1, hysteresis 0 and 0.25, last frame's filter none or reconstruction): wherever
+    // footprintsHoldThePixel says so, every voxel's footprint, in the filter its patch takes, has a conic
+    // whose larger eigenvalue is at most 1. Both answers occur for both filters, and near the volume's
+    // far end reconstruction-only conics reach past 1, so the predicate is not always true.
+    auto largestEigenvalue = [](const glm::dmat2& m) {
+        const double mean = 0.5 * (m[0][0] + m[1][1]), half = 0.5 * (m[0][0] - m[1][1]);
+        return mean + std::sqrt(half * half + m[0][1] * m[1][0]);
+    };
+    std::map<std::pair<FilterMode, bool>, int> answers;
+    double largestWhereNot = 0.0;
+    for (const SplatScene& scene : {uniformBlock({12, 10, 8}, {1.0, 1.5, 0.7}), uniformBlock({2, 2, 600}, {1.0, 1.0, 1.0})})
+        for (double distance : {0.5, 1.05, 1.5, 3.0, 8.0, 30.0, 120.0})
+            for (double fov : {10.0, 40.0, 90.0})
+                for (bool ortho : {false, true})
+                    for (auto [filter, cMin, h] : {std::tuple{FilterMode::Reconstruction, 0.3, 0.0},
+                                                   {FilterMode::Adaptive, 0.3, 0.25}, {FilterMode::Adaptive, 1.0, 0.0},
+                                                   {FilterMode::Adaptive, 1.0, 0.25}, {FilterMode::Adaptive, 0.9, 0.25}}) {
+                        SplatSettings s;
+                        s.filter = filter;
+                        s.cMin = cMin;
+                        s.hysteresis = h;
+                        s.patchSize = 4;
+                        const Camera camera{20.0, 30.0, distance, fov, {0.0, 0.0}, {0.0, 0.0, 1.0}, ortho};
+                        const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, 256, 256);
+                        const FilterMode drawn =
+                            filter == FilterMode::Adaptive
+                                ? uniformAdaptiveFilter(scene.dims, scene.origin, scene.spacing, plane, s).value_or(filter)
+                                : filter;
+                        if (drawn != FilterMode::Reconstruction && drawn != FilterMode::Adaptive) continue;
+                        const bool holds = footprintsHoldThePixel(drawn, scene.dims, scene.origin, scene.spacing, plane, s);
+                        ++answers[{filter, holds}];
+                        const AdaptiveThresholds t = adaptiveThresholds(scene.spacing, plane, s);
+                        const int axis = chooseTraversal(plane).axis;
+                        for (FilterMode previous : {FilterMode::Adaptive, FilterMode::Reconstruction})
+                            for (uint32_t voxel = 0; voxel < scene.classes.size(); ++voxel) {
+                                const FilterMode mode = drawn == FilterMode::Adaptive
+                                    ? classifyPatch(scene, plane, t, s.patchSize, axis, voxel, previous, h) : drawn;
+                                const SplatGeometry g = splatGeometry(scene, plane, s, voxel, 1.0, mode);
+                                if (g.culled) continue;
+                                const double largest = largestEigenvalue(g.conic);
+                                if (holds) {
+                                    ASSERT_LE(largest, 1.0) << scene.dims.z << " slices, distance " << distance
+                                                            << " fov " << fov << " ortho " << ortho << " "
+                                                            << filterModeName(filter) << " c_min " << cMin << " h " << h;
+                                } else {
+                                    largestWhereNot = std::max(largestWhereNot, largest);
+                                }
+                            }
+                    }
+    for (FilterMode filter : {FilterMode::Reconstruction, FilterMode::Adaptive})
+        for (bool holds : {false, true}) EXPECT_GT((answers[{filter, holds}]), 0) << filterModeName(filter) << " " << holds;
+    EXPECT_GT(largestWhereNot, 1.0);
+    // Surface splats flatten reconstruction-only kernels below a pixel: never.
+    const SplatScene scene = uniformBlock({12, 10, 8}, {1.0, 1.0, 1.0});
+    const ImagePlane near = makeImagePlane(Camera{.distance = 1.5}, scene.centre, scene.radius, 256, 256);
+    SplatSettings s;
+    s.filter = FilterMode::Reconstruction;
+    EXPECT_TRUE(footprintsHoldThePixel(s.filter, scene.dims, scene.origin, scene.spacing, near, s));
+    s.surfaceFlatten = 8.0;
+    EXPECT_FALSE(footprintsHoldThePixel(s.filter, scene.dims, scene.origin, scene.spacing, near, s));
+    EXPECT_TRUE(footprintsHoldThePixel(FilterMode::Ewa, scene.dims, scene.origin, scene.spacing, near, s));
 }
 
 TEST(Classifier, FilterDepthsAreWhereClassifyDepthChangesItsAnswer) {

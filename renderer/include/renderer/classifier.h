@@ -41,6 +41,16 @@ FilterDepths filterDepths(const AdaptiveThresholds& t, const ImagePlane& plane);
 std::optional<FilterMode> uniformAdaptiveFilter(glm::ivec3 dims, glm::dvec3 origin, glm::dvec3 spacing,
                                                 const ImagePlane& plane, const SplatSettings& s);
 
+// Whether every footprint a frame drawn with `drawn` (the filter in force: uniformAdaptiveFilter's, else
+// s.filter) gives a dims-sized volume at origin/spacing holds at least the 1-px low-pass, M >= I, so
+// that every entry of its conic is at most 1 (the tile composite's recurrence needs it). Low-pass and
+// EWA add the low-pass. Reconstruction only takes the projected kernel alone, at least its smallest
+// sigma's size in pixels squared (the projection stretches no direction less than f / u2): enough where
+// that size reaches a pixel at the farthest voxel, or, adaptive, where only kernels over 1 / c_min px
+// (less hysteresis) take it and c_min (1 + hysteresis) <= 1. Surface splats flatten kernels below that.
+bool footprintsHoldThePixel(FilterMode drawn, glm::ivec3 dims, glm::dvec3 origin, glm::dvec3 spacing,
+                            const ImagePlane& plane, const SplatSettings& s);
+
 // The patches of the slices across `axis`: `columns` along axis a1 = (axis+1)%3, `rows` along
 // a2 = (axis+2)%3, slice-major. The one layout of the CPU's and the GPU's per-patch filters.
 struct PatchGrid {
