@@ -6,6 +6,11 @@
 
 namespace renderer {
 
+namespace {
+// The GPU classifies and builds footprints in float: a decision taken here for it keeps 0.1 % of room.
+constexpr double kFloatMargin = 1.001;
+} // namespace
+
 AdaptiveThresholds adaptiveThresholds(glm::dvec3 spacing, const ImagePlane& plane, const SplatSettings& s) {
     // c_max bounds the footprint's elongation at the image border: (u0^2 + u1^2 + u2^2) / u2^2 is at
     // most 1 + 2 tan^2(fov/2) for perspective rays, 1 for parallel ones.
@@ -46,7 +51,7 @@ std::optional<FilterMode> uniformAdaptiveFilter(glm::ivec3 dims, glm::dvec3 orig
     const double pxMin = plane.orthographic ? plane.fPx : plane.fPx / u2max;
     const AdaptiveThresholds t = adaptiveThresholds(spacing, plane, s);
     // Each threshold as far as hysteresis can move it (classifyDepth), and 0.1 % for float rounding.
-    const double band = (1.0 + std::max(s.hysteresis, 0.0)) * 1.001;
+    const double band = (1.0 + std::max(s.hysteresis, 0.0)) * kFloatMargin;
     const bool neverReconstruction = t.sigmaMin * pxMax <= t.reconstructionAbovePx / band;
     const bool neverLowPass = t.sigmaMax * pxMin >= t.lowPassBelowPx * band;
     if (t.sigmaMin * pxMin > t.reconstructionAbovePx * band) return FilterMode::Reconstruction;
@@ -60,12 +65,12 @@ bool footprintsHoldThePixel(FilterMode drawn, glm::ivec3 dims, glm::dvec3 origin
     if (drawn == FilterMode::LowPass || drawn == FilterMode::Ewa) return true;
     if (s.surfaceFlatten > 1.0) return false;
     const AdaptiveThresholds t = adaptiveThresholds(spacing, plane, s);
-    const double margin = 1.001;   // for the GPU's float footprints, as uniformAdaptiveFilter's
     // Pixels per unit are least at the farthest voxel (none is drawn where that lies behind the eye).
     const double farthest = plane.depthRange(dims, origin, spacing).y;
     const double pxMin = plane.orthographic ? plane.fPx : (farthest > 0.0 ? plane.fPx / farthest : 0.0);
-    if (t.sigmaMin * pxMin >= margin) return true;
-    return drawn == FilterMode::Adaptive && t.reconstructionAbovePx >= (1.0 + std::max(s.hysteresis, 0.0)) * margin;
+    if (t.sigmaMin * pxMin >= kFloatMargin) return true;
+    return drawn == FilterMode::Adaptive &&
+           t.reconstructionAbovePx >= (1.0 + std::max(s.hysteresis, 0.0)) * kFloatMargin;
 }
 
 FilterDepths filterDepths(const AdaptiveThresholds& t, const ImagePlane& plane) {

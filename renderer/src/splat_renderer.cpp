@@ -558,8 +558,8 @@ vec4 composite(vec4 image, vec4 sheet) {
 // the quadratic form and an exp (the exp was 12 % of the composite on llvmpipe, the form another 13 %). Along
 // the column e(r+1) - e(r) = 2 b dx + c (2 dy + 1) grows by 2 c a row, so e takes two sums, and
 // g(r+1) = g(r) h(r) with h(r) = exp(-(e(r+1) - e(r)) / 2), h(r+1) = h(r) exp(-c). The host sets it only where every
-// footprint holds the 1-px low-pass (M >= I, so the conic's c <= 1: footprintsHoldThePixel) and the cutoff is at most 3 sigmas
-// (columnRecurrence()): a column with a row inside the cutoff ellipse then has e <= (3 + 7)^2 = 100 in
+// footprint holds the 1-px low-pass (M >= I, so the conic's c <= 1: footprintsHoldThePixel) and the cutoff
+// is at most 3 sigmas (columnRecurrence()): a column with a row inside the cutoff ellipse then has e <= (3 + 7)^2 = 100 in
 // every row, so no factor under- or overflows; a column with none takes nothing, whatever its products.
 #ifdef COLUMN_RECURRENCE
 #define COLUMN_START \
@@ -945,11 +945,9 @@ std::string variantDefines(int bits) {
     return header;
 }
 
-
 // Whether the tile composite may take the Gaussian down a column by recurrence (COLUMN_RECURRENCE): every
 // footprint holds the 1-px low-pass (its conic's entries are at most 1) and the cutoff is at most 3 sigmas.
-// Both bound its products (kTileCompositeCompMain); reconstruction-only footprints can be far narrower
-// than a pixel.
+// Both bound its products (kTileCompositeCompMain).
 bool columnRecurrence(FilterMode drawn, glm::ivec3 dims, glm::dvec3 origin, glm::dvec3 spacing, const ImagePlane& plane,
                       const SplatSettings& s) {
     return s.cutoffSigmas <= 3.0 && footprintsHoldThePixel(drawn, dims, origin, spacing, plane, s);
