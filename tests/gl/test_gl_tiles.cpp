@@ -342,7 +342,9 @@ TEST_F(GlTest, TiledSplattingTakesTheGaussianByRecurrenceOnlyWhereFootprintsHold
             r.render(near, s);
             expectFrameMatchesCpu(r, scene, near, s, name);
             EXPECT_GT(r.stats().counters.drawnPerMode[0], 0u);
-            if (filter == FilterMode::Adaptive) EXPECT_GT(r.stats().counters.drawnPerMode[2], 0u);
+            if (filter == FilterMode::Adaptive) {
+                EXPECT_GT(r.stats().counters.drawnPerMode[2], 0u);
+            }
         }
 }
 
