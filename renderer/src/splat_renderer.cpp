@@ -559,8 +559,9 @@ vec4 composite(vec4 image, vec4 sheet) {
 // the column e(r+1) - e(r) = 2 b dx + c (2 dy + 1) grows by 2 c a row, so e takes two sums, and
 // g(r+1) = g(r) h(r) with h(r) = exp(-(e(r+1) - e(r)) / 2), h(r+1) = h(r) exp(-c). The host sets it only where every
 // footprint holds the 1-px low-pass (M >= I, so the conic's c <= 1: footprintsHoldThePixel) and the cutoff
-// is at most 3 sigmas (columnRecurrence()): a column with a row inside the cutoff ellipse then has e <= (3 + 7)^2 = 100 in
-// every row, so no factor under- or overflows; a column with none takes nothing, whatever its products.
+// is at most 3 sigmas (columnRecurrence()): a column with a row inside the cutoff ellipse then has
+// e <= (3 + 7)^2 = 100 in every row, so no factor under- or overflows; a column with none takes nothing,
+// whatever its products.
 #ifdef COLUMN_RECURRENCE
 #define COLUMN_START \
     float dy0 = float(y0) + 0.5 - centre.y; \

@@ -12,10 +12,11 @@
 
 #include <cmath>
 #include <map>
-#include <vector>
-#include <optional>
-#include <tuple>
 #include <numbers>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
 
 using namespace renderer;
 
@@ -37,6 +38,30 @@ SplatScene uniformBlock(glm::ivec3 dims, glm::dvec3 spacing) {
     v.values.assign(v.voxelCount(), 1.0f);
     v.range = {0.0f, 1.0f};
     return buildSplatScene(v, flat(0.5));
+}
+
+// The views the classifier tests walk: a rectilinear 12x10x8 block and a 2x2x600 bar, from inside (the near
+// plane cuts them: magnified there, minified at the bar's far end) to far away, three fields of view,
+// perspective and orthographic.
+struct ClassifierView {
+    const SplatScene& scene;
+    ImagePlane plane;
+    std::string where;   // for failure messages
+};
+std::vector<ClassifierView> classifierViews() {
+    static const std::vector<SplatScene> scenes{uniformBlock({12, 10, 8}, {1.0, 1.5, 0.7}),
+                                                uniformBlock({2, 2, 600}, {1.0, 1.0, 1.0})};
+    std::vector<ClassifierView> views;
+    for (const SplatScene& scene : scenes)
+        for (double distance : {0.5, 1.05, 1.5, 3.0, 8.0, 30.0, 120.0})
+            for (double fov : {10.0, 40.0, 90.0})
+                for (bool ortho : {false, true}) {
+                    const Camera camera{20.0, 30.0, distance, fov, {0.0, 0.0}, {0.0, 0.0, 1.0}, ortho};
+                    views.push_back({scene, makeImagePlane(camera, scene.centre, scene.radius, 256, 256),
+                                     std::to_string(scene.dims.z) + " slices, distance " + std::to_string(distance) +
+                                         " fov " + std::to_string(fov) + " ortho " + std::to_string(ortho)});
+                }
+    return views;
 }
 
 Volume oneVoxel() {
@@ -173,35 +198,26 @@ TEST(Classifier, PatchesTakeAShortcutOnlyWhenAllCornersAgree) {
 }
 
 TEST(Classifier, AViewDecidesEveryPatchOnlyWhereEachPatchAgrees) {
-    // A rectilinear 12x10x8 block and a 2x2x600 bar, from inside (the near plane cuts them: magnified
-    // there, minified at the bar's far end) to far away, perspective and orthographic: wherever
-    // uniformAdaptiveFilter names a filter, every patch takes it, whatever its last frame's filter and
-    // the hysteresis. Each filter is decided somewhere, and some views are left to the patches.
+    // Over classifierViews(): wherever uniformAdaptiveFilter names a filter, every patch takes it,
+    // whatever its last frame's filter and the hysteresis. Each filter is decided somewhere, and some
+    // views are left to the patches.
     std::map<std::optional<FilterMode>, int> decided;
-    for (const SplatScene& scene : {uniformBlock({12, 10, 8}, {1.0, 1.5, 0.7}), uniformBlock({2, 2, 600}, {1.0, 1.0, 1.0})})
-        for (double distance : {0.5, 1.05, 1.5, 3.0, 8.0, 30.0, 120.0})
-            for (double fov : {10.0, 40.0, 90.0})
-                for (bool ortho : {false, true})
-                    for (double h : {0.0, 0.25}) {
-                        SplatSettings s;
-                        s.filter = FilterMode::Adaptive;
-                        s.hysteresis = h;
-                        s.patchSize = 4;
-                        const Camera camera{20.0, 30.0, distance, fov, {0.0, 0.0}, {0.0, 0.0, 1.0}, ortho};
-                        const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, 256, 256);
-                        const std::optional<FilterMode> one =
-                            uniformAdaptiveFilter(scene.dims, scene.origin, scene.spacing, plane, s);
-                        ++decided[one];
-                        if (!one) continue;
-                        const AdaptiveThresholds t = adaptiveThresholds(scene.spacing, plane, s);
-                        const int axis = chooseTraversal(plane).axis;
-                        for (FilterMode previous : {FilterMode::Adaptive, FilterMode::Reconstruction,
-                                                    FilterMode::LowPass, FilterMode::Ewa})
-                            for (uint32_t voxel = 0; voxel < scene.classes.size(); ++voxel)
-                                ASSERT_EQ(classifyPatch(scene, plane, t, s.patchSize, axis, voxel, previous, h), *one)
-                                    << scene.dims.z << " slices, distance " << distance << " fov " << fov
-                                    << " ortho " << ortho << " h " << h;
-                    }
+    for (const auto& [scene, plane, where] : classifierViews())
+        for (double h : {0.0, 0.25}) {
+            SplatSettings s;
+            s.filter = FilterMode::Adaptive;
+            s.hysteresis = h;
+            s.patchSize = 4;
+            const std::optional<FilterMode> one = uniformAdaptiveFilter(scene.dims, scene.origin, scene.spacing, plane, s);
+            ++decided[one];
+            if (!one) continue;
+            const AdaptiveThresholds t = adaptiveThresholds(scene.spacing, plane, s);
+            const int axis = chooseTraversal(plane).axis;
+            for (FilterMode previous : {FilterMode::Adaptive, FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Ewa})
+                for (uint32_t voxel = 0; voxel < scene.classes.size(); ++voxel)
+                    ASSERT_EQ(classifyPatch(scene, plane, t, s.patchSize, axis, voxel, previous, h), *one)
+                        << where << " h " << h;
+        }
     EXPECT_GT(decided[FilterMode::Reconstruction], 0);
     EXPECT_GT(decided[FilterMode::LowPass], 0);
     EXPECT_GT(decided[FilterMode::Ewa], 0);
@@ -210,7 +226,7 @@ TEST(Classifier, AViewDecidesEveryPatchOnlyWhereEachPatchAgrees) {
 
 TEST(Classifier, FootprintsHoldThePixelWhereverThePredicateSaysSo) {
     // The tile composite's recurrence needs every drawn footprint's conic at most 1 (its variance at
-    // least the 1-px low-pass). Over the views of the test above, forced reconstruction and adaptive
+    // least the 1-px low-pass). Over classifierViews(), forced reconstruction and adaptive
     // (c_min 0.3, 0.9 and 1, hysteresis 0 and 0.25, last frame's filter none or reconstruction): wherever
     // footprintsHoldThePixel says so, every voxel's footprint, in the filter its patch takes, has a conic
     // whose larger eigenvalue is at most 1. Both answers occur for both filters, and near the volume's
@@ -221,45 +237,39 @@ TEST(Classifier, FootprintsHoldThePixelWhereverThePredicateSaysSo) {
     };
     std::map<std::pair<FilterMode, bool>, int> answers;
     double largestWhereNot = 0.0;
-    for (const SplatScene& scene : {uniformBlock({12, 10, 8}, {1.0, 1.5, 0.7}), uniformBlock({2, 2, 600}, {1.0, 1.0, 1.0})})
-        for (double distance : {0.5, 1.05, 1.5, 3.0, 8.0, 30.0, 120.0})
-            for (double fov : {10.0, 40.0, 90.0})
-                for (bool ortho : {false, true})
-                    for (auto [filter, cMin, h] : {std::tuple{FilterMode::Reconstruction, 0.3, 0.0},
-                                                   {FilterMode::Adaptive, 0.3, 0.25}, {FilterMode::Adaptive, 1.0, 0.0},
-                                                   {FilterMode::Adaptive, 1.0, 0.25}, {FilterMode::Adaptive, 0.9, 0.25}}) {
-                        SplatSettings s;
-                        s.filter = filter;
-                        s.cMin = cMin;
-                        s.hysteresis = h;
-                        s.patchSize = 4;
-                        const Camera camera{20.0, 30.0, distance, fov, {0.0, 0.0}, {0.0, 0.0, 1.0}, ortho};
-                        const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, 256, 256);
-                        const FilterMode drawn =
-                            filter == FilterMode::Adaptive
-                                ? uniformAdaptiveFilter(scene.dims, scene.origin, scene.spacing, plane, s).value_or(filter)
-                                : filter;
-                        if (drawn != FilterMode::Reconstruction && drawn != FilterMode::Adaptive) continue;
-                        const bool holds = footprintsHoldThePixel(drawn, scene.dims, scene.origin, scene.spacing, plane, s);
-                        ++answers[{filter, holds}];
-                        const AdaptiveThresholds t = adaptiveThresholds(scene.spacing, plane, s);
-                        const int axis = chooseTraversal(plane).axis;
-                        for (FilterMode previous : {FilterMode::Adaptive, FilterMode::Reconstruction})
-                            for (uint32_t voxel = 0; voxel < scene.classes.size(); ++voxel) {
-                                const FilterMode mode = drawn == FilterMode::Adaptive
-                                    ? classifyPatch(scene, plane, t, s.patchSize, axis, voxel, previous, h) : drawn;
-                                const SplatGeometry g = splatGeometry(scene, plane, s, voxel, 1.0, mode);
-                                if (g.culled) continue;
-                                const double largest = largestEigenvalue(g.conic);
-                                if (holds) {
-                                    ASSERT_LE(largest, 1.0) << scene.dims.z << " slices, distance " << distance
-                                                            << " fov " << fov << " ortho " << ortho << " "
-                                                            << filterModeName(filter) << " c_min " << cMin << " h " << h;
-                                } else {
-                                    largestWhereNot = std::max(largestWhereNot, largest);
-                                }
-                            }
+    for (const auto& [scene, plane, where] : classifierViews())
+        for (auto [filter, cMin, h] : {std::tuple{FilterMode::Reconstruction, 0.3, 0.0}, {FilterMode::Adaptive, 0.3, 0.25},
+                                       {FilterMode::Adaptive, 1.0, 0.0}, {FilterMode::Adaptive, 1.0, 0.25},
+                                       {FilterMode::Adaptive, 0.9, 0.25}}) {
+            SplatSettings s;
+            s.filter = filter;
+            s.cMin = cMin;
+            s.hysteresis = h;
+            s.patchSize = 4;
+            const FilterMode drawn =
+                filter == FilterMode::Adaptive
+                    ? uniformAdaptiveFilter(scene.dims, scene.origin, scene.spacing, plane, s).value_or(filter)
+                    : filter;
+            if (drawn != FilterMode::Reconstruction && drawn != FilterMode::Adaptive) continue;
+            const bool holds = footprintsHoldThePixel(drawn, scene.dims, scene.origin, scene.spacing, plane, s);
+            ++answers[{filter, holds}];
+            const AdaptiveThresholds t = adaptiveThresholds(scene.spacing, plane, s);
+            const int axis = chooseTraversal(plane).axis;
+            for (FilterMode previous : {FilterMode::Adaptive, FilterMode::Reconstruction})
+                for (uint32_t voxel = 0; voxel < scene.classes.size(); ++voxel) {
+                    const FilterMode mode = drawn == FilterMode::Adaptive
+                                                ? classifyPatch(scene, plane, t, s.patchSize, axis, voxel, previous, h)
+                                                : drawn;
+                    const SplatGeometry g = splatGeometry(scene, plane, s, voxel, 1.0, mode);
+                    if (g.culled) continue;
+                    const double largest = largestEigenvalue(g.conic);
+                    if (holds) {
+                        ASSERT_LE(largest, 1.0) << where << " " << filterModeName(filter) << " c_min " << cMin << " h " << h;
+                    } else {
+                        largestWhereNot = std::max(largestWhereNot, largest);
                     }
+                }
+        }
     for (FilterMode filter : {FilterMode::Reconstruction, FilterMode::Adaptive})
         for (bool holds : {false, true}) EXPECT_GT((answers[{filter, holds}]), 0) << filterModeName(filter) << " " << holds;
     EXPECT_GT(largestWhereNot, 1.0);
