@@ -21,8 +21,9 @@ struct EditorOptions {
     int width = 1280, height = 800;       // window size in screen coordinates
     std::string filter = "ewa";           // starting filter mode (ewa.h names)
     bool heatmap = false;                 // start showing the filter-mode heatmap
-    // Starting compositing (splat_settings.h names): tiled sheets front to back, the fastest mode on
-    // every machine measured and as close to the ground truth as splat-every-sample.
+    // Starting compositing (splat_settings.h names), also `render`'s default: tiled sheets front to
+    // back, the fastest mode on every machine measured and as close to the ground truth as
+    // splat-every-sample.
     std::string compositing = "sheet-front-to-back";
     renderer::SplatSettings::Primitive primitive = renderer::SplatSettings::Primitive::Auto;   // --primitive
     std::vector<std::string> tabs;        // panels brought to the front of their regions (--tab)

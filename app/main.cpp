@@ -181,7 +181,8 @@ int runInfo(const std::string& path, const RawFlags& raw, bool gradients) {
 // What `render` and `reference` share: the volume, the view and the splatting settings.
 struct SceneArgs {
     std::string volume, out, size = "512x512", camera = "30,20,2.5,30", tf = "ct-skin-bone";
-    std::string compositing = "splat-every-sample", filter = "ewa", up = "z";
+    // The editor's starting mode, so a view from the command line matches the editor's.
+    std::string compositing = EditorOptions{}.compositing, filter = "ewa", up = "z";
     std::string window = "data";
     std::string session;   // render --session: a saved editor session instead of the flags above
     double kernelScale = SplatSettings{}.kernelScale, density = 1.0;

@@ -165,7 +165,8 @@ TEST(Cli, MistakesGetOneClearLineAndAFailingExit) {
         {"render \"" + headsq() + "\" --out " + out + " --filter box", "known: reconstruction, low-pass, ewa"},
         {"render \"" + headsq() + "\" --out " + out + " --tf nonsense", "known: ct-skin-bone"},
         {"render \"" + headsq() + "\" --out " + out + " --up w", "expected x, y, z"},
-        {"render \"" + headsq() + "\" --out " + out + " --primitive tiles", "splat-every-sample needs points or quads"},
+        {"render \"" + headsq() + "\" --out " + out + " --compositing splat-every-sample --primitive tiles",
+         "splat-every-sample needs points or quads"},
         {"render no_such_volume.nhdr --out " + out, "no_such_volume.nhdr: cannot open"},
         {"render \"" + headsq() + "\"", "--out is required"},
         {"info", "volume is required"},
@@ -252,11 +253,12 @@ TEST(Cli, EditorSavesTheViewAsRenderDrawsItAndNamesAFileItCannotWrite) {
         ASSERT_GT(fromEditor.height, 300);
         EXPECT_GT(renderer::imageStats(fromEditor).coveredFraction, 0.2);
 
-        // The same view from `splatlab render` at that size, in the editor's starting mode.
+        // The same view from `splatlab render` at that size, with no --compositing: render's default
+        // is the editor's starting mode.
         const std::filesystem::path image = dir / "render_view.exr", heat = dir / "render_heatmap.exr";
         const CliRun r = splatlab("render \"" + headsq() + "\" --up -z --camera 60,15,2.5,30 --size " +
                                   std::to_string(fromEditor.width) + "x" + std::to_string(fromEditor.height) +
-                                  " --compositing sheet-front-to-back --frames 1 -o \"" + image.string() + "\"" +
+                                  " --frames 1 -o \"" + image.string() + "\"" +
                                   (heatmap ? " --heatmap \"" + heat.string() + "\"" : ""));
         ASSERT_EQ(r.status, 0) << r.output;
         const renderer::Image fromCli = renderer::readImage(heatmap ? heat : image);
