@@ -76,6 +76,35 @@ struct ImGuiSession {
     }
 };
 
+// The preview drawn while the view moves (ui::PreviewSettings): the volume at half resolution with its
+// own scene and renderer, classified with the document's TF and window (the window of the full
+// volume's values: the means span a narrower range).
+struct Preview {
+    renderer::Volume volume;
+    renderer::SplatScene scene;
+    renderer::SplatRenderer splats;
+    std::optional<renderer::GradientField> gradients;
+
+    explicit Preview(const renderer::Volume& full) : volume(renderer::halfResolution(full)) {}
+    void classify(const renderer::TransferFunction& tf, renderer::ValueRange window) {
+        renderer::SplatScene next = renderer::buildSplatScene(volume, tf, window);
+        if (gradients) renderer::addGradients(next, *gradients);
+        splats.setScene(next);
+        scene = std::move(next);
+    }
+    void setTransferFunction(const renderer::TransferFunction& tf) {
+        renderer::setTransferFunction(scene, tf);
+        splats.setLut(scene.lut);
+    }
+    // Once the full volume's gradients are ready; an eighth of the voxels, so computed right here.
+    void addGradients() {
+        gradients = renderer::computeGradients(volume);
+        if (!gradients) return;
+        renderer::addGradients(scene, *gradients);
+        splats.setGradients(scene);
+    }
+};
+
 // What the viewport shows. No volume (none given, or it failed to load) leaves `volume` empty.
 struct Document {
     std::optional<renderer::Volume> volume;
@@ -84,6 +113,7 @@ struct Document {
     renderer::Histogram histogram;          // of the whole volume, for the Window section
     renderer::ValueRange percentile;        // p1..p99
     std::optional<renderer::GradientField> gradients;   // once computed (for shading, a later issue)
+    std::unique_ptr<Preview> preview;       // volumes of PreviewSettings::kMinVoxels or more
 };
 
 // Work on a worker thread that the UI thread polls each frame: its progress (0..1), a cancel flag the
@@ -278,7 +308,12 @@ int runEditor(const EditorOptions& options) {
             renderer::Volume volume = renderer::loadVolume(path);
             next.histogram = renderer::computeHistogram(volume, 128);
             next.percentile = renderer::percentileWindow(volume, 1.0, 99.0);
-            next.scene = renderer::buildSplatScene(volume, next.tf, renderer::windowFor(volume, state.window));
+            const renderer::ValueRange window = renderer::windowFor(volume, state.window);
+            next.scene = renderer::buildSplatScene(volume, next.tf, window);
+            if (volume.voxelCount() >= ui::PreviewSettings::kMinVoxels) {
+                next.preview = std::make_unique<Preview>(volume);
+                next.preview->classify(next.tf, window);
+            }
             next.volume = std::move(volume);
             auto fresh = splats ? nullptr : std::make_unique<renderer::SplatRenderer>();
             (splats ? *splats : *fresh).setScene(next.scene);
@@ -339,11 +374,33 @@ int runEditor(const EditorOptions& options) {
     bool filtersShown = false, patchCountsStale = true;
     ui::FiltersChanges filtersChanges;
     std::unique_ptr<FilterComparisonJob> comparison;
+    // Renders the view into `texture`, the preview's renderer or the full one; false if it threw.
+    auto renderView = [&](bool preview) {
+        return guarded([&] {
+            const renderer::ImagePlane plane = renderer::makeImagePlane(
+                state.camera, doc.scene.centre, doc.scene.radius, renderWidth, renderHeight);
+            // Shading waits for the gradients (computed after a volume loads); until then, unshaded.
+            renderer::SplatSettings drawn = state.settings;
+            if (!state.gradientsReady) drawn.shading = renderer::SplatSettings::Shading::None, drawn.surfaceFlatten = 1.0;
+            state.preview.shown = preview;
+            if (preview) {   // the same extinction per unit length from voxels twice the size
+                drawn.density = renderer::densityFor(doc.preview->volume, *doc.volume, drawn.density);
+                doc.preview->splats.render(plane, drawn);
+                texture = doc.preview->splats.displayTexture(state.background.data(), state.showHeatmap);
+                return;
+            }
+            splats->render(plane, drawn);
+            texture = splats->displayTexture(state.background.data(), state.showHeatmap);
+            lastPlane = plane;
+            patchCountsStale = true;
+        });
+    };
     // Settings > Files > Save image (and --save-image): the view as the viewport shows it, at its size.
     auto saveView = [&](const std::filesystem::path& path) {
         guarded([&] {
             if (!splats || texture == 0)
                 throw renderer::LoadError(path.string(), "", "no view to save: open a volume first");
+            if (state.preview.shown && !renderView(false)) return;   // the full view, not the preview
             const renderer::Image image = state.showHeatmap ? splats->readbackHeatmap() : splats->readback();
             renderer::writeImage(image, path, state.background.data());
             state.imageSaved = "wrote " + path.filename().string() + ", " + std::to_string(image.width) + " x " +
@@ -372,9 +429,11 @@ int runEditor(const EditorOptions& options) {
         {"Viewport", "viewport", [&] { viewport = ui::drawViewportPanel(state, texture); }},
         {"Stats", "bottom",
          [&] {
-             ui::drawStatsPanel({.frame = splats ? splats->stats() : renderer::FrameStats{},
+             const bool preview = state.preview.shown && doc.preview;   // the figures of what the viewport shows
+             ui::drawStatsPanel({.frame = preview ? doc.preview->splats.stats()
+                                          : splats ? splats->stats() : renderer::FrameStats{},
                                  .volume = doc.volume ? &*doc.volume : nullptr,
-                                 .visibleSplats = doc.scene.visibleCount(),
+                                 .visibleSplats = (preview ? doc.preview->scene : doc.scene).visibleCount(),
                                  .glRenderer = glRenderer});
          }},
         {"Performance", "bottom", [&] { ui::drawPerformancePanel(state, perfHistory, perfContext); }},
@@ -427,8 +486,10 @@ int runEditor(const EditorOptions& options) {
         state.spaceMouseStatus = spaceMouse.status();
         if (knobDeflected() && ui::applyOrbitInput(state.camera, ui::spaceMouseOrbit(spaceMouse.state(),
                                                                                      pollTime - lastPoll,
-                                                                                     state.spaceMouse)))
+                                                                                     state.spaceMouse))) {
             renderPending = true;
+            state.preview.lastInput = pollTime;
+        }
         lastPoll = pollTime;
 
         // 5a. Renderer work for last frame's edits. A failed step waits for the next edit instead of
@@ -452,6 +513,7 @@ int runEditor(const EditorOptions& options) {
                 doc.tf = state.tf;
                 renderer::setTransferFunction(doc.scene, doc.tf);
                 splats->setLut(doc.scene.lut);   // the lists stay; only the LUT travels
+                if (doc.preview) doc.preview->setTransferFunction(doc.tf);
             });
         }
         if (splats && windowChanged) {
@@ -464,6 +526,7 @@ int runEditor(const EditorOptions& options) {
                 if (doc.gradients) renderer::addGradients(scene, *doc.gradients);
                 splats->setScene(scene);
                 doc.scene = std::move(scene);
+                if (doc.preview) doc.preview->classify(doc.tf, window);
             });
         }
         if (gradientJob && gradientJob->done) {
@@ -475,6 +538,7 @@ int runEditor(const EditorOptions& options) {
                 guarded([&] {
                     renderer::addGradients(doc.scene, *doc.gradients);
                     splats->setGradients(doc.scene);   // the rest of the scene is on the GPU already
+                    if (doc.preview) doc.preview->addGradients();
                     state.gradientsReady = true;
                 });
                 renderPending = true;
@@ -523,6 +587,9 @@ int runEditor(const EditorOptions& options) {
         }
         lastSpin = pollTime;
         renderPending |= continuous;
+        // While the view moves, the preview; once it settles, the full render.
+        const bool preview = doc.preview && state.preview.whileMoving && (options.preview || state.preview.moving(pollTime));
+        renderPending |= state.preview.shown && !preview;
         const bool renderNow = splats && renderPending && renderWidth > 0;
         if (renderNow) {
             renderPending = false;
@@ -532,19 +599,8 @@ int runEditor(const EditorOptions& options) {
                     ? std::chrono::duration<double, std::milli>(start - *lastRenderStart).count()
                     : 0.0;
             lastRenderStart = start;
-            const bool rendered = guarded([&] {
-                const renderer::ImagePlane plane = renderer::makeImagePlane(
-                    state.camera, doc.scene.centre, doc.scene.radius, renderWidth, renderHeight);
-                // Shading waits for the gradients (computed after a volume loads); until then, unshaded.
-                renderer::SplatSettings drawn = state.settings;
-                if (!state.gradientsReady) drawn.shading = renderer::SplatSettings::Shading::None, drawn.surfaceFlatten = 1.0;
-                splats->render(plane, drawn);
-                texture = splats->displayTexture(state.background.data(), state.showHeatmap);
-                lastPlane = plane;
-                patchCountsStale = true;
-                perfHistory.addRender(splats->stats(), intervalMs);
-            });
-            if (!rendered) texture = 0;
+            if (!renderView(preview)) texture = 0;
+            else if (!preview) perfHistory.addRender(splats->stats(), intervalMs);   // the Performance panel's figures are of full renders
         }
         renderedLastFrame = renderNow;
         if (splats && lastPlane && filtersShown && patchCountsStale) {
@@ -588,6 +644,8 @@ int runEditor(const EditorOptions& options) {
             comparison.reset();
             measurementsStale = true;
         }
+        if (viewport.cameraChanged || (tfChanged && ImGui::IsMouseDown(ImGuiMouseButton_Left)))
+            state.preview.lastInput = glfwGetTime();   // a drag or the wheel: the preview until it settles
         renderPending |= viewEdited;
         if (viewport.widthPx != renderWidth || viewport.heightPx != renderHeight) {
             renderWidth = viewport.widthPx, renderHeight = viewport.heightPx;

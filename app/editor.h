@@ -29,6 +29,7 @@ struct EditorOptions {
     std::vector<std::string> tabs;        // panels brought to the front of their regions (--tab)
     bool continuous = false;              // render every frame (Performance panel)
     double spinDegPerS = 0.0;             // and turn the camera this fast (implies continuous)
+    bool preview = false;                 // always show the preview drawn while the view moves (--preview)
 };
 
 // Runs the editor until the window closes, or for `frames` frames. Returns the process exit code:

@@ -65,4 +65,34 @@ Histogram computeHistogram(const Volume& volume, int bins) {
     return h;
 }
 
+Volume halfResolution(const Volume& volume) {
+    const glm::ivec3 step = glm::clamp(volume.dims, 1, 2);   // 1 on an axis of one voxel (or none)
+    Volume coarse;
+    coarse.name = volume.name;
+    coarse.dims = (volume.dims + step - 1) / step;
+    coarse.spacing = volume.spacing * glm::dvec3(step);
+    coarse.origin = volume.origin + 0.5 * volume.spacing * glm::dvec3(step - 1);
+    coarse.directions = volume.directions;
+    coarse.type = volume.type;
+    coarse.values.resize(coarse.voxelCount());
+    for (int z = 0; z < coarse.dims.z; ++z)
+        for (int y = 0; y < coarse.dims.y; ++y)
+            for (int x = 0; x < coarse.dims.x; ++x) {
+                double sum = 0.0;
+                int n = 0;
+                for (int k = z * step.z; k < std::min((z + 1) * step.z, volume.dims.z); ++k)
+                    for (int j = y * step.y; j < std::min((y + 1) * step.y, volume.dims.y); ++j)
+                        for (int i = x * step.x; i < std::min((x + 1) * step.x, volume.dims.x); ++i)
+                            if (const float v = volume.at(i, j, k); std::isfinite(v)) sum += v, ++n;
+                coarse.values[coarse.index(x, y, z)] = n > 0 ? float(sum / n) : std::nanf("");
+            }
+    updateRange(coarse);
+    return coarse;
+}
+
+double densityFor(const Volume& coarse, const Volume& fine, double density) {
+    const auto sum = [](const glm::dvec3& v) { return v.x + v.y + v.z; };
+    return density * sum(coarse.spacing) / sum(fine.spacing);
+}
+
 } // namespace renderer

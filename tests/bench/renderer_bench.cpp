@@ -7,6 +7,7 @@
 #include "renderer/camera.h"
 #include "renderer/gl_context.h"
 #include "renderer/gradients.h"
+#include "renderer/metrics.h"
 #include "renderer/reference_renderer.h"
 #include "renderer/splat_renderer.h"
 #include "renderer/transfer_function.h"
@@ -54,14 +55,23 @@ std::map<std::string, SplatScene>& scenes() {
     return cache;
 }
 
-// The dataset's scene; with gradients (for shading) when the settings need them.
-const SplatScene& sceneOf(const Dataset& d, bool gradients = false) {
+// The density that gives the half-resolution scene the full one's extinction (densityFor), by dataset.
+std::map<std::string, double>& halfDensityScales() {
+    static std::map<std::string, double> scales;
+    return scales;
+}
+
+// The dataset's scene; with gradients (for shading) when the settings need them. half: the editor's
+// preview while the view moves, the volume at half resolution classified over the full volume's window.
+const SplatScene& sceneOf(const Dataset& d, bool gradients = false, bool half = false) {
     auto& cache = scenes();
-    const std::string key = std::string(d.name) + (gradients ? "+gradients" : "");
+    const std::string key = std::string(d.name) + (gradients ? "+gradients" : "") + (half ? "+half" : "");
     if (!cache.count(key)) {
-        const Volume volume = loadVolume(d.path);
-        SplatScene scene = buildSplatScene(volume, transferFunctionFromSpec(d.preset));
+        const Volume full = loadVolume(d.path);
+        const Volume volume = half ? halfResolution(full) : full;
+        SplatScene scene = buildSplatScene(volume, transferFunctionFromSpec(d.preset), full.range);
         if (gradients) addGradients(scene, *computeGradients(volume));
+        if (half) halfDensityScales()[d.name] = densityFor(volume, full, 1.0);
         cache.emplace(key, std::move(scene));
     }
     return cache.at(key);
@@ -69,11 +79,24 @@ const SplatScene& sceneOf(const Dataset& d, bool gradients = false) {
 
 // Times whole frames (render + glFinish) of one configuration; one more frame with GPU counters on
 // reports what was drawn per filter.
-void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Camera camera = {}) {
-    const SplatScene& scene = sceneOf(d, needsGradients(s));
+// half: the preview's scene, seen from the full scene's camera, with its RMSE against the full frame.
+void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Camera camera = {}, bool half = false) {
+    const SplatScene& full = sceneOf(d, needsGradients(s));
+    const SplatScene& scene = half ? sceneOf(d, needsGradients(s), true) : full;
+    const ImagePlane plane = makeImagePlane(camera, full.centre, full.radius, gWidth, gHeight);
+    if (half) {
+        SplatRenderer f;
+        f.setScene(full);
+        f.render(plane, s);
+        const Image fullImage = f.readback();
+        s.density *= halfDensityScales().at(d.name);
+        SplatRenderer h;
+        h.setScene(scene);
+        h.render(plane, s);
+        state.counters["rmse_vs_full"] = compareImages(h.readback(), fullImage).rmse;
+    }
     SplatRenderer r;
     r.setScene(scene);
-    const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, gWidth, gHeight);
     r.render(plane, s);   // warm-up
     glFinish();
     for (auto _ : state) {
@@ -269,6 +292,11 @@ int main(int argc, char** argv) {
                     add(n + "/" + view + "/" + filterModeName(filter) + suffix,
                         [=](benchmark::State& st) { renderFrames(st, d, v, Camera{.distance = distance}); });
                 }
+        // The editor's preview while the view moves (tiled sheets front to back, as the editor draws).
+        s = {};
+        s.compositing = Compositing::SheetFrontToBack;
+        add(n + "/ewa/sheet-front-to-back/half-resolution",
+            [=](benchmark::State& st) { renderFrames(st, d, s, {}, true); });
         // Close up, each slice takes points where its footprints fit, against quads for every slice.
         s = {};
         s.primitive = SplatSettings::Primitive::Quads;

@@ -200,6 +200,9 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     sectionTitle("Inspect");
     changes.settingsChanged |= ImGui::Checkbox("GPU counters", &s.counters);
     hint("Count splats per filter and per cull on the GPU (waits for each frame)");
+    ImGui::Checkbox("Preview while moving", &state.preview.whileMoving);
+    hint("Volumes of 4 M voxels or more: drawn at half resolution while you drag, zoom or move a TF\n"
+         "point, in full a quarter second after");
 
     sectionTitle("Camera");
     changes.cameraChanged |= sliderDouble("Field of view", state.camera.fovYDeg, 10.0, 100.0, "%.0f deg");
@@ -290,6 +293,9 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
     draw->AddRectFilled(origin, end, ImGui::GetColorU32(ImVec4(bg[0], bg[1], bg[2], 1.0f)));
     if (texture != 0) {
         draw->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture)), origin, end);
+        if (state.preview.shown)
+            draw->AddText(ImVec2(origin.x + 8.0f, origin.y + 6.0f), ImGui::GetColorU32(ImGuiCol_TextDisabled),
+                          "preview: half resolution while the view moves");
     } else {
         const char* note = "No volume loaded: splatlab editor VOLUME";
         const ImVec2 size = ImGui::CalcTextSize(note);
@@ -405,6 +411,8 @@ void drawHelpPanel() {
     ImGui::BulletText("Transfer function curve: drag a point, click empty space to add one, right-click to remove");
     ImGui::BulletText("3D mouse: twist to orbit, tilt to look from above or below, push or pull to zoom, slide to pan");
     ImGui::BulletText("Performance tab: render continuously (and spin) to watch frame times; hover the chart");
+    ImGui::BulletText("Volumes of 4 M voxels or more show a half-resolution preview while you move them\n"
+                      "(Settings > Inspect > Preview while moving)");
 }
 
 void drawErrorModal(EditorState& state) {

@@ -28,6 +28,17 @@ struct PerfSettings {
     double spinDegPerS = 0.0;   // azimuth speed while rendering continuously (0: still)
 };
 
+// The preview while the view moves: large volumes are drawn at half resolution (8 times fewer splats)
+// during a drag, a wheel turn, a 3D-mouse move or a TF point's drag, and in full kSettleS after the last.
+struct PreviewSettings {
+    static constexpr double kSettleS = 0.25;
+    static constexpr size_t kMinVoxels = size_t(1) << 22;   // 4 M: smaller volumes render fast enough
+    bool whileMoving = true;
+    std::optional<double> lastInput;   // seconds (the app's clock) of the last moving input
+    bool shown = false;                // the viewport shows the preview (set by the app)
+    bool moving(double now) const { return lastInput && now - *lastInput < kSettleS; }
+};
+
 // A file dropped on the window, waiting for the panel whose button opens such a file (dropFile).
 enum class FileAction { None, OpenVolume, OpenSession, LoadTransferFunction };
 
@@ -58,6 +69,7 @@ struct EditorState {
     SpaceMouseMapping spaceMouse;
     std::string spaceMouseStatus;    // the device found, or why there is none (set by the app)
     PerfSettings perf;
+    PreviewSettings preview;
 };
 
 } // namespace ui
