@@ -374,6 +374,23 @@ int runEditor(const EditorOptions& options) {
     bool filtersShown = false, patchCountsStale = true;
     ui::FiltersChanges filtersChanges;
     std::unique_ptr<FilterComparisonJob> comparison;
+    // A new window re-classifies every voxel, the preview's too; the scenes keep the old one if this throws.
+    // While the window is dragged only the preview's are (fullWindowStale), and this follows.
+    bool windowDragged = false, fullWindowStale = false;
+    auto reclassify = [&] {
+        fullWindowStale = false;
+        renderPending = true;
+        guarded([&] {
+            const renderer::ValueRange window = renderer::windowFor(*doc.volume, state.window);
+            renderer::SplatScene scene = renderer::buildSplatScene(*doc.volume, doc.tf, window);
+            if (doc.gradients) renderer::addGradients(scene, *doc.gradients);
+            splats->setScene(scene);
+            doc.scene = std::move(scene);
+            if (doc.preview) doc.preview->classify(doc.tf, window);
+        });
+    };
+    // The window the view is classified with: the preview's while a drag has left the full scene's behind.
+    auto shownWindow = [&] { return fullWindowStale && doc.preview ? doc.preview->scene.window : doc.scene.window; };
     // Renders the view into `texture`, the preview's renderer or the full one; false if it threw.
     auto renderView = [&](bool preview) {
         return guarded([&] {
@@ -400,6 +417,7 @@ int runEditor(const EditorOptions& options) {
         guarded([&] {
             if (!splats || texture == 0)
                 throw renderer::LoadError(path.string(), "", "no view to save: open a volume first");
+            if (fullWindowStale) reclassify();
             if (state.preview.shown && !renderView(false)) return;   // the full view, not the preview
             const renderer::Image image = state.showHeatmap ? splats->readbackHeatmap() : splats->readback();
             renderer::writeImage(image, path, state.background.data());
@@ -419,11 +437,11 @@ int runEditor(const EditorOptions& options) {
         {"Transfer function", "left",
          [&] {
              tfChanged = ui::drawTransferFunctionPanel(
-                 state, {.histogram = doc.volume ? &doc.histogram : nullptr, .window = doc.scene.window});
+                 state, {.histogram = doc.volume ? &doc.histogram : nullptr, .window = shownWindow()});
              windowChanged = ui::drawWindowSection(state, {.volume = doc.volume ? &*doc.volume : nullptr,
                                                            .histogram = &doc.histogram,
                                                            .percentile = doc.percentile,
-                                                           .window = doc.scene.window});
+                                                           .window = shownWindow()});
          }},
         {"Settings", "left", [&] { settingsChanges = ui::drawSettingsPanel(state); }},
         {"Viewport", "viewport", [&] { viewport = ui::drawViewportPanel(state, texture); }},
@@ -517,18 +535,16 @@ int runEditor(const EditorOptions& options) {
             });
         }
         if (splats && windowChanged) {
-            // A new window re-classifies every voxel; the scene keeps the old one if this throws.
             windowChanged = false;
             renderPending = true;
-            guarded([&] {
-                const renderer::ValueRange window = renderer::windowFor(*doc.volume, state.window);
-                renderer::SplatScene scene = renderer::buildSplatScene(*doc.volume, doc.tf, window);
-                if (doc.gradients) renderer::addGradients(scene, *doc.gradients);
-                splats->setScene(scene);
-                doc.scene = std::move(scene);
-                if (doc.preview) doc.preview->classify(doc.tf, window);
-            });
+            if (windowDragged && doc.preview && state.preview.whileMoving) {   // the preview's eighth of the voxels now
+                guarded([&] { doc.preview->classify(doc.tf, renderer::windowFor(*doc.volume, state.window)); });
+                fullWindowStale = true;
+            } else {
+                reclassify();
+            }
         }
+        if (fullWindowStale && !state.preview.moving(pollTime)) reclassify();   // every voxel once the drag settles
         if (gradientJob && gradientJob->done) {
             if (gradientJob->thread.joinable()) gradientJob->thread.join();
             doc.gradients = std::move(gradientJob->result);
@@ -644,7 +660,8 @@ int runEditor(const EditorOptions& options) {
             comparison.reset();
             measurementsStale = true;
         }
-        if (viewport.cameraChanged || (tfChanged && ImGui::IsMouseDown(ImGuiMouseButton_Left)))
+        windowDragged = windowChanged && ImGui::IsMouseDown(ImGuiMouseButton_Left);
+        if (viewport.cameraChanged || ((tfChanged || windowDragged) && ImGui::IsMouseDown(ImGuiMouseButton_Left)))
             state.preview.lastInput = glfwGetTime();   // a drag or the wheel: the preview until it settles
         renderPending |= viewEdited;
         if (viewport.widthPx != renderWidth || viewport.heightPx != renderHeight) {

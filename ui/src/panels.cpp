@@ -201,8 +201,8 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     changes.settingsChanged |= ImGui::Checkbox("GPU counters", &s.counters);
     hint("Count splats per filter and per cull on the GPU (waits for each frame)");
     ImGui::Checkbox("Preview while moving", &state.preview.whileMoving);
-    hint("Volumes of 4 M voxels or more: drawn at half resolution while you drag, zoom or move a TF\n"
-         "point, in full a quarter second after");
+    hint("Volumes of 4 M voxels or more: drawn at half resolution while you drag, zoom, move a TF\n"
+         "point or drag the window, in full a quarter second after");
 
     sectionTitle("Camera");
     changes.cameraChanged |= sliderDouble("Field of view", state.camera.fovYDeg, 10.0, 100.0, "%.0f deg");

@@ -29,7 +29,8 @@ struct PerfSettings {
 };
 
 // The preview while the view moves: large volumes are drawn at half resolution (8 times fewer splats)
-// during a drag, a wheel turn, a 3D-mouse move or a TF point's drag, and in full kSettleS after the last.
+// during a drag, a wheel turn, a 3D-mouse move, a TF point's or the window's drag, and in full kSettleS
+// after the last.
 struct PreviewSettings {
     static constexpr double kSettleS = 0.25;
     static constexpr size_t kMinVoxels = size_t(1) << 22;   // 4 M: smaller volumes render fast enough
