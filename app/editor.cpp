@@ -417,8 +417,9 @@ int runEditor(const EditorOptions& options) {
         guarded([&] {
             if (!splats || texture == 0)
                 throw renderer::LoadError(path.string(), "", "no view to save: open a volume first");
+            const bool behind = fullWindowStale || state.preview.shown;   // the full renderer lacks this view
             if (fullWindowStale) reclassify();
-            if (state.preview.shown && !renderView(false)) return;   // the full view, not the preview
+            if (behind && !renderView(false)) return;
             const renderer::Image image = state.showHeatmap ? splats->readbackHeatmap() : splats->readback();
             renderer::writeImage(image, path, state.background.data());
             state.imageSaved = "wrote " + path.filename().string() + ", " + std::to_string(image.width) + " x " +
@@ -544,7 +545,8 @@ int runEditor(const EditorOptions& options) {
                 reclassify();
             }
         }
-        if (fullWindowStale && !state.preview.moving(pollTime)) reclassify();   // every voxel once the drag settles
+        if (fullWindowStale && !(state.preview.whileMoving && state.preview.moving(pollTime)))
+            reclassify();   // every voxel once the drag settles (or the preview is turned off)
         if (gradientJob && gradientJob->done) {
             if (gradientJob->thread.joinable()) gradientJob->thread.join();
             doc.gradients = std::move(gradientJob->result);
