@@ -76,6 +76,15 @@ struct ImGuiSession {
     }
 };
 
+// The volume's scene classified over `window`, with its gradients once they are computed.
+renderer::SplatScene classifiedScene(const renderer::Volume& volume, const renderer::TransferFunction& tf,
+                                     renderer::ValueRange window,
+                                     const std::optional<renderer::GradientField>& gradients) {
+    renderer::SplatScene scene = renderer::buildSplatScene(volume, tf, window);
+    if (gradients) renderer::addGradients(scene, *gradients);
+    return scene;
+}
+
 // The preview drawn while the view moves (ui::PreviewSettings): the volume at half resolution with its
 // own scene and renderer, classified with the document's TF and window (the window of the full
 // volume's values: the means span a narrower range).
@@ -87,8 +96,7 @@ struct Preview {
 
     explicit Preview(const renderer::Volume& full) : volume(renderer::halfResolution(full)) {}
     void classify(const renderer::TransferFunction& tf, renderer::ValueRange window) {
-        renderer::SplatScene next = renderer::buildSplatScene(volume, tf, window);
-        if (gradients) renderer::addGradients(next, *gradients);
+        renderer::SplatScene next = classifiedScene(volume, tf, window, gradients);
         splats.setScene(next);
         scene = std::move(next);
     }
@@ -382,8 +390,7 @@ int runEditor(const EditorOptions& options) {
         renderPending = true;
         guarded([&] {
             const renderer::ValueRange window = renderer::windowFor(*doc.volume, state.window);
-            renderer::SplatScene scene = renderer::buildSplatScene(*doc.volume, doc.tf, window);
-            if (doc.gradients) renderer::addGradients(scene, *doc.gradients);
+            renderer::SplatScene scene = classifiedScene(*doc.volume, doc.tf, window, doc.gradients);
             splats->setScene(scene);
             doc.scene = std::move(scene);
             if (doc.preview) doc.preview->classify(doc.tf, window);
@@ -662,8 +669,9 @@ int runEditor(const EditorOptions& options) {
             comparison.reset();
             measurementsStale = true;
         }
-        windowDragged = windowChanged && ImGui::IsMouseDown(ImGuiMouseButton_Left);
-        if (viewport.cameraChanged || ((tfChanged || windowDragged) && ImGui::IsMouseDown(ImGuiMouseButton_Left)))
+        const bool mouseDown = ImGui::IsMouseDown(ImGuiMouseButton_Left);
+        windowDragged = windowChanged && mouseDown;
+        if (viewport.cameraChanged || ((tfChanged || windowChanged) && mouseDown))
             state.preview.lastInput = glfwGetTime();   // a drag or the wheel: the preview until it settles
         renderPending |= viewEdited;
         if (viewport.widthPx != renderWidth || viewport.heightPx != renderHeight) {
