@@ -132,7 +132,7 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
 
 // TF edit to finished frame: bucket selection (upload the LUT, render) against rebuilding the scene
 // (classify every voxel, build and upload the lists, render), alternating two presets.
-void tfEdit(benchmark::State& state, const Dataset& d, bool rebuild) {
+void tfEdit(benchmark::State& state, const Dataset& d, bool rebuild, SplatSettings s = {}) {
     const Volume volume = loadVolume(d.path);
     SplatScene scene = buildSplatScene(volume, transferFunctionFromSpec(d.preset));
     SplatRenderer r;
@@ -150,7 +150,7 @@ void tfEdit(benchmark::State& state, const Dataset& d, bool rebuild) {
             setTransferFunction(scene, tf);
             r.setLut(scene.lut);
         }
-        r.render(plane, SplatSettings{});
+        r.render(plane, s);
         glFinish();
         state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
@@ -300,18 +300,30 @@ int main(int argc, char** argv) {
         s = {};
         s.primitive = SplatSettings::Primitive::Quads;
         add(n + "/near/ewa/quads", [=](benchmark::State& st) { renderFrames(st, d, s, Camera{.distance = 1.2}); });
-        // Shading per splat (vertex stage) against per fragment, and surface splats.
-        for (auto [name, shading] : {std::pair{"per-splat", SplatSettings::Shading::PerSplat},
-                                     std::pair{"per-fragment", SplatSettings::Shading::PerFragment}}) {
-            SplatSettings v;
-            v.shading = shading;
-            add(n + "/ewa/splat-every-sample/shaded-" + name, [=](benchmark::State& st) { renderFrames(st, d, v); });
+        // Shading per splat (record pass or vertex stage) against per fragment, and surface splats;
+        // splat-every-sample and the editor's tiled sheets front to back. Then TF edits, both ways.
+        for (auto comp : {Compositing::SplatEverySample, Compositing::SheetFrontToBack}) {
+            const std::string mode = n + "/ewa/" + compositingName(comp) + "/";
+            for (auto [name, shading] : {std::pair{"per-splat", SplatSettings::Shading::PerSplat},
+                                         std::pair{"per-fragment", SplatSettings::Shading::PerFragment}}) {
+                SplatSettings v;
+                v.compositing = comp;
+                v.shading = shading;
+                add(mode + "shaded-" + name, [=](benchmark::State& st) { renderFrames(st, d, v); });
+            }
+            s = {};
+            s.compositing = comp;
+            s.surfaceFlatten = 8.0;
+            add(mode + "surface-splats", [=](benchmark::State& st) { renderFrames(st, d, s); });
         }
-        s = {};
-        s.surfaceFlatten = 8.0;
-        add(n + "/ewa/splat-every-sample/surface-splats", [=](benchmark::State& st) { renderFrames(st, d, s); });
-        add(n + "/tf-edit/select-buckets", [=](benchmark::State& st) { tfEdit(st, d, false); });
-        add(n + "/tf-edit/rebuild-scene", [=](benchmark::State& st) { tfEdit(st, d, true); }, 2);
+        for (auto comp : {Compositing::SplatEverySample, Compositing::SheetFrontToBack}) {
+            s = {};
+            s.compositing = comp;
+            const std::string row =
+                n + "/tf-edit/" + (comp == Compositing::SplatEverySample ? "" : "sheet-front-to-back/");
+            add(row + "select-buckets", [=](benchmark::State& st) { tfEdit(st, d, false, s); });
+            add(row + "rebuild-scene", [=](benchmark::State& st) { tfEdit(st, d, true, s); }, 2);
+        }
         add(n + "/turn/same-axis", [=](benchmark::State& st) { axisTurn(st, d, false); }, 4);
         add(n + "/turn/across-axes", [=](benchmark::State& st) { axisTurn(st, d, true); }, 4);
     }

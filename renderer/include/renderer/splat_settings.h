@@ -107,7 +107,8 @@ inline int opaqueRefreshSlices(const SplatSettings& s) {
 // when every tile under its box was opaque at the last snapshot). The rasteriser takes one at each
 // refresh. Tiled splatting bins chunks of at least kTileChunkSlices slices (a multiple of the refresh),
 // each against the map the chunks before it left: a chunk is several passes and a wait, so not a slice.
-// 8 against 16 on llvmpipe: bonsai 2-4 % and engine 7 % faster, headsq the same (README, "Tiled splatting").
+// 8 against 16 on llvmpipe: bonsai 2-4 % and engine 7 % faster, headsq the same
+// (docs/performance.md, "Tiled splatting").
 constexpr int kTileChunkSlices = 8;
 inline int occlusionSlices(const SplatSettings& s) {
     const int refresh = opaqueRefreshSlices(s);
