@@ -328,6 +328,7 @@ int runEditor(const EditorOptions& options) {
             if (fresh) splats = std::move(fresh);
             gradientJob.reset();   // cancels the gradients of the volume going away
             doc = std::move(next);
+            state.preview.available = doc.preview != nullptr;
             state.gradientsReady = false;
             state.loadedVolume = path;
             state.volumeFile = path.string();

@@ -533,7 +533,8 @@ int main(int argc, char** argv) {
     editor->add_option("--save-image", e.saveImagePath,
                        "Save the view as Settings > Save image does (.png, or .exr for float RGBA), then exit");
     editor->add_flag("--preview", e.preview,
-                     "Show what dragging shows: large volumes (4 M voxels or more) at half resolution");
+                     "Show what dragging shows: large volumes (" +
+                         std::to_string(ui::PreviewSettings::kMinMegaVoxels) + " M voxels or more) at half resolution");
     editor->add_option("--spin", e.spinDegPerS, "Render continuously, turning the camera this many degrees a second");
 
     try {

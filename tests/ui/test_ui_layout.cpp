@@ -288,6 +288,22 @@ TEST_F(SettingsCheckbox, CullHiddenSplatsTurnsOcclusionCullingOffAndOnFrontToBac
     EXPECT_LT(find(state, "Cull hidden splats"), 0.0f);
 }
 
+// The preview toggle acts only where the app found the volume large enough to preview.
+TEST_F(SettingsCheckbox, PreviewWhileMovingIsOfferedOnlyForVolumesLargeEnoughToPreview) {
+    ui::EditorState state;
+    state.preview.available = true;
+    const float y = find(state, "Preview while moving");
+    ASSERT_GE(y, 0.0f) << "no Preview while moving checkbox";
+    click(state, y);
+    EXPECT_FALSE(state.preview.whileMoving);
+    click(state, y);
+    EXPECT_TRUE(state.preview.whileMoving);
+    // A small volume: the box is greyed out and a click changes nothing.
+    state.preview.available = false;
+    click(state, y);
+    EXPECT_TRUE(state.preview.whileMoving);
+}
+
 TEST_F(ImGuiNull, ResetCameraButtonRestoresTheDefaultCamera) {
     ui::EditorState state;
     state.camera.azimuthDeg = 123.0;

@@ -200,9 +200,16 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     sectionTitle("Inspect");
     changes.settingsChanged |= ImGui::Checkbox("GPU counters", &s.counters);
     hint("Count splats per filter and per cull on the GPU (waits for each frame)");
+    ImGui::BeginDisabled(!state.preview.available);
     ImGui::Checkbox("Preview while moving", &state.preview.whileMoving);
-    hint("Volumes of 4 M voxels or more: drawn at half resolution while you drag, zoom, move a TF\n"
-         "point or drag the window, in full a quarter second after");
+    ImGui::EndDisabled();
+    static const std::string previewHint =
+        "Volumes of " + std::to_string(PreviewSettings::kMinMegaVoxels) +
+        " M voxels or more: drawn at half resolution while you drag, zoom, move a TF\n"
+        "point or drag the window, in full a quarter second after";
+    hint(previewHint.c_str());
+    if (!state.preview.available)
+        ImGui::TextDisabled("(under %zu M voxels: always drawn in full)", PreviewSettings::kMinMegaVoxels);
 
     sectionTitle("Camera");
     changes.cameraChanged |= sliderDouble("Field of view", state.camera.fovYDeg, 10.0, 100.0, "%.0f deg");
@@ -411,8 +418,11 @@ void drawHelpPanel() {
     ImGui::BulletText("Transfer function curve: drag a point, click empty space to add one, right-click to remove");
     ImGui::BulletText("3D mouse: twist to orbit, tilt to look from above or below, push or pull to zoom, slide to pan");
     ImGui::BulletText("Performance tab: render continuously (and spin) to watch frame times; hover the chart");
-    ImGui::BulletText("Volumes of 4 M voxels or more show a half-resolution preview while you move them\n"
-                      "(Settings > Inspect > Preview while moving)");
+    ImGui::BulletText("Volumes of %zu M voxels or more show a half-resolution preview while you move them\n"
+                      "(Settings > Inspect > Preview while moving)",
+                      PreviewSettings::kMinMegaVoxels);
+    ImGui::BulletText("Ctrl+Z, Ctrl+Y: undo, redo a transfer-function edit (while its panel has focus)");
+    ImGui::BulletText("Drop a volume, a transfer function (.json) or a session on the window to open it");
 }
 
 void drawErrorModal(EditorState& state) {

@@ -13,9 +13,10 @@
 
 namespace ui {
 
-// A tooltip on the item just drawn: says what a setting does, not what it is called.
+// A tooltip on the item just drawn: says what a setting does, not what it is called. Disabled items
+// keep theirs, since what a setting would do is also why it is greyed out.
 inline void hint(const char* text) {
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
 }
 
 // ImGui 1.86's InputText takes a fixed buffer; this grows the std::string as the user types.

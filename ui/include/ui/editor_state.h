@@ -34,7 +34,9 @@ struct PerfSettings {
 struct PreviewSettings {
     static constexpr double kSettleS = 0.25;
     static constexpr size_t kMinVoxels = size_t(1) << 22;   // 4 M: smaller volumes render fast enough
+    static constexpr size_t kMinMegaVoxels = kMinVoxels >> 20;   // for the text that names it
     bool whileMoving = true;
+    bool available = false;            // the volume shown is large enough to preview (set by the app)
     std::optional<double> lastInput;   // seconds (the app's clock) of the last moving input
     bool shown = false;                // the viewport shows the preview (set by the app)
     bool moving(double now) const { return lastInput && now - *lastInput < kSettleS; }
