@@ -145,7 +145,7 @@ int runInfo(const std::string& path, const RawFlags& raw, bool gradients) {
     std::printf("  type     %s\n", voxelTypeName(v.type));
     std::printf("  spacing  %g x %g x %g\n", v.spacing.x, v.spacing.y, v.spacing.z);
     std::printf("  origin   %g, %g, %g\n", v.origin.x, v.origin.y, v.origin.z);
-    if (v.directions != glm::dmat3(1.0)) {
+    if (v.axesNotDrawn()) {
         const glm::dmat3& d = v.directions;
         std::printf("  axes     x (%g, %g, %g)  y (%g, %g, %g)  z (%g, %g, %g)  (from the file; rendered "
                     "axis-aligned)\n",
@@ -229,6 +229,12 @@ struct Scene {
 void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFlags& raw, const TransferFunction& tf,
                  const WindowSettings& window, Camera camera, glm::ivec2 size, bool fit = false) {
     const Volume volume = loadVolume(volumePath, rawOptions(raw));
+    if (volume.axesNotDrawn())
+        std::fprintf(stderr,
+                     "note: %s: the file's axis directions are not applied; it is drawn axis-aligned in index "
+                     "order, so the picture may be mirrored or turned against the file's world frame "
+                     "(splatlab info prints them)\n",
+                     volumePath.string().c_str());
     s.scene = buildSplatScene(volume, tf, windowFor(volume, window));
     if (needsGradients(s.settings)) {
         std::fprintf(stderr, "gradients\n");

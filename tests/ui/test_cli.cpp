@@ -19,6 +19,7 @@
 #include <sys/wait.h>
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 namespace {
 
@@ -61,6 +62,7 @@ TEST(Cli, RenderWritesAPictureOfTheVolumeHeadless) {
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_THAT(r.output, HasSubstr("96x80"));
     EXPECT_THAT(r.output, HasSubstr("ms/frame"));
+    EXPECT_THAT(r.output, Not(HasSubstr("not applied"))) << "headsq's axes are x, y, z";
     const renderer::Image img = renderer::readImage(out);
     ASSERT_EQ(img.width, 96);
     ASSERT_EQ(img.height, 80);
@@ -69,6 +71,23 @@ TEST(Cli, RenderWritesAPictureOfTheVolumeHeadless) {
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) bright += img.pixel(x, y)[0] > 0.2f;
     EXPECT_GT(double(bright) / (96.0 * 80.0), 0.2);
+}
+
+// A file whose axes are not x, y, z (here x mirrored) is drawn axis-aligned: render says so, naming it.
+TEST(Cli, RenderSaysWhenItDoesNotApplyTheFilesAxisDirections) {
+    const auto dir = testing_support::testOutputDir();
+    const auto nrrd = dir / "cli_mirrored_x.nrrd";
+    {
+        std::ofstream f(nrrd, std::ios::binary);
+        f << "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nspace: left-posterior-superior\n"
+             "space directions: (-1,0,0) (0,1,0) (0,0,1)\nencoding: raw\n\n";
+        for (int i = 0; i < 64; ++i) f.put(char(i * 4));
+    }
+    const auto out = dir / "cli_mirrored_x.png";
+    const CliRun r = splatlab("render \"" + nrrd.string() + "\" --out \"" + out.string() + "\" --size 32x32 --frames 1");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_THAT(r.output, HasSubstr("note: " + nrrd.string() + ": the file's axis directions are not applied"));
+    EXPECT_TRUE(std::filesystem::exists(out));
 }
 
 TEST(Cli, RenderWritesTheHeatmapAndPrintsGpuCountersWithShadingAndSheets) {

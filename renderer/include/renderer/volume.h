@@ -40,6 +40,9 @@ struct Volume {
     ValueRange range;                 // min and max of the finite values (see updateRange)
 
     size_t voxelCount() const { return size_t(dims.x) * size_t(dims.y) * size_t(dims.z); }
+    // The file gave axes other than x, y, z: drawn axis-aligned, the picture may be mirrored or turned
+    // against the file's world frame, so the tools say so.
+    bool axesNotDrawn() const { return directions != glm::dmat3(1.0); }
     size_t index(int x, int y, int z) const {
         return (size_t(z) * size_t(dims.y) + size_t(y)) * size_t(dims.x) + size_t(x);
     }
