@@ -147,9 +147,10 @@ int runInfo(const std::string& path, const RawFlags& raw, bool gradients) {
     std::printf("  origin   %g, %g, %g\n", v.origin.x, v.origin.y, v.origin.z);
     if (v.axesNotDrawn()) {
         const glm::dmat3& d = v.directions;
-        std::printf("  axes     x (%g, %g, %g)  y (%g, %g, %g)  z (%g, %g, %g)  (from the file; rendered "
-                    "axis-aligned)\n",
-                    d[0].x, d[0].y, d[0].z, d[1].x, d[1].y, d[1].z, d[2].x, d[2].y, d[2].z);
+        std::printf("  axes     x (%g, %g, %g)  y (%g, %g, %g)  z (%g, %g, %g)  (%s)\n",
+                    d[0].x, d[0].y, d[0].z, d[1].x, d[1].y, d[1].z, d[2].x, d[2].y, d[2].z,
+                    axesAlignable(d) ? "drawn in the file's world frame: the voxels are reordered"
+                                     : "oblique: not applied, drawn along the index axes");
     }
     std::printf("  range    %g .. %g\n", v.range.lo, v.range.hi);
     const ValueRange p = percentileWindow(v, 1.0, 99.0);
@@ -228,12 +229,12 @@ struct Scene {
 // The volume classified by `tf` over `window`, its gradients when the settings need them, and the view.
 void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFlags& raw, const TransferFunction& tf,
                  const WindowSettings& window, Camera camera, glm::ivec2 size, bool fit = false) {
-    const Volume volume = loadVolume(volumePath, rawOptions(raw));
+    const Volume volume = alignedToWorldAxes(loadVolume(volumePath, rawOptions(raw)));
     if (volume.axesNotDrawn())
         std::fprintf(stderr,
-                     "note: %s: the file's axis directions are not applied; it is drawn axis-aligned in index "
-                     "order, so the picture may be mirrored or turned against the file's world frame "
-                     "(splatlab info prints them)\n",
+                     "note: %s: its axes are oblique to the world frame and are not applied; it is "
+                     "drawn along its index axes, so the picture may be turned against the file's "
+                     "world frame (splatlab info prints them)\n",
                      volumePath.string().c_str());
     s.scene = buildSplatScene(volume, tf, windowFor(volume, window));
     if (needsGradients(s.settings)) {

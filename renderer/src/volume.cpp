@@ -1,11 +1,14 @@
-// Volume helpers that need no file format: type names and sizes, the value range and the histogram.
+// Volume helpers that need no file format: type names and sizes, the value range and the histogram,
+// axis alignment and the half-resolution preview.
 // Readers live in volume_io.cpp, synthetic volumes in procedural.cpp.
 #include "renderer/volume.h"
 
 #include "renderer/errors.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace renderer {
@@ -63,6 +66,71 @@ Histogram computeHistogram(const Volume& volume, int bins) {
         ++h.counts[size_t(bin)];
     }
     return h;
+}
+
+namespace {
+
+// For each index axis, the world axis it runs along and its sign: nullopt where the axes are oblique.
+struct AxisMap {
+    std::array<int, 3> world{};
+    std::array<int, 3> sign{};
+};
+
+std::optional<AxisMap> signedPermutation(const glm::dmat3& directions) {
+    constexpr double kTolerance = 1e-6;
+    AxisMap map;
+    std::array<bool, 3> taken{};
+    for (int axis = 0; axis < 3; ++axis) {
+        int along = -1;
+        for (int row = 0; row < 3; ++row) {
+            const double c = std::abs(directions[axis][row]);
+            if (!std::isfinite(c)) return std::nullopt;
+            if (std::abs(c - 1.0) < kTolerance && along < 0) along = row;
+            else if (c > kTolerance) return std::nullopt;
+        }
+        if (along < 0 || taken[size_t(along)]) return std::nullopt;
+        taken[size_t(along)] = true;
+        map.world[size_t(axis)] = along;
+        map.sign[size_t(axis)] = directions[axis][along] > 0.0 ? 1 : -1;
+    }
+    return map;
+}
+
+} // namespace
+
+bool axesAlignable(const glm::dmat3& directions) { return signedPermutation(directions).has_value(); }
+
+Volume alignedToWorldAxes(Volume volume) {
+    const std::optional<AxisMap> map = signedPermutation(volume.directions);
+    if (!map || volume.directions == glm::dmat3(1.0)) return volume;
+    Volume aligned;
+    aligned.name = volume.name;
+    aligned.type = volume.type;
+    aligned.range = volume.range;
+    // The new voxel (0,0,0) is the old one at the far end of each reversed axis.
+    aligned.origin = volume.origin;
+    glm::ivec3 start{0};   // the old index of the new voxel (0,0,0)
+    for (int axis = 0; axis < 3; ++axis) {
+        const int world = map->world[size_t(axis)];
+        aligned.dims[world] = volume.dims[axis];
+        aligned.spacing[world] = volume.spacing[axis];
+        if (map->sign[size_t(axis)] < 0) {
+            start[axis] = volume.dims[axis] - 1;
+            aligned.origin += volume.directions[axis] * volume.spacing[axis] * double(volume.dims[axis] - 1);
+        }
+    }
+    aligned.values.resize(volume.values.size());
+    for (int z = 0; z < volume.dims.z; ++z)
+        for (int y = 0; y < volume.dims.y; ++y)
+            for (int x = 0; x < volume.dims.x; ++x) {
+                const glm::ivec3 from{x, y, z};
+                glm::ivec3 to{0};
+                for (int axis = 0; axis < 3; ++axis)
+                    to[map->world[size_t(axis)]] =
+                        map->sign[size_t(axis)] > 0 ? from[axis] : start[axis] - from[axis];
+                aligned.values[aligned.index(to.x, to.y, to.z)] = volume.values[volume.index(x, y, z)];
+            }
+    return aligned;
 }
 
 Volume halfResolution(const Volume& volume) {

@@ -2,6 +2,7 @@
 // the volume, `accuracy` writes its report, and mistakes get one clear line on stderr and a non-zero exit.
 #include "image_compare.h"
 #include "renderer/image.h"
+#include "renderer/metrics.h"
 #include "test_paths.h"
 #include "ui/session.h"
 
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <string>
 #include <sys/wait.h>
@@ -73,20 +75,50 @@ TEST(Cli, RenderWritesAPictureOfTheVolumeHeadless) {
     EXPECT_GT(double(bright) / (96.0 * 80.0), 0.2);
 }
 
-// A file whose axes are not x, y, z (here x mirrored) is drawn axis-aligned: render says so, naming it.
-TEST(Cli, RenderSaysWhenItDoesNotApplyTheFilesAxisDirections) {
-    const auto dir = testing_support::testOutputDir();
-    const auto nrrd = dir / "cli_mirrored_x.nrrd";
-    {
-        std::ofstream f(nrrd, std::ios::binary);
-        f << "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nspace: left-posterior-superior\n"
-             "space directions: (-1,0,0) (0,1,0) (0,0,1)\nencoding: raw\n\n";
-        for (int i = 0; i < 64; ++i) f.put(char(i * 4));
-    }
-    const auto out = dir / "cli_mirrored_x.png";
-    const CliRun r = splatlab("render \"" + nrrd.string() + "\" --out \"" + out.string() + "\" --size 32x32 --frames 1");
+// An 8^3 NRRD with the given axes, bright where `bright(x, y, z)`: written for the orientation tests.
+std::filesystem::path writeNrrd(const std::string& name, const std::string& directions,
+                                const std::function<bool(int, int, int)>& bright) {
+    const auto path = testing_support::testOutputDir() / name;
+    std::ofstream f(path, std::ios::binary);
+    f << "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 8 8 8\nspace: left-posterior-superior\n"
+         "space directions: " << directions << "\nencoding: raw\n\n";
+    for (int z = 0; z < 8; ++z)
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) f.put(char(bright(x, y, z) ? 200 : 10));
+    return path;
+}
+
+// A file whose x axis runs the world's -x is drawn in its world frame: as the same world volume stored
+// with x running +x, and not as its stored order. Oblique axes are not applied, and render says so.
+TEST(Cli, RenderDrawsMirroredAxesInTheFilesWorldFrameAndNamesObliqueOnes) {
+    const std::string identity = "(1,0,0) (0,1,0) (0,0,1)";
+    // A corner block: low x and low y in index order.
+    const auto stored = [](int x, int y, int) { return x < 3 && y < 4; };
+    const auto mirroredFile = writeNrrd("cli_x_mirrored.nrrd", "(-1,0,0) (0,1,0) (0,0,1)", stored);
+    const auto worldFile =
+        writeNrrd("cli_x_as_world.nrrd", identity, [&](int x, int y, int z) { return stored(7 - x, y, z); });
+    const auto storedFile = writeNrrd("cli_x_as_stored.nrrd", identity, stored);
+    auto render = [](const std::filesystem::path& in) {
+        const auto out = std::filesystem::path(in).replace_extension(".exr");
+        const CliRun r = splatlab("render \"" + in.string() + "\" --out \"" + out.string() +
+                                  "\" --size 48x48 --frames 1 --tf grey-ramp");
+        EXPECT_EQ(r.status, 0) << r.output;
+        EXPECT_THAT(r.output, Not(HasSubstr("note:")));
+        return renderer::readImage(out);
+    };
+    const renderer::Image mirrored = render(mirroredFile);
+    EXPECT_LT(renderer::compareImages(mirrored, render(worldFile)).maxAbs, 1e-6);
+    EXPECT_GT(renderer::compareImages(mirrored, render(storedFile)).maxAbs, 0.05)
+        << "the test volume is symmetric";
+    EXPECT_THAT(splatlab("info \"" + mirroredFile.string() + "\"").output,
+                HasSubstr("the voxels are reordered"));
+
+    const auto obliqueFile = writeNrrd("cli_oblique.nrrd", "(0.8,0.6,0) (-0.6,0.8,0) (0,0,1)", stored);
+    const auto out = testing_support::testOutputDir() / "cli_oblique.png";
+    const CliRun r =
+        splatlab("render \"" + obliqueFile.string() + "\" --out \"" + out.string() + "\" --size 32x32 --frames 1");
     ASSERT_EQ(r.status, 0) << r.output;
-    EXPECT_THAT(r.output, HasSubstr("note: " + nrrd.string() + ": the file's axis directions are not applied"));
+    EXPECT_THAT(r.output, HasSubstr("note: " + obliqueFile.string() + ": its axes are oblique"));
     EXPECT_TRUE(std::filesystem::exists(out));
 }
 

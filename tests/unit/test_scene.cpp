@@ -443,6 +443,55 @@ TEST(ReferenceRenderer, ResultDoesNotDependOnTheThreadCount) {
     EXPECT_EQ(a.rgba, b.rgba);
 }
 
+// Mirrored and swapped axes (as scanners store them) are applied by reordering the voxels: each
+// value lands where the file's axes put it in its world frame, and the result is axis-aligned.
+TEST(AlignedToWorldAxes, PutsEveryVoxelWhereTheFilesAxesPutItInTheWorld) {
+    const glm::dvec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+    const std::vector<glm::dmat3> axes = {
+        glm::dmat3(-x, y, z),                              // x mirrored (RAS against LPS)
+        glm::dmat3(-x, -y, -z),                            // every axis mirrored
+        glm::dmat3(-y, z, -x),                             // swapped and mirrored
+        glm::dmat3(y + 1e-9 * z, x, z - 1e-9 * x),         // swapped, with a header's rounding
+    };
+    for (const glm::dmat3& d : axes) {
+        Volume v;
+        v.dims = {3, 4, 5};
+        v.spacing = {0.5, 2.0, 1.25};
+        v.origin = {10.0, -3.0, 7.0};
+        v.directions = d;
+        v.values.resize(v.voxelCount());
+        std::iota(v.values.begin(), v.values.end(), 0.0f);   // every voxel its own value
+        updateRange(v);
+        ASSERT_TRUE(axesAlignable(d));
+        const Volume a = alignedToWorldAxes(v);
+        EXPECT_EQ(a.directions, glm::dmat3(1.0));
+        EXPECT_FALSE(a.axesNotDrawn());
+        ASSERT_EQ(a.voxelCount(), v.voxelCount());
+        for (int k = 0; k < v.dims.z; ++k)
+            for (int j = 0; j < v.dims.y; ++j)
+                for (int i = 0; i < v.dims.x; ++i) {
+                    const glm::dvec3 world = v.origin + d * (v.spacing * glm::dvec3(i, j, k));
+                    const glm::dvec3 at = (world - a.origin) / a.spacing;   // its index in `a`
+                    const glm::ivec3 n = glm::ivec3(glm::round(at));
+                    ASSERT_LT(glm::length(at - glm::dvec3(n)), 1e-6) << "not on a voxel: " << i << j << k;
+                    ASSERT_TRUE(glm::all(glm::greaterThanEqual(n, glm::ivec3(0))) &&
+                                glm::all(glm::lessThan(n, a.dims)));
+                    EXPECT_EQ(a.at(n.x, n.y, n.z), v.at(i, j, k));
+                }
+    }
+    // Oblique axes (30 degrees about z) cannot be reordered: the volume comes back as it was.
+    const double c = std::cos(std::numbers::pi / 6), s = std::sin(std::numbers::pi / 6);
+    Volume oblique = makeCheckerboard({4, 4, 4}, 2);
+    oblique.directions = glm::dmat3(glm::dvec3(c, s, 0), glm::dvec3(-s, c, 0), z);
+    EXPECT_FALSE(axesAlignable(oblique.directions));
+    const Volume same = alignedToWorldAxes(oblique);
+    EXPECT_TRUE(same.axesNotDrawn());
+    EXPECT_EQ(same.values, oblique.values);
+    EXPECT_FALSE(axesAlignable(glm::dmat3(x, x, z))) << "two axes along one";
+    EXPECT_FALSE(axesAlignable(glm::dmat3(2.0 * x, y, z))) << "not a unit vector";
+    EXPECT_FALSE(axesAlignable(glm::dmat3(glm::dvec3(std::nan(""), 1, 0), y, z)));
+}
+
 TEST(HalfResolution, AveragesBlocksAtTheirCentreAndKeepsAxesOfOneVoxel) {
     Volume v;
     v.name = "ramp";

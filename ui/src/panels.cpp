@@ -399,9 +399,9 @@ void drawStatsPanel(const StatsView& stats) {
         ImGui::Text("spacing %.3g x %.3g x %.3g", v->spacing.x, v->spacing.y, v->spacing.z);
         ImGui::Text("range   [%g, %g]", double(v->range.lo), double(v->range.hi));
         if (v->axesNotDrawn()) {
-            ImGui::TextDisabled("axes    from the file, not applied");
-            hint("The file gives its axes' directions; SplatLab draws every volume axis-aligned in index\n"
-                 "order, so this picture may be mirrored or turned against the file's world frame");
+            ImGui::TextDisabled("axes    oblique, not applied");
+            hint("The file's axes are oblique to its world frame; SplatLab draws the volume along its\n"
+                 "index axes, so this picture may be turned against that frame");
         }
     } else {
         ImGui::TextDisabled("no volume loaded");

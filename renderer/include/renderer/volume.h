@@ -32,16 +32,17 @@ struct Volume {
     glm::dvec3 spacing{1.0};          // distance between voxel centres, object units (mm for CT)
     glm::dvec3 origin{0.0};           // object-space position of voxel (0,0,0)
     // Unit vector of each index axis in the file's world frame (columns: x, y, z), from NRRD space
-    // directions, a MetaImage TransformMatrix or a NIfTI qform/sform. Metadata only: the renderer
-    // draws every volume axis-aligned (object space = index x spacing + origin) and ignores it.
+    // directions, a MetaImage TransformMatrix or a NIfTI qform/sform. The renderer draws index axes
+    // (object space = index x spacing + origin): alignedToWorldAxes() applies mirrored or swapped axes
+    // by reordering the voxels; oblique ones stay here, not drawn.
     glm::dmat3 directions{1.0};
     VoxelType type = VoxelType::F32;  // the type the values had on disk
     std::vector<float> values;        // x fastest, then y, then z; in the data's own units
     ValueRange range;                 // min and max of the finite values (see updateRange)
 
     size_t voxelCount() const { return size_t(dims.x) * size_t(dims.y) * size_t(dims.z); }
-    // The file gave axes other than x, y, z: drawn axis-aligned, the picture may be mirrored or turned
-    // against the file's world frame, so the tools say so.
+    // Axes other than x, y, z that the renderer does not apply (oblique ones, after alignedToWorldAxes):
+    // the picture may be turned against the file's world frame, so the tools say so.
     bool axesNotDrawn() const { return directions != glm::dmat3(1.0); }
     size_t index(int x, int y, int z) const {
         return (size_t(z) * size_t(dims.y) + size_t(y)) * size_t(dims.x) + size_t(x);
@@ -55,6 +56,15 @@ struct Volume {
         return 0.5 * std::max(glm::length(spacing * glm::dvec3(dims - 1)), glm::length(spacing));
     }
 };
+
+// Whether `directions` are the world axes mirrored or swapped (each column +-1 on one axis, within
+// 1e-6), which alignedToWorldAxes applies exactly.
+bool axesAlignable(const glm::dmat3& directions);
+// The volume with its index axes turned onto the world frame's x, y, z where axesAlignable(): the
+// voxels reordered, dims, spacing and origin to match, directions the identity. Scanners store mirrored
+// and swapped axes; drawn this way the picture is in the file's world frame (its left stays left).
+// Oblique axes are returned as they are.
+Volume alignedToWorldAxes(Volume volume);
 
 // The volume at half resolution, for the editor's preview while the view moves (8 times fewer splats):
 // voxel i is the mean of the finite values of fine voxels 2i and 2i + 1 on each axis (NaN where none
