@@ -403,7 +403,7 @@ int runEditor(const EditorOptions& options) {
     auto renderView = [&](bool preview) {
         return guarded([&] {
             const renderer::ImagePlane plane = renderer::makeImagePlane(
-                state.camera, doc.scene.centre, doc.scene.radius, renderWidth, renderHeight);
+                state.camera, doc.scene.centre, doc.scene.radius, renderWidth, renderHeight, doc.scene.axes);
             // Shading waits for the gradients (computed after a volume loads); until then, unshaded.
             renderer::SplatSettings drawn = state.settings;
             if (!state.gradientsReady) drawn.shading = renderer::SplatSettings::Shading::None, drawn.surfaceFlatten = 1.0;

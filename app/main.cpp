@@ -145,12 +145,17 @@ int runInfo(const std::string& path, const RawFlags& raw, bool gradients) {
     std::printf("  type     %s\n", voxelTypeName(v.type));
     std::printf("  spacing  %g x %g x %g\n", v.spacing.x, v.spacing.y, v.spacing.z);
     std::printf("  origin   %g, %g, %g\n", v.origin.x, v.origin.y, v.origin.z);
-    if (v.axesNotDrawn()) {
+    if (v.directions != glm::dmat3(1.0)) {
         const glm::dmat3& d = v.directions;
+        Volume axesOnly;   // no voxels: what alignment leaves of these axes, for the message
+        axesOnly.directions = d;
+        const glm::dmat3 left = alignedToWorldAxes(axesOnly).directions;
+        const char* how = left == glm::dmat3(1.0) ? "in the file's world frame: the voxels are reordered"
+                          : !isRotation(left)     ? "sheared: not applied, drawn along the index axes"
+                          : left == d             ? "in the file's world frame: the view turns with them"
+                                                  : "in the file's world frame: x reversed, the view turns with them";
         std::printf("  axes     x (%g, %g, %g)  y (%g, %g, %g)  z (%g, %g, %g)  (%s)\n",
-                    d[0].x, d[0].y, d[0].z, d[1].x, d[1].y, d[1].z, d[2].x, d[2].y, d[2].z,
-                    axesAlignable(d) ? "drawn in the file's world frame: the voxels are reordered"
-                                     : "oblique: not applied, drawn along the index axes");
+                    d[0].x, d[0].y, d[0].z, d[1].x, d[1].y, d[1].z, d[2].x, d[2].y, d[2].z, how);
     }
     std::printf("  range    %g .. %g\n", v.range.lo, v.range.hi);
     const ValueRange p = percentileWindow(v, 1.0, 99.0);
@@ -232,8 +237,8 @@ void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFla
     const Volume volume = alignedToWorldAxes(loadVolume(volumePath, rawOptions(raw)));
     if (volume.axesNotDrawn())
         std::fprintf(stderr,
-                     "note: %s: its axes are oblique to the world frame and are not applied; it is "
-                     "drawn along its index axes, so the picture may be turned against the file's "
+                     "note: %s: its axes are sheared (not orthogonal) and are not applied; it is drawn "
+                     "along its index axes, so the picture may be turned or skewed against the file's "
                      "world frame (splatlab info prints them)\n",
                      volumePath.string().c_str());
     s.scene = buildSplatScene(volume, tf, windowFor(volume, window));
@@ -242,7 +247,7 @@ void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFla
         addGradients(s.scene, *computeGradients(volume, printProgress));
     }
     if (fit) camera = framedCamera(camera, s.scene, s.settings, size.x, size.y);
-    s.plane = makeImagePlane(camera, s.scene.centre, s.scene.radius, size.x, size.y);
+    s.plane = makeImagePlane(camera, s.scene.centre, s.scene.radius, size.x, size.y, s.scene.axes);
 }
 
 // `render --session FILE`: the view the editor saved (volume, TF, window, camera, every setting,

@@ -10,7 +10,8 @@
 
 namespace renderer {
 
-ImagePlane makeImagePlane(const Camera& camera, glm::dvec3 centre, double radius, int width, int height) {
+ImagePlane makeImagePlane(const Camera& camera, glm::dvec3 centre, double radius, int width, int height,
+                          const glm::dmat3& axes) {
     const double deg = std::numbers::pi / 180.0;
     const double az = camera.azimuthDeg * deg;
     const double el = std::clamp(camera.elevationDeg, -89.9, 89.9) * deg;
@@ -47,15 +48,20 @@ ImagePlane makeImagePlane(const Camera& camera, glm::dvec3 centre, double radius
     // Near plane: a fixed fraction of the volume's size, so the guard scales with the scene.
     p.nearDepth = 1e-2 * r;
     p.viewDirObject = forward;
+    if (axes != glm::dmat3(1.0)) {   // world = centre + axes (object - centre)
+        p.translation += p.viewFromObject * (centre - axes * centre);
+        p.viewFromObject = p.viewFromObject * axes;
+        p.viewDirObject = glm::transpose(axes) * forward;
+    }
     return p;
 }
 
 Camera frameView(Camera camera, glm::dvec3 centre, double radius, std::span<const glm::dvec3> points, int width,
-                 int height, double margin, double minDistance, double maxDistance) {
+                 int height, double margin, double minDistance, double maxDistance, const glm::dmat3& axes) {
     if (points.empty() || width <= 0 || height <= 0) return camera;
     camera.distance = 1.0;
     camera.panPx = glm::dvec2(0.0);
-    const ImagePlane p = makeImagePlane(camera, centre, radius, width, height);   // for W and the near plane
+    const ImagePlane p = makeImagePlane(camera, centre, radius, width, height, axes);   // W and the near plane
     const double r = std::max(radius, 1e-9), tanY = p.tanHalfFovY;
     const glm::dvec2 t = (1.0 - margin) * tanY * glm::dvec2(double(width) / height, 1.0);
     // Relative to the orbit centre a point is v = W (q - centre); at eye distance D, panned by s (object

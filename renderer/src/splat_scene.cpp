@@ -114,6 +114,7 @@ SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, Val
     s.origin = volume.origin;
     s.centre = volume.centre();
     s.radius = volume.boundingRadius();
+    s.axes = volume.drawnAxes();
     s.window = (window.hi > window.lo) ? window : volume.range;
     s.classes.resize(volume.voxelCount());
     for (size_t i = 0; i < s.classes.size(); ++i) s.classes[i] = classOf(volume.values[i], s.window.lo, s.window.hi);
@@ -168,7 +169,7 @@ Camera framedCamera(const Camera& camera, const SplatScene& scene, const SplatSe
                     double minDistance, double maxDistance) {
     const glm::dvec3 reach = settings.cutoffSigmas * settings.kernelScale * scene.spacing;
     return frameView(camera, scene.centre, scene.radius, visibleOutline(scene, reach), width, height, kFrameMargin,
-                     minDistance, maxDistance);
+                     minDistance, maxDistance, scene.axes);
 }
 
 Traversal chooseTraversal(const ImagePlane& plane) {

@@ -96,41 +96,61 @@ std::optional<AxisMap> signedPermutation(const glm::dmat3& directions) {
     return map;
 }
 
-} // namespace
-
-bool axesAlignable(const glm::dmat3& directions) { return signedPermutation(directions).has_value(); }
-
-Volume alignedToWorldAxes(Volume volume) {
-    const std::optional<AxisMap> map = signedPermutation(volume.directions);
-    if (!map || volume.directions == glm::dmat3(1.0)) return volume;
-    Volume aligned;
-    aligned.name = volume.name;
-    aligned.type = volume.type;
-    aligned.range = volume.range;
-    // The new voxel (0,0,0) is the old one at the far end of each reversed axis.
-    aligned.origin = volume.origin;
-    glm::ivec3 start{0};   // the old index of the new voxel (0,0,0)
+// The voxels reordered so that index axis a runs along new axis map.world[a], reversed where map.sign[a]
+// is -1; `directions` become the new axes' (dims, spacing and origin follow, so every voxel keeps its
+// place in the world).
+Volume reordered(const Volume& volume, const AxisMap& map, const glm::dmat3& directions) {
+    Volume out;
+    out.name = volume.name;
+    out.type = volume.type;
+    out.range = volume.range;
+    out.directions = directions;
+    out.origin = volume.origin;   // the old voxel at the new (0,0,0): the far end of each reversed axis
+    glm::ivec3 start{0};
     for (int axis = 0; axis < 3; ++axis) {
-        const int world = map->world[size_t(axis)];
-        aligned.dims[world] = volume.dims[axis];
-        aligned.spacing[world] = volume.spacing[axis];
-        if (map->sign[size_t(axis)] < 0) {
+        const int to = map.world[size_t(axis)];
+        out.dims[to] = volume.dims[axis];
+        out.spacing[to] = volume.spacing[axis];
+        if (map.sign[size_t(axis)] < 0) {
             start[axis] = volume.dims[axis] - 1;
-            aligned.origin += volume.directions[axis] * volume.spacing[axis] * double(volume.dims[axis] - 1);
+            out.origin += volume.directions[axis] * volume.spacing[axis] * double(volume.dims[axis] - 1);
         }
     }
-    aligned.values.resize(volume.values.size());
+    out.values.resize(volume.values.size());
     for (int z = 0; z < volume.dims.z; ++z)
         for (int y = 0; y < volume.dims.y; ++y)
             for (int x = 0; x < volume.dims.x; ++x) {
                 const glm::ivec3 from{x, y, z};
-                glm::ivec3 to{0};
+                glm::ivec3 at{0};
                 for (int axis = 0; axis < 3; ++axis)
-                    to[map->world[size_t(axis)]] =
-                        map->sign[size_t(axis)] > 0 ? from[axis] : start[axis] - from[axis];
-                aligned.values[aligned.index(to.x, to.y, to.z)] = volume.values[volume.index(x, y, z)];
+                    at[map.world[size_t(axis)]] =
+                        map.sign[size_t(axis)] > 0 ? from[axis] : start[axis] - from[axis];
+                out.values[out.index(at.x, at.y, at.z)] = volume.values[volume.index(x, y, z)];
             }
-    return aligned;
+    return out;
+}
+
+} // namespace
+
+bool isRotation(const glm::dmat3& m) {
+    constexpr double kTolerance = 1e-6;
+    const glm::dmat3 gram = glm::transpose(m) * m;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (!(std::abs(gram[i][j] - (i == j ? 1.0 : 0.0)) < kTolerance)) return false;   // NaN fails too
+    return glm::determinant(m) > 0.0;
+}
+
+bool axesAlignable(const glm::dmat3& directions) { return signedPermutation(directions).has_value(); }
+
+Volume alignedToWorldAxes(Volume volume) {
+    if (volume.directions == glm::dmat3(1.0)) return volume;
+    if (const std::optional<AxisMap> map = signedPermutation(volume.directions))
+        return reordered(volume, *map, glm::dmat3(1.0));
+    glm::dmat3 flipped = volume.directions;
+    flipped[0] = -flipped[0];
+    if (!isRotation(flipped)) return volume;   // a rotation already, or sheared
+    return reordered(volume, AxisMap{.world = {0, 1, 2}, .sign = {-1, 1, 1}}, flipped);
 }
 
 Volume halfResolution(const Volume& volume) {

@@ -88,37 +88,50 @@ std::filesystem::path writeNrrd(const std::string& name, const std::string& dire
     return path;
 }
 
-// A file whose x axis runs the world's -x is drawn in its world frame: as the same world volume stored
-// with x running +x, and not as its stored order. Oblique axes are not applied, and render says so.
-TEST(Cli, RenderDrawsMirroredAxesInTheFilesWorldFrameAndNamesObliqueOnes) {
+// A file is drawn in its world frame: one whose x axis runs the world's -x as the same world volume
+// stored with x running +x (not as its stored order); one whose axes are turned 30 degrees about z, seen
+// from azimuth 60, as the unturned one from azimuth 30; and a turned one that also mirrors x likewise.
+// Sheared axes are not applied, and render says so.
+TEST(Cli, RenderDrawsTheFileInItsWorldFrameAndNamesShearedAxes) {
     const std::string identity = "(1,0,0) (0,1,0) (0,0,1)";
+    const std::string c = "0.8660254037844387";   // cos 30 degrees
     // A corner block: low x and low y in index order.
     const auto stored = [](int x, int y, int) { return x < 3 && y < 4; };
     const auto mirroredFile = writeNrrd("cli_x_mirrored.nrrd", "(-1,0,0) (0,1,0) (0,0,1)", stored);
     const auto worldFile =
         writeNrrd("cli_x_as_world.nrrd", identity, [&](int x, int y, int z) { return stored(7 - x, y, z); });
     const auto storedFile = writeNrrd("cli_x_as_stored.nrrd", identity, stored);
-    auto render = [](const std::filesystem::path& in) {
+    const auto turnedFile = writeNrrd("cli_turned.nrrd", "(" + c + ",0.5,0) (-0.5," + c + ",0) (0,0,1)", stored);
+    const auto mirroredTurnedFile =
+        writeNrrd("cli_x_mirrored_turned.nrrd", "(-" + c + ",-0.5,0) (-0.5," + c + ",0) (0,0,1)", stored);
+    auto render = [](const std::filesystem::path& in, double azimuth) {
         const auto out = std::filesystem::path(in).replace_extension(".exr");
         const CliRun r = splatlab("render \"" + in.string() + "\" --out \"" + out.string() +
-                                  "\" --size 48x48 --frames 1 --tf grey-ramp");
+                                  "\" --size 48x48 --frames 1 --tf grey-ramp --camera " + std::to_string(azimuth) +
+                                  ",20,2.5,30");
         EXPECT_EQ(r.status, 0) << r.output;
         EXPECT_THAT(r.output, Not(HasSubstr("note:")));
         return renderer::readImage(out);
     };
-    const renderer::Image mirrored = render(mirroredFile);
-    EXPECT_LT(renderer::compareImages(mirrored, render(worldFile)).maxAbs, 1e-6);
-    EXPECT_GT(renderer::compareImages(mirrored, render(storedFile)).maxAbs, 0.05)
-        << "the test volume is symmetric";
+    auto maxDiff = [](const renderer::Image& a, const renderer::Image& b) {
+        return renderer::compareImages(a, b).maxAbs;
+    };
+    const renderer::Image mirrored = render(mirroredFile, 30.0);
+    EXPECT_LT(maxDiff(mirrored, render(worldFile, 30.0)), 1e-6);
+    EXPECT_GT(maxDiff(mirrored, render(storedFile, 30.0)), 0.05) << "the test volume is symmetric";
+    EXPECT_LT(maxDiff(render(turnedFile, 60.0), render(storedFile, 30.0)), 1e-5);
+    EXPECT_GT(maxDiff(render(turnedFile, 60.0), render(storedFile, 60.0)), 0.05) << "the turn must show";
+    EXPECT_LT(maxDiff(render(mirroredTurnedFile, 60.0), render(worldFile, 30.0)), 1e-5);
     EXPECT_THAT(splatlab("info \"" + mirroredFile.string() + "\"").output,
                 HasSubstr("the voxels are reordered"));
+    EXPECT_THAT(splatlab("info \"" + turnedFile.string() + "\"").output, HasSubstr("the view turns with them"));
 
-    const auto obliqueFile = writeNrrd("cli_oblique.nrrd", "(0.8,0.6,0) (-0.6,0.8,0) (0,0,1)", stored);
-    const auto out = testing_support::testOutputDir() / "cli_oblique.png";
+    const auto shearedFile = writeNrrd("cli_sheared.nrrd", "(1,0,0) (0.6,0.8,0) (0,0,1)", stored);
+    const auto out = testing_support::testOutputDir() / "cli_sheared.png";
     const CliRun r =
-        splatlab("render \"" + obliqueFile.string() + "\" --out \"" + out.string() + "\" --size 32x32 --frames 1");
+        splatlab("render \"" + shearedFile.string() + "\" --out \"" + out.string() + "\" --size 32x32 --frames 1");
     ASSERT_EQ(r.status, 0) << r.output;
-    EXPECT_THAT(r.output, HasSubstr("note: " + obliqueFile.string() + ": its axes are oblique"));
+    EXPECT_THAT(r.output, HasSubstr("note: " + shearedFile.string() + ": its axes are sheared"));
     EXPECT_TRUE(std::filesystem::exists(out));
 }
 

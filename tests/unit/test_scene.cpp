@@ -73,8 +73,9 @@ struct Framed {
     double extent = 0.0, nearest = std::numeric_limits<double>::infinity();
     glm::dvec2 lo{std::numeric_limits<double>::infinity()}, hi{-std::numeric_limits<double>::infinity()};
 };
-Framed placed(const Camera& c, glm::dvec3 centre, double radius, const std::vector<glm::dvec3>& points, int w, int h) {
-    const ImagePlane p = makeImagePlane(c, centre, radius, w, h);
+Framed placed(const Camera& c, glm::dvec3 centre, double radius, const std::vector<glm::dvec3>& points, int w, int h,
+              const glm::dmat3& axes = glm::dmat3(1.0)) {
+    const ImagePlane p = makeImagePlane(c, centre, radius, w, h, axes);
     Framed f;
     for (const glm::dvec3& q : points) {
         const glm::dvec3 u = p.toCamera(q);
@@ -102,13 +103,22 @@ TEST(Camera, FrameViewFitsEveryPointInsideTheMarginAtTheLeastDistance) {
                  trial % 3 == 0 ? glm::dvec3(0, 0, -1) : glm::dvec3(0, 1, 0), trial % 4 == 0};
         const int w = 64 + int(u01(rng) * 600), h = 64 + int(u01(rng) * 600);
         const double radius = glm::length(size);
-        const Camera framed = frameView(c, centre, radius, points, w, h, margin, 0.0, 1e9);
+        // Every other trial, an oblique volume's axes (a rotation by Rodrigues' formula) turn the points.
+        glm::dmat3 axes(1.0);
+        if (trial % 2) {
+            const glm::dvec3 k = glm::normalize(glm::dvec3(u01(rng), u01(rng), u01(rng)) - 0.5);
+            const double angle = u01(rng) * 2.0 * std::numbers::pi;
+            const glm::dmat3 cross(glm::dvec3(0, k.z, -k.y), glm::dvec3(-k.z, 0, k.x), glm::dvec3(k.y, -k.x, 0));
+            axes = glm::dmat3(1.0) + std::sin(angle) * cross + (1.0 - std::cos(angle)) * cross * cross;
+        }
+        const Camera framed = frameView(c, centre, radius, points, w, h, margin, 0.0, 1e9, axes);
         SCOPED_TRACE("trial " + std::to_string(trial));
         EXPECT_EQ(framed.azimuthDeg, c.azimuthDeg);
         EXPECT_EQ(framed.fovYDeg, c.fovYDeg);
-        const Framed f = placed(framed, centre, radius, points, w, h);
-        EXPECT_GT(f.nearest, makeImagePlane(framed, centre, radius, w, h).nearDepth);
-        const bool nearBound = f.nearest <= 2.0 * makeImagePlane(framed, centre, radius, w, h).nearDepth * (1 + 1e-9);
+        const Framed f = placed(framed, centre, radius, points, w, h, axes);
+        const double nearDepth = makeImagePlane(framed, centre, radius, w, h, axes).nearDepth;
+        EXPECT_GT(f.nearest, nearDepth);
+        const bool nearBound = f.nearest <= 2.0 * nearDepth * (1 + 1e-9);
         // Inside, and touching: nearer would push a point out (unless the near plane set the distance).
         EXPECT_LE(f.extent, 1.0 - margin + 1e-9);
         if (!nearBound) {
@@ -443,53 +453,102 @@ TEST(ReferenceRenderer, ResultDoesNotDependOnTheThreadCount) {
     EXPECT_EQ(a.rgba, b.rgba);
 }
 
-// Mirrored and swapped axes (as scanners store them) are applied by reordering the voxels: each
-// value lands where the file's axes put it in its world frame, and the result is axis-aligned.
-TEST(AlignedToWorldAxes, PutsEveryVoxelWhereTheFilesAxesPutItInTheWorld) {
+// Alignment reorders voxels so that mirrored and swapped axes (as scanners store them) become x, y, z,
+// and oblique mirrored ones a rotation: every value stays where the file's axes put it in its world.
+TEST(AlignedToWorldAxes, KeepsEveryVoxelWhereTheFilesAxesPutItInTheWorld) {
     const glm::dvec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
-    const std::vector<glm::dmat3> axes = {
-        glm::dmat3(-x, y, z),                              // x mirrored (RAS against LPS)
-        glm::dmat3(-x, -y, -z),                            // every axis mirrored
-        glm::dmat3(-y, z, -x),                             // swapped and mirrored
-        glm::dmat3(y + 1e-9 * z, x, z - 1e-9 * x),         // swapped, with a header's rounding
+    const double c = std::cos(std::numbers::pi / 6), s = std::sin(std::numbers::pi / 6);
+    const glm::dmat3 rz30(glm::dvec3(c, s, 0), glm::dvec3(-s, c, 0), z);
+    struct Case {
+        glm::dmat3 axes;
+        glm::dmat3 left;   // what alignment leaves for the image plane
     };
-    for (const glm::dmat3& d : axes) {
+    const std::vector<Case> cases = {
+        {glm::dmat3(-x, y, z), glm::dmat3(1.0)},                       // x mirrored (RAS against LPS)
+        {glm::dmat3(-x, -y, -z), glm::dmat3(1.0)},                     // every axis mirrored
+        {glm::dmat3(-y, z, -x), glm::dmat3(1.0)},                      // swapped and mirrored
+        {glm::dmat3(y + 1e-9 * z, x, z - 1e-9 * x), glm::dmat3(1.0)},  // swapped, with a header's rounding
+        {rz30, rz30},                                                  // oblique: the image plane turns it
+        {glm::dmat3(-rz30[0], rz30[1], rz30[2]), rz30},                // oblique and mirrored: x reversed
+    };
+    for (const Case& k : cases) {
         Volume v;
         v.dims = {3, 4, 5};
         v.spacing = {0.5, 2.0, 1.25};
         v.origin = {10.0, -3.0, 7.0};
-        v.directions = d;
+        v.directions = k.axes;
         v.values.resize(v.voxelCount());
         std::iota(v.values.begin(), v.values.end(), 0.0f);   // every voxel its own value
         updateRange(v);
-        ASSERT_TRUE(axesAlignable(d));
         const Volume a = alignedToWorldAxes(v);
-        EXPECT_EQ(a.directions, glm::dmat3(1.0));
+        EXPECT_LT(glm::length(a.directions[0] - k.left[0]) + glm::length(a.directions[1] - k.left[1]) +
+                      glm::length(a.directions[2] - k.left[2]), 1e-6);
         EXPECT_FALSE(a.axesNotDrawn());
         ASSERT_EQ(a.voxelCount(), v.voxelCount());
-        for (int k = 0; k < v.dims.z; ++k)
-            for (int j = 0; j < v.dims.y; ++j)
-                for (int i = 0; i < v.dims.x; ++i) {
-                    const glm::dvec3 world = v.origin + d * (v.spacing * glm::dvec3(i, j, k));
-                    const glm::dvec3 at = (world - a.origin) / a.spacing;   // its index in `a`
+        for (int kz = 0; kz < v.dims.z; ++kz)
+            for (int ky = 0; ky < v.dims.y; ++ky)
+                for (int kx = 0; kx < v.dims.x; ++kx) {
+                    const glm::dvec3 world = v.origin + v.directions * (v.spacing * glm::dvec3(kx, ky, kz));
+                    // Its index in `a`: a.directions is orthonormal, so its transpose inverts it.
+                    const glm::dvec3 at = glm::transpose(a.directions) * (world - a.origin) / a.spacing;
                     const glm::ivec3 n = glm::ivec3(glm::round(at));
-                    ASSERT_LT(glm::length(at - glm::dvec3(n)), 1e-6) << "not on a voxel: " << i << j << k;
+                    ASSERT_LT(glm::length(at - glm::dvec3(n)), 1e-6) << "not on a voxel: " << kx << ky << kz;
                     ASSERT_TRUE(glm::all(glm::greaterThanEqual(n, glm::ivec3(0))) &&
                                 glm::all(glm::lessThan(n, a.dims)));
-                    EXPECT_EQ(a.at(n.x, n.y, n.z), v.at(i, j, k));
+                    EXPECT_EQ(a.at(n.x, n.y, n.z), v.at(kx, ky, kz));
                 }
     }
-    // Oblique axes (30 degrees about z) cannot be reordered: the volume comes back as it was.
-    const double c = std::cos(std::numbers::pi / 6), s = std::sin(std::numbers::pi / 6);
-    Volume oblique = makeCheckerboard({4, 4, 4}, 2);
-    oblique.directions = glm::dmat3(glm::dvec3(c, s, 0), glm::dvec3(-s, c, 0), z);
-    EXPECT_FALSE(axesAlignable(oblique.directions));
-    const Volume same = alignedToWorldAxes(oblique);
+    // Sheared axes cannot be drawn: the volume comes back as it was, and says so.
+    Volume sheared = makeCheckerboard({4, 4, 4}, 2);
+    sheared.directions = glm::dmat3(x, glm::normalize(x + y), z);
+    EXPECT_FALSE(axesAlignable(sheared.directions));
+    const Volume same = alignedToWorldAxes(sheared);
     EXPECT_TRUE(same.axesNotDrawn());
-    EXPECT_EQ(same.values, oblique.values);
+    EXPECT_EQ(same.drawnAxes(), glm::dmat3(1.0));
+    EXPECT_EQ(same.values, sheared.values);
     EXPECT_FALSE(axesAlignable(glm::dmat3(x, x, z))) << "two axes along one";
     EXPECT_FALSE(axesAlignable(glm::dmat3(2.0 * x, y, z))) << "not a unit vector";
     EXPECT_FALSE(axesAlignable(glm::dmat3(glm::dvec3(std::nan(""), 1, 0), y, z)));
+    EXPECT_FALSE(isRotation(glm::dmat3(glm::dvec3(std::nan(""), 1, 0), y, z)));
+    EXPECT_FALSE(isRotation(glm::dmat3(-x, y, z))) << "a mirror is not a rotation";
+}
+
+// A rotation left in Volume::directions is drawn by the image plane (SplatScene::axes): turned 30 degrees
+// about the up axis, a volume seen from azimuth 60 is the unturned one seen from azimuth 30. And a
+// rotation that is also a permutation draws through the plane as its reordered voxels do.
+TEST(AlignedToWorldAxes, TheImagePlaneTurnsTheVolumeByTheRotationLeft) {
+    // Cells of colours that vary along x and z, so that a wrong slice order shows too.
+    Volume v;
+    v.dims = {6, 5, 4};
+    v.spacing = {1.0, 1.5, 2.0};
+    for (int z = 0; z < 4; ++z)
+        for (int y = 0; y < 5; ++y)
+            for (int x = 0; x < 6; ++x)
+                v.values.push_back((x / 2 + y / 2 + z / 2) % 2 ? float(0.2 + 0.12 * x + 0.05 * z) : 0.0f);
+    updateRange(v);
+    const TransferFunction tf = builtinPreset("fire");
+    auto render = [&](const Volume& volume, const Camera& camera) {
+        const SplatScene scene = buildSplatScene(volume, tf, volume.range);
+        const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, 40, 40, scene.axes);
+        return renderReference(scene, plane, SplatSettings{});
+    };
+    auto maxDiff = [](const Image& a, const Image& b) {
+        double d = 0.0;
+        for (size_t i = 0; i < a.rgba.size(); ++i) d = std::max(d, double(std::abs(a.rgba[i] - b.rgba[i])));
+        return d;
+    };
+    const double c = std::cos(std::numbers::pi / 6), s = std::sin(std::numbers::pi / 6);
+    Volume turned = v;
+    turned.directions = glm::dmat3(glm::dvec3(c, s, 0), glm::dvec3(-s, c, 0), glm::dvec3(0, 0, 1));
+    const Image seen = render(turned, Camera{.azimuthDeg = 60.0});
+    EXPECT_LT(maxDiff(seen, render(v, Camera{.azimuthDeg = 30.0})), 1e-5);
+    EXPECT_GT(maxDiff(seen, render(v, Camera{.azimuthDeg = 60.0})), 0.05) << "the turn must show";
+
+    // 90 degrees about x: a rotation and a permutation, drawn by the plane and by reordering.
+    Volume quarter = v;
+    quarter.directions = glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, -1, 0));
+    const Camera oblique{.azimuthDeg = 40.0, .elevationDeg = 25.0};
+    EXPECT_LT(maxDiff(render(quarter, oblique), render(alignedToWorldAxes(quarter), oblique)), 1e-5);
 }
 
 TEST(HalfResolution, AveragesBlocksAtTheirCentreAndKeepsAxesOfOneVoxel) {

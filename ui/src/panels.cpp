@@ -399,9 +399,9 @@ void drawStatsPanel(const StatsView& stats) {
         ImGui::Text("spacing %.3g x %.3g x %.3g", v->spacing.x, v->spacing.y, v->spacing.z);
         ImGui::Text("range   [%g, %g]", double(v->range.lo), double(v->range.hi));
         if (v->axesNotDrawn()) {
-            ImGui::TextDisabled("axes    oblique, not applied");
-            hint("The file's axes are oblique to its world frame; SplatLab draws the volume along its\n"
-                 "index axes, so this picture may be turned against that frame");
+            ImGui::TextDisabled("axes    sheared, not applied");
+            hint("The file's axes are not orthogonal; SplatLab draws the volume along its index axes,\n"
+                 "so this picture may be turned or skewed against the file's world frame");
         }
     } else {
         ImGui::TextDisabled("no volume loaded");

@@ -61,14 +61,18 @@ struct ImagePlane {
     }
 };
 
-// `centre` is the orbit centre and `radius` the bounding radius, both in object units.
-ImagePlane makeImagePlane(const Camera& camera, glm::dvec3 centre, double radius, int width, int height);
+// `centre` is the orbit centre and `radius` the bounding radius, both in object units. `axes`: the
+// object's axes in the world the camera orbits (a rotation, columns x, y, z; SplatScene::axes), turned
+// about `centre`, so the plane maps object space through them.
+ImagePlane makeImagePlane(const Camera& camera, glm::dvec3 centre, double radius, int width, int height,
+                          const glm::dmat3& axes = glm::dmat3(1.0));
 
 // `camera` moved so that every point of `points` (object space) lies inside the image less `margin` of
 // each half size, and beyond the near plane: its direction, field of view, up and projection stay; its
 // distance (within minDistance .. maxDistance radii) becomes the least that allows it, and its pan centres
 // the points' extent. An empty `points` or image changes nothing.
 Camera frameView(Camera camera, glm::dvec3 centre, double radius, std::span<const glm::dvec3> points, int width,
-                 int height, double margin, double minDistance, double maxDistance);
+                 int height, double margin, double minDistance, double maxDistance,
+                 const glm::dmat3& axes = glm::dmat3(1.0));
 
 } // namespace renderer

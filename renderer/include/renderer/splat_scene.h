@@ -62,6 +62,8 @@ struct SplatScene {
     glm::dvec3 origin{0.0};
     glm::dvec3 centre{0.0};
     double radius = 0.0;                 // bounding radius of the voxel centres
+    glm::dmat3 axes{1.0};                // the volume's axes in its world frame, turned about centre by
+                                         // the image plane (Volume::drawnAxes): oblique scans
     ValueRange window;                   // data values mapped to TF domain [0,1]
     std::vector<uint16_t> classes;       // per voxel, x fastest: index into lut
     Lut lut;

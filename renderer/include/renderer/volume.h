@@ -26,24 +26,29 @@ struct Histogram {
     std::vector<uint64_t> counts;     // equal-width bins
 };
 
+// Whether `m` is a rotation (orthonormal columns, determinant +1), within 1e-6.
+bool isRotation(const glm::dmat3& m);
+
 struct Volume {
     std::string name;                 // shown in the UI and in `info`; usually the file stem
     glm::ivec3 dims{0};               // voxels along x, y, z
     glm::dvec3 spacing{1.0};          // distance between voxel centres, object units (mm for CT)
     glm::dvec3 origin{0.0};           // object-space position of voxel (0,0,0)
     // Unit vector of each index axis in the file's world frame (columns: x, y, z), from NRRD space
-    // directions, a MetaImage TransformMatrix or a NIfTI qform/sform. The renderer draws index axes
-    // (object space = index x spacing + origin): alignedToWorldAxes() applies mirrored or swapped axes
-    // by reordering the voxels; oblique ones stay here, not drawn.
+    // directions, a MetaImage TransformMatrix or a NIfTI qform/sform. Object space is index x spacing +
+    // origin; alignedToWorldAxes() reorders the voxels so that what is left here is a rotation, which the
+    // image plane applies (SplatScene::axes), or sheared axes, which are not drawn.
     glm::dmat3 directions{1.0};
     VoxelType type = VoxelType::F32;  // the type the values had on disk
     std::vector<float> values;        // x fastest, then y, then z; in the data's own units
     ValueRange range;                 // min and max of the finite values (see updateRange)
 
     size_t voxelCount() const { return size_t(dims.x) * size_t(dims.y) * size_t(dims.z); }
-    // Axes other than x, y, z that the renderer does not apply (oblique ones, after alignedToWorldAxes):
-    // the picture may be turned against the file's world frame, so the tools say so.
-    bool axesNotDrawn() const { return directions != glm::dmat3(1.0); }
+    // The rotation the image plane turns the volume by: `directions` where they are one, else none.
+    glm::dmat3 drawnAxes() const { return isRotation(directions) ? directions : glm::dmat3(1.0); }
+    // Axes the renderer does not apply (sheared, or mirrored where alignedToWorldAxes did not run): the
+    // picture may be turned against the file's world frame, so the tools say so.
+    bool axesNotDrawn() const { return !isRotation(directions); }
     size_t index(int x, int y, int z) const {
         return (size_t(z) * size_t(dims.y) + size_t(y)) * size_t(dims.x) + size_t(x);
     }
@@ -60,10 +65,11 @@ struct Volume {
 // Whether `directions` are the world axes mirrored or swapped (each column +-1 on one axis, within
 // 1e-6), which alignedToWorldAxes applies exactly.
 bool axesAlignable(const glm::dmat3& directions);
-// The volume with its index axes turned onto the world frame's x, y, z where axesAlignable(): the
-// voxels reordered, dims, spacing and origin to match, directions the identity. Scanners store mirrored
-// and swapped axes; drawn this way the picture is in the file's world frame (its left stays left).
-// Oblique axes are returned as they are.
+// The volume with its voxels reordered (dims, spacing and origin to match) so that its axes are drawn
+// in the file's world frame (its left stays left):
+// - axes that are the world's mirrored or swapped (axesAlignable; as scanners store them) become x, y, z;
+// - oblique axes that mirror (determinant -1) have x reversed, which leaves a rotation (drawnAxes).
+// Other axes are returned as they are.
 Volume alignedToWorldAxes(Volume volume);
 
 // The volume at half resolution, for the editor's preview while the view moves (8 times fewer splats):
