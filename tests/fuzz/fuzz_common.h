@@ -3,6 +3,7 @@
 // the expected answer to a bad file; any other exception, a crash or a sanitizer report is a bug.
 #pragma once
 #include "renderer/errors.h"
+#include "renderer/volume.h"
 #include "renderer/volume_io.h"
 
 #include <cstdint>
@@ -45,6 +46,11 @@ template <class Load> void loadAndCheck(Load&& load) {
         if (v.values.size() != v.voxelCount() || v.dims.x < 1 || v.dims.y < 1 || v.dims.z < 1) std::abort();
         if (!(v.spacing.x > 0 && v.spacing.y > 0 && v.spacing.z > 0)) std::abort();
         if (v.voxelCount() > renderer::kMaxVoxels) std::abort();
+        // Whatever axes the header gave, alignment keeps every voxel and leaves a rotation or flags them.
+        const renderer::Volume a = renderer::alignedToWorldAxes(v);
+        if (a.values.size() != v.values.size() || a.voxelCount() != v.voxelCount()) std::abort();
+        if (!(a.spacing.x > 0 && a.spacing.y > 0 && a.spacing.z > 0)) std::abort();
+        if (!renderer::isRotation(a.drawnAxes())) std::abort();
     } catch (const renderer::LoadError&) {
         // the expected answer to a malformed file
     }
