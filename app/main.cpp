@@ -204,7 +204,7 @@ void addSceneOptions(CLI::App* cmd, SceneArgs& a) {
     cmd->add_option("--size", a.size, "Image size WxH")->capture_default_str();
     cmd->add_option("--camera", a.camera, "azimuth,elevation,distance,fov (deg, bounding radii, deg)")
         ->capture_default_str();
-    cmd->add_option("--up", a.up, "Object axis shown upwards: x, y, z, -x, -y, -z (headsq: -z)")->capture_default_str();
+    cmd->add_option("--up", a.up, "Axis of the file's world frame shown upwards: x, y, z, -x, -y, -z (headsq: -z)")->capture_default_str();
     cmd->add_flag("--ortho", a.orthographic, "Parallel projection (framed like the perspective view)");
     cmd->add_flag("--fit", a.fit, "Move the camera along its line of sight, and pan, until everything the TF shows "
                                   "fills the image");
@@ -538,7 +538,7 @@ int main(int argc, char** argv) {
                        "Starting compositing: splat-every-sample, sheet-back-to-front, sheet-front-to-back, xray")
         ->capture_default_str();
     editor->add_option("--primitive", editorPrimitive, kPrimitiveHelp)->capture_default_str();
-    editor->add_option("--up", editorUp, "Object axis shown upwards: x, y, z, -x, -y, -z (default: z; "
+    editor->add_option("--up", editorUp, "Axis of the file's world frame shown upwards: x, y, z, -x, -y, -z (default: z; "
                                          "-z for the bundled headsq)");
     editor->add_option("--tab", e.tabs, "Bring a panel's tab to the front, e.g. Performance (repeatable)");
     editor->add_flag("--continuous", e.continuous, "Render every frame (the Performance panel's steady load)");

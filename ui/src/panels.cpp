@@ -214,7 +214,7 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     sectionTitle("Camera");
     changes.cameraChanged |= sliderDouble("Field of view", state.camera.fovYDeg, 10.0, 100.0, "%.0f deg");
     changes.cameraChanged |= drawUpAxisCombo(state.camera.up);
-    hint("Object axis shown upwards; CT stacks such as headsq need -z");
+    hint("Axis of the file's world frame shown upwards; CT stacks such as headsq need -z");
     if (ImGui::Button("Reset camera")) {
         renderer::Camera reset;
         reset.up = state.camera.up; // the up axis belongs to the data, not to the view
