@@ -150,12 +150,16 @@ int runInfo(const std::string& path, const RawFlags& raw, bool gradients) {
         Volume axesOnly;   // no voxels: what alignment leaves of these axes, for the message
         axesOnly.directions = d;
         const glm::dmat3 left = alignedToWorldAxes(axesOnly).directions;
-        const char* how = left == glm::dmat3(1.0) ? "in the file's world frame: the voxels are reordered"
-                          : !isRotation(left)     ? "sheared: not applied, drawn along the index axes"
-                          : left == d             ? "in the file's world frame: the view turns with them"
-                                                  : "in the file's world frame: x reversed, the view turns with them";
-        std::printf("  axes     x (%g, %g, %g)  y (%g, %g, %g)  z (%g, %g, %g)  (%s)\n",
-                    d[0].x, d[0].y, d[0].z, d[1].x, d[1].y, d[1].z, d[2].x, d[2].y, d[2].z, how);
+        const char* how = left == glm::dmat3(1.0)   ? "in the file's world frame: the voxels are reordered"
+                          : !isRotation(left)       ? "sheared: not applied, drawn along the index axes"
+                          : glm::determinant(d) > 0 ? "in the file's world frame: the view turns with them"
+                                                    : "in the file's world frame: x reversed, the view turns with them";
+        // Axes a header rounded: alignment takes them as the orthonormal axes nearest them.
+        const bool rounded = isRotation(left) && !isRotation(d) && !isRotation(glm::dmat3(-d[0], d[1], d[2]));
+        std::printf("  axes     x (%g, %g, %g)  y (%g, %g, %g)  z (%g, %g, %g)  (%s%s)\n",
+                    d[0].x, d[0].y, d[0].z, d[1].x, d[1].y, d[1].z, d[2].x, d[2].y, d[2].z, how,
+                    rounded ? "; rounded cosines, not quite orthonormal: drawn as the orthonormal axes nearest them"
+                            : "");
     }
     std::printf("  range    %g .. %g\n", v.range.lo, v.range.hi);
     const ValueRange p = percentileWindow(v, 1.0, 99.0);

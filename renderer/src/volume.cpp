@@ -130,6 +130,23 @@ Volume reordered(const Volume& volume, const AxisMap& map, const glm::dmat3& dir
     return out;
 }
 
+// The orthonormal axes nearest `directions` (the orthogonal factor of its polar decomposition), where
+// they are within kHeaderRounding of orthonormal; nullopt where they are further (sheared) or not finite.
+// Headers print direction cosines to a few digits: three digits leave the dot products of axes meant to
+// be orthonormal off by up to 1.7e-3 (0.11 degrees), four by up to 1.7e-4.
+std::optional<glm::dmat3> nearestOrthonormal(const glm::dmat3& directions) {
+    constexpr double kHeaderRounding = 2e-3;
+    const glm::dmat3 gram = glm::transpose(directions) * directions;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (!(std::abs(gram[i][j] - (i == j ? 1.0 : 0.0)) < kHeaderRounding)) return std::nullopt;
+    // Newton's iteration for the polar factor converges quadratically this close: 2e-3 is under 1e-16
+    // after three steps.
+    glm::dmat3 q = directions;
+    for (int step = 0; step < 5; ++step) q = 0.5 * (q + glm::transpose(glm::inverse(q)));
+    return q;
+}
+
 } // namespace
 
 bool isRotation(const glm::dmat3& m) {
@@ -145,6 +162,7 @@ bool axesAlignable(const glm::dmat3& directions) { return signedPermutation(dire
 
 Volume alignedToWorldAxes(Volume volume) {
     if (volume.directions == glm::dmat3(1.0)) return volume;
+    if (const std::optional<glm::dmat3> q = nearestOrthonormal(volume.directions)) volume.directions = *q;
     if (const std::optional<AxisMap> map = signedPermutation(volume.directions))
         return reordered(volume, *map, glm::dmat3(1.0));
     glm::dmat3 flipped = volume.directions;

@@ -91,7 +91,8 @@ std::filesystem::path writeNrrd(const std::string& name, const std::string& dire
 // A file is drawn in its world frame: one whose x axis runs the world's -x as the same world volume
 // stored with x running +x (not as its stored order); one whose axes are turned 30 degrees about z, seen
 // from azimuth 60, as the unturned one from azimuth 30; and a turned one that also mirrors x likewise.
-// Sheared axes are not applied, and render says so.
+// Axes off orthonormal by a header's rounding are drawn as the orthonormal axes nearest them. Sheared
+// axes are not applied, and render says so.
 TEST(Cli, RenderDrawsTheFileInItsWorldFrameAndNamesShearedAxes) {
     const std::string identity = "(1,0,0) (0,1,0) (0,0,1)";
     const std::string c = "0.8660254037844387";   // cos 30 degrees
@@ -125,6 +126,23 @@ TEST(Cli, RenderDrawsTheFileInItsWorldFrameAndNamesShearedAxes) {
     EXPECT_THAT(splatlab("info \"" + mirroredFile.string() + "\"").output,
                 HasSubstr("the voxels are reordered"));
     EXPECT_THAT(splatlab("info \"" + turnedFile.string() + "\"").output, HasSubstr("the view turns with them"));
+    // Axes turned 40 degrees about (1, 2, 3), their cosines rounded to three digits as some headers print
+    // them (their dot products are off by 7e-4), are drawn as the orthonormal axes nearest them, not
+    // refused as sheared. Measured: RMSE 1.3e-4, max 7.7e-4 against the exact axes.
+    const auto obliqueFile = writeNrrd("cli_oblique.nrrd",
+                                       "(0.78275555432476529,0.5487988669638042,-0.29345109608412456) "
+                                       "(-0.48195442214065509,0.83288888794212712,0.27205888208546691) "
+                                       "(0.39371776331884822,-0.07152554761601948,0.91644444397106362)",
+                                       stored);
+    const auto roundedFile = writeNrrd("cli_oblique_rounded.nrrd",
+                                       "(0.783,0.549,-0.293) (-0.482,0.833,0.272) (0.394,-0.072,0.916)", stored);
+    const renderer::ImageError rounded = renderer::compareImages(render(roundedFile, 30.0), render(obliqueFile, 30.0));
+    EXPECT_LT(rounded.rmse, 5e-4);
+    EXPECT_LT(rounded.maxAbs, 5e-3);
+    EXPECT_GT(maxDiff(render(obliqueFile, 30.0), render(storedFile, 30.0)), 0.05) << "the turn must show";
+    EXPECT_THAT(splatlab("info \"" + roundedFile.string() + "\"").output,
+                HasSubstr("the view turns with them; rounded cosines"));
+    EXPECT_THAT(splatlab("info \"" + obliqueFile.string() + "\"").output, Not(HasSubstr("rounded")));
 
     const auto shearedFile = writeNrrd("cli_sheared.nrrd", "(1,0,0) (0.6,0.8,0) (0,0,1)", stored);
     const auto out = testing_support::testOutputDir() / "cli_sheared.png";

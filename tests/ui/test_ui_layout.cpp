@@ -4,6 +4,8 @@
 #include "ui/dock_layout.h"
 #include "ui/panels.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <imgui.h>
 #include <imgui_internal.h> // ImGuiContext::HoveredId and FindWindowByName, to find widgets to click
@@ -563,4 +565,33 @@ TEST_F(ImGuiNull, FiltersPanelAsksToMeasureAndToCancelAndShowsEachFiltersRow) {
     frame(body);
     clickInCostColumn(&ui::FiltersChanges::measure);
     EXPECT_FALSE(seen.measure);
+}
+
+// == Stats
+
+// The Stats panel says how the file's axes are drawn: nothing for the world's own axes, the angle the
+// view turns by for oblique ones, and that sheared ones are not applied.
+TEST_F(ImGuiNull, StatsPanelSaysHowTheFilesAxesAreDrawn) {
+    renderer::Volume volume;
+    volume.name = "axes";
+    volume.dims = {2, 2, 2};
+    ui::StatsView stats;
+    stats.volume = &volume;
+    auto text = [&] {
+        std::string captured;
+        frame([&] {
+            ImGui::LogToBuffer();
+            ui::drawStatsPanel(stats);
+            captured = ImGui::GetCurrentContext()->LogBuffer.c_str();
+            ImGui::LogFinish();
+        });
+        return captured;
+    };
+    EXPECT_THAT(text(), testing::Not(testing::HasSubstr("axes ")));
+    volume.directions = glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(30.0), glm::dvec3(1, 2, 3)));
+    EXPECT_THAT(text(), testing::HasSubstr("axes    oblique, turned 30.0 degrees"));
+    volume.directions = glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(170.0), glm::dvec3(0, 0, 1)));
+    EXPECT_THAT(text(), testing::HasSubstr("turned 170.0 degrees"));
+    volume.directions[1] = glm::normalize(glm::dvec3(0.6, 0.8, 0.0));
+    EXPECT_THAT(text(), testing::HasSubstr("axes    sheared, not applied"));
 }

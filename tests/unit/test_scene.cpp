@@ -513,6 +513,48 @@ TEST(AlignedToWorldAxes, KeepsEveryVoxelWhereTheFilesAxesPutItInTheWorld) {
     EXPECT_FALSE(isRotation(glm::dmat3(-x, y, z))) << "a mirror is not a rotation";
 }
 
+// Direction cosines rounded by a header (to three or four digits) leave axes that are not quite
+// orthonormal; alignment takes them as the orthonormal axes nearest them, so they are drawn, and keeps
+// refusing axes sheared by more than that.
+TEST(AlignedToWorldAxes, TakesAHeadersRoundedCosinesAsTheNearestOrthonormalAxes) {
+    const glm::dvec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+    const glm::dmat3 rz30 = glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(30.0), z));
+    // About an oblique axis, so that every cosine is rounded.
+    const glm::dmat3 oblique =
+        glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(40.0), glm::normalize(glm::dvec3(1, 2, 3))));
+    const auto rounded = [](const glm::dmat3& m, double digits) {
+        const double scale = std::pow(10.0, digits);
+        glm::dmat3 r;
+        for (int c = 0; c < 3; ++c)
+            for (int row = 0; row < 3; ++row) r[c][row] = std::round(m[c][row] * scale) / scale;
+        return r;
+    };
+    struct Case {
+        glm::dmat3 axes;   // as the header gives them
+        glm::dmat3 left;   // the rotation they are drawn as
+    };
+    const Case cases[] = {
+        {rounded(rz30, 3), rz30},
+        {rounded(rz30, 4), rz30},
+        {rounded(oblique, 3), oblique},
+        {rounded(glm::dmat3(-oblique[0], oblique[1], oblique[2]), 4), oblique},   // mirrored: x reversed
+    };
+    for (const Case& k : cases) {
+        ASSERT_FALSE(isRotation(k.axes)) << "the rounding must leave axes a strict test refuses";
+        Volume v = makeCheckerboard({4, 5, 6}, 2);
+        v.directions = k.axes;
+        const Volume a = alignedToWorldAxes(v);
+        EXPECT_TRUE(isRotation(a.directions));
+        EXPECT_FALSE(a.axesNotDrawn());
+        // Within the rounding: three digits move an axis by under 2e-3.
+        for (int c = 0; c < 3; ++c) EXPECT_LT(glm::length(a.directions[c] - k.left[c]), 2e-3) << "axis " << c;
+    }
+    // A shear of 0.01 (0.57 degrees) is not a header's rounding: refused, and drawn along the index axes.
+    Volume sheared = makeCheckerboard({4, 4, 4}, 2);
+    sheared.directions = glm::dmat3(x, glm::normalize(y + 0.01 * x), z);
+    EXPECT_TRUE(alignedToWorldAxes(sheared).axesNotDrawn());
+}
+
 // A rotation left in Volume::directions is drawn by the image plane (SplatScene::axes): turned 30 degrees
 // about the up axis, a volume seen from azimuth 60 is the unturned one seen from azimuth 30. And a
 // rotation that is also a permutation draws through the plane as its reordered voxels do.

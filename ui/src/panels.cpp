@@ -402,6 +402,13 @@ void drawStatsPanel(const StatsView& stats) {
             ImGui::TextDisabled("axes    sheared, not applied");
             hint("The file's axes are not orthogonal; SplatLab draws the volume along its index axes,\n"
                  "so this picture may be turned or skewed against the file's world frame");
+        } else if (v->directions != glm::dmat3(1.0)) {
+            // The rotation's angle from its trace: 1 + 2 cos(angle).
+            const double trace = v->directions[0][0] + v->directions[1][1] + v->directions[2][2];
+            ImGui::Text("axes    oblique, turned %.1f degrees",
+                        glm::degrees(std::acos(std::clamp((trace - 1.0) / 2.0, -1.0, 1.0))));
+            hint("The file's axes are turned against its world frame. The view turns with them, so the\n"
+                 "camera orbits in the file's world frame while slices follow the volume's own axes");
         }
     } else {
         ImGui::TextDisabled("no volume loaded");

@@ -66,10 +66,11 @@ struct Volume {
 // 1e-6), which alignedToWorldAxes applies exactly.
 bool axesAlignable(const glm::dmat3& directions);
 // The volume with its voxels reordered (dims, spacing and origin to match) so that its axes are drawn
-// in the file's world frame (its left stays left):
+// in the file's world frame (its left stays left). Axes within 2e-3 of orthonormal (a header's rounded
+// cosines) are first replaced by the orthonormal axes nearest them; then
 // - axes that are the world's mirrored or swapped (axesAlignable; as scanners store them) become x, y, z;
 // - oblique axes that mirror (determinant -1) have x reversed, which leaves a rotation (drawnAxes).
-// Other axes are returned as they are.
+// Sheared axes (further from orthonormal) are returned as they are.
 Volume alignedToWorldAxes(Volume volume);
 
 // The volume at half resolution, for the editor's preview while the view moves (8 times fewer splats):
