@@ -100,8 +100,9 @@ layout(std430, binding = 0) readonly buffer Entries { uint entries[]; };   // 16
 layout(binding = 4) uniform samplerBuffer lutTexels;
 layout(std430, binding = 2) buffer Counters { uint counters[]; };
 layout(std430, binding = 3) readonly buffer Gradients { uint gradients[]; };   // 3 bytes a voxel (shading.h)
-layout(std430, binding = 4) readonly buffer PatchModes { uint patchModes[]; };
-uniform int uPatchColumns, uPatchRows;   // patches along the slice's axes a1 and a2
+// Adaptive: each patch's filter at (patch along a1, patch along a2, slice), written by the patch pass.
+layout(binding = 8) uniform usampler3D patchModes;
+uniform float uInvPatchSize;
 layout(binding = 0) uniform usampler3D classes;      // per-voxel LUT class (R16UI)
 
 uniform ShadingParams uShadingParams;
@@ -180,8 +181,10 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
     mat3 V = J * varCamera * transpose(J);
     mat2 vHat = mat2(V[0][0], V[0][1], V[1][0], V[1][1]);
 #ifdef ADAPTIVE   // the patch's filter, classified once per patch by the patch pass
-    int pa = ijk[a1] / uPatchSize, pb = ijk[a2] / uPatchSize;
-    f.mode = int(patchModes[(ijk[uAxis] * uPatchRows + pb) * uPatchColumns + pa]);
+    // By float (exact: the half keeps a multiple of the size off the boundary): llvmpipe divides
+    // integers lane by lane.
+    int pa = int((float(ijk[a1]) + 0.5) * uInvPatchSize), pb = int((float(ijk[a2]) + 0.5) * uInvPatchSize);
+    f.mode = int(texelFetch(patchModes, ivec3(pa, pb, ijk[uAxis]), 0).r);
 #else
     f.mode = uFilter;
 #endif
@@ -816,17 +819,19 @@ void main() {
 
 const char* kPatchCompMain = R"(
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) buffer Modes { uint modes[]; };   // last frame's in, this frame's out
+layout(r8ui, binding = 0) uniform uimage3D modes;   // last frame's in, this frame's out
 uniform int uNa, uNb, uSlices;
 uniform bool uHasPrevious;
 void main() {
     int i = int(gl_GlobalInvocationID.x);
     if (i >= uSlices * uNb * uNa) return;
+    ivec3 at = ivec3(i % uNa, i / uNa % uNb, i / (uNa * uNb));
     ivec3 ijk;
-    ijk[uAxis] = i / (uNa * uNb);
-    ijk[(uAxis + 1) % 3] = (i % uNa) * uPatchSize;
-    ijk[(uAxis + 2) % 3] = (i / uNa) % uNb * uPatchSize;
-    modes[i] = uint(resolveFilter(ijk, uHasPrevious ? int(modes[i]) : 3));
+    ijk[uAxis] = at.z;
+    ijk[(uAxis + 1) % 3] = at.x * uPatchSize;
+    ijk[(uAxis + 2) % 3] = at.y * uPatchSize;
+    int previous = uHasPrevious ? int(imageLoad(modes, at).r) : 3;
+    imageStore(modes, at, uvec4(resolveFilter(ijk, previous)));
 }
 )";
 
@@ -961,13 +966,14 @@ struct SplatRenderer::Gl {
     GLuint commandsProgram = 0, patchProgram = 0, opaqueTilesProgram = 0;
     GLuint splatVao = 0, emptyVao = 0;
     GLuint classTexture = 0;
-    GLuint lutBuffer = 0, counterBuffer = 0, patchBuffer = 0, gradientBuffer = 0;
+    GLuint lutBuffer = 0, counterBuffer = 0, gradientBuffer = 0;
+    GLuint patchTexture = 0;   // R8UI, a texel a patch (PatchGrid: columns x rows x slices)
     GLuint lutTexture = 0;   // buffer texture over lutBuffer (the tiles' composite)
     bool hasGradients = false;
     uint64_t gradientBytes = 0;   // of gradientBuffer, inside sceneBytes
     std::string sceneName;   // for messages
-    size_t patchBufferBytes = 0;
-    std::optional<PatchGrid> patchLayout;   // patchBuffer holds an adaptive frame's modes on this
+    glm::ivec3 patchTextureSize{0};
+    std::optional<PatchGrid> patchLayout;   // patchTexture holds an adaptive frame's modes on this
                                             // grid (hysteresis reads them as last frame's)
     std::array<AxisBuffers, 3> axes;
     int residentAxis = -1;   // the axis whose lists are on the GPU (-1: none yet)
@@ -1072,8 +1078,9 @@ struct SplatRenderer::Gl {
         glDeleteVertexArrays(2, vaos);
         glDeleteTextures(1, &classTexture);
         glDeleteTextures(1, &lutTexture);
-        const GLuint buffers[] = {lutBuffer, counterBuffer, patchBuffer, gradientBuffer, commands};
-        glDeleteBuffers(5, buffers);
+        glDeleteTextures(1, &patchTexture);
+        const GLuint buffers[] = {lutBuffer, counterBuffer, gradientBuffer, commands};
+        glDeleteBuffers(4, buffers);
         for (auto& a : axes) a.release();
         releaseTargets();
         for (Laps& l : laps) glDeleteQueries(GLsizei(l.queries.size()), l.queries.data());
@@ -1240,7 +1247,7 @@ struct SplatRenderer::Gl {
         glNamedBufferStorage(buffer, GLsizeiptr(capacity), nullptr, 0);
     }
 
-    // The adaptive classifier once per patch (compute) into patchBuffer; returns the patch count. Where
+    // The adaptive classifier once per patch (compute) into patchTexture; returns the patch count. Where
     // uniformAdaptiveFilter() decided the view (`decided`, else Adaptive), every patch is set to that
     // filter, what the pass would give, so hysteresis reads it next frame.
     size_t classifyPatches(const ImagePlane& plane, const SplatSettings& settings, int axis,
@@ -1248,16 +1255,18 @@ struct SplatRenderer::Gl {
         lap(GpuPass::Patches);
         const PatchGrid grid = patchGrid(dims, axis, settings.patchSize);
         const size_t n = grid.count();
-        if (patchBufferBytes < n * 4) {
-            glDeleteBuffers(1, &patchBuffer);
-            glCreateBuffers(1, &patchBuffer);
-            glNamedBufferStorage(patchBuffer, GLsizeiptr(n * 4), nullptr, 0);
-            patchBufferBytes = n * 4;
+        if (const glm::ivec3 size{grid.columns, grid.rows, grid.slices}; size != patchTextureSize) {
+            glDeleteTextures(1, &patchTexture);
+            glCreateTextures(GL_TEXTURE_3D, 1, &patchTexture);
+            glTextureStorage3D(patchTexture, 1, GL_R8UI, size.x, size.y, size.z);
+            glTextureParameteri(patchTexture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);   // else incomplete (integer)
+            glTextureParameteri(patchTexture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            patchTextureSize = size;
             patchLayout.reset();
         }
         if (decided != FilterMode::Adaptive) {
-            const GLuint mode = GLuint(decided);
-            glClearNamedBufferSubData(patchBuffer, GL_R32UI, 0, GLsizeiptr(n * 4), GL_RED_INTEGER, GL_UNSIGNED_INT, &mode);
+            const GLubyte mode = GLubyte(decided);
+            glClearTexImage(patchTexture, 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &mode);
         } else {
             useProgram(patchProgram);
             setCommonUniforms(patchProgram, plane, settings, axis);
@@ -1265,7 +1274,7 @@ struct SplatRenderer::Gl {
             glUniform1i(glGetUniformLocation(patchProgram, "uNb"), grid.rows);
             glUniform1i(glGetUniformLocation(patchProgram, "uSlices"), grid.slices);
             glUniform1i(glGetUniformLocation(patchProgram, "uHasPrevious"), patchLayout == grid);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, patchBuffer);
+            glBindImageTexture(0, patchTexture, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R8UI);
             glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
         }
         patchLayout = settings.filter == FilterMode::Adaptive ? std::optional(grid) : std::nullopt;
@@ -1761,16 +1770,12 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
 
     if (settings.filter == FilterMode::Adaptive) {
         g.classifyPatches(plane, settings, trav.axis, drawnFilter);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
     const GLuint p = tiles ? g.tileProgram(Gl::kTileSplat, variant & ~kHeatmap) : g.splatProgram(variant);
     g.useProgram(p);
-    {
-        const PatchGrid grid = patchGrid(g.dims, trav.axis, settings.patchSize);
-        glUniform1i(glGetUniformLocation(p, "uPatchColumns"), grid.columns);
-        glUniform1i(glGetUniformLocation(p, "uPatchRows"), grid.rows);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.patchBuffer ? g.patchBuffer : g.counterBuffer);
-    }
+    glUniform1f(glGetUniformLocation(p, "uInvPatchSize"), 1.0f / float(std::max(settings.patchSize, 1)));
+    glBindTextureUnit(8, g.patchTexture);
     g.setCommonUniforms(p, plane, settings, trav.axis);
     glUniform1i(glGetUniformLocation(p, "uFilter"), int(drawnFilter));
     const glm::mat3 varCamera(varianceCamera);
@@ -2284,11 +2289,13 @@ std::vector<uint8_t> SplatRenderer::patchModes(const ImagePlane& plane, const Sp
     Gl& g = *m_gl;
     if (!g.classTexture) throw RenderError("SplatRenderer::patchModes called before setScene");
     const size_t n = g.classifyPatches(plane, settings, chooseTraversal(plane).axis);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::vector<uint32_t> words(n);
-    glGetNamedBufferSubData(g.patchBuffer, 0, GLsizeiptr(n * 4), words.data());
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    std::vector<uint8_t> modes(n);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);   // rows of any number of patches, unpadded
+    glGetTextureImage(g.patchTexture, 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE, GLsizei(n), modes.data());
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
     checkGlErrors("SplatRenderer::patchModes");
-    return std::vector<uint8_t>(words.begin(), words.end());
+    return modes;
 }
 
 void SplatRenderer::collectTimers() {
