@@ -405,7 +405,8 @@ void drawStatsPanel(const StatsView& stats) {
         } else if (v->directions != glm::dmat3(1.0)) {
             // The rotation's angle from its trace: 1 + 2 cos(angle).
             const double trace = v->directions[0][0] + v->directions[1][1] + v->directions[2][2];
-            ImGui::Text("axes    oblique, turned %.1f degrees",
+            // %g: a scanner's slight tilt (0.0057 degrees) must not read as 0.0.
+            ImGui::Text("axes    oblique, turned %.3g degrees",
                         glm::degrees(std::acos(std::clamp((trace - 1.0) / 2.0, -1.0, 1.0))));
             hint("The file's axes are turned against its world frame. The view turns with them, so the\n"
                  "camera orbits in the file's world frame while slices follow the volume's own axes");
