@@ -127,17 +127,27 @@ vec4 unpackGradient(uint texel) {
     return vec4(a > 0.0 ? n / sqrt(dot(n, n)) : vec3(0.0), gradientMagnitude(a));
 }
 
-vec3 shade(vec3 colour, vec3 gradientCamera, vec3 toEyeCamera, ShadingParams params) {
+vec3 unitOrZero(vec3 v) {
+    float l = length(v);
+    return l > 0.0 ? v / l : vec3(0.0);
+}
+// How far the normal is trusted: 0 without a gradient, 1 from flatGradient up.
+float normalTrust(vec3 gradientCamera, ShadingParams params) {
     float r = length(gradientCamera);
-    float w = r > 0.0 ? min(r / params.flatGradient, 1.0) : 0.0;
-    vec3 n = r > 0.0 ? gradientCamera / r : vec3(0.0);
-    float e = length(toEyeCamera);
-    vec3 v = e > 0.0 ? toEyeCamera / e : vec3(0.0);
+    return r > 0.0 ? min(r / params.flatGradient, 1.0) : 0.0;
+}
+// shade() from the unit normal, its trust and the unit direction to the eye: the tiles' per-fragment
+// composite takes the first two once an entry and the third once a pixel.
+vec3 shadeUnit(vec3 colour, vec3 n, float trust, vec3 v, ShadingParams params) {
     float c = abs(dot(n, v));
     float rv = max(2.0 * c * c - 1.0, 0.0);
     vec3 phong = colour * (params.ambient + params.diffuse * c) +
                  vec3(params.specular * pow(rv, params.shininess));
-    return colour + w * (phong - colour);
+    return colour + trust * (phong - colour);
+}
+vec3 shade(vec3 colour, vec3 gradientCamera, vec3 toEyeCamera, ShadingParams params) {
+    return shadeUnit(colour, unitOrZero(gradientCamera), normalTrust(gradientCamera, params),
+                     unitOrZero(toEyeCamera), params);
 }
 
 // flatten >= 1, validated by the caller (the C++ throws).

@@ -545,16 +545,19 @@ vec4 composite(vec4 image, vec4 sheet) {
 #define COMPOSITE_HEAT(r)
 #define STORE_HEAT(r)
 #endif
-#ifdef FRAGMENT_SHADING   // towards the eye along this pixel's ray
-#define SHADE(r) vec3 colour = shade(c, gradient, uOrtho ? vec3(0.0, 0.0, -1.0) : -vec3((vec2(cx, float(y0 + r) + 0.5) - uCentrePx) / uFPx, 1.0), uShadingParams);
+#ifdef FRAGMENT_SHADING   // towards the eye along this pixel's ray, taken once a pixel
+#define DECLARE_VIEW(r) vec3 view##r = unitOrZero(uOrtho ? vec3(0.0, 0.0, -1.0) : -vec3((vec2(cx, float(y0 + r) + 0.5) - uCentrePx) / uFPx, 1.0));
+#define SHADE(r) vec3 colour = shadeUnit(c, normal, trust, view##r, uShadingParams);
 #else
+#define DECLARE_VIEW(r)
 #define SHADE(r) vec3 colour = c;
 #endif
 
 // Past the image's edge imageLoad gives 0 (nothing is stored there).
 #define DECLARE(r) \
     vec4 image##r = imageLoad(outImage, ivec2(px, int(uViewport.y) - 1 - (y0 + r))), heat##r = LOAD_HEAT(r), sheet##r, sheetHeat##r; \
-    bool live##r = true;
+    bool live##r = true; \
+    DECLARE_VIEW(r)
 #define REFRESH(r) live##r = image##r.a < uOpaqueAlpha;
 #define CLEAR(r) sheet##r = vec4(0.0); sheetHeat##r = vec4(0.0);
 // The Gaussian down a column. COLUMN_RECURRENCE: by recurrence, two sums and two products a row instead of
@@ -630,6 +633,8 @@ void main() {
 #endif
 #ifdef FRAGMENT_SHADING
                 vec3 gradient = texelFetch(entries, i + 2).xyz;
+                vec3 normal = unitOrZero(gradient);
+                float trust = normalTrust(gradient, uShadingParams);
 #endif
                 float dx = cx - centre.x;
                 COLUMN_START
