@@ -241,7 +241,7 @@ flat out vec3 vConic;
 flat out float vAmplitude;
 flat out vec3 vColour;
 flat out vec3 vHeat;          // one-hot filter mode
-flat out vec3 vGradient;
+flat out vec4 vNormalTrust;   // per-fragment shading: the unit normal and how far it is trusted
 
 bool countingInvocation() { return gl_VertexID % uVertsPerSplat == 0; }
 
@@ -264,7 +264,7 @@ void main() {
     vCentre = f.centre;
     vConic = f.conic;
     vAmplitude = f.amplitude;
-    vGradient = f.gradient;
+    vNormalTrust = vec4(unitOrZero(f.gradient), normalTrust(f.gradient, uShadingParams));
     vColour = f.colour;
     vHeat = vec3(f.mode == 0 ? 1.0 : 0.0, f.mode == 1 ? 1.0 : 0.0, f.mode == 2 ? 1.0 : 0.0);
     // Half a pixel of margin against rounding: the fragment test, not the primitive, decides coverage
@@ -666,7 +666,7 @@ flat in vec3 vConic;
 flat in float vAmplitude;
 flat in vec3 vColour;
 flat in vec3 vHeat;
-flat in vec3 vGradient;
+flat in vec4 vNormalTrust;
 uniform vec2 uViewport, uCentrePx;
 uniform float uCutoff, uFPx;
 uniform bool uOrtho;
@@ -688,7 +688,7 @@ void main() {
 #ifdef FRAGMENT_SHADING   // towards the eye along this pixel's ray
     vec2 px = vec2(gl_FragCoord.x, uViewport.y - gl_FragCoord.y);
     vec3 toEye = uOrtho ? vec3(0.0, 0.0, -1.0) : -vec3((px - uCentrePx) / uFPx, 1.0);
-    colour = shade(vColour, vGradient, toEye, uShadingParams);
+    colour = shadeUnit(vColour, vNormalTrust.xyz, vNormalTrust.w, unitOrZero(toEye), uShadingParams);
 #endif
     fragColour = vec4(colour * w, w);
 #ifdef HEATMAP
