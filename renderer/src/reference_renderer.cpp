@@ -278,12 +278,10 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
                     if (earlyTermination && opaque[size_t(y - y0) * w + x]) continue;
                     const double tau = g.amplitude * std::exp(-0.5 * e);
                     glm::dvec3 shaded = s.colour;
-                    if (perFragment) {   // towards the eye along this pixel's ray
-                        const glm::dvec3 toEye = plane.orthographic
-                                                     ? glm::dvec3(0, 0, -1)
-                                                     : -glm::dvec3((glm::dvec2(x + 0.5, y + 0.5) - plane.centrePx) / plane.fPx, 1.0);
-                        shaded = shade(s.colour, s.gradientCamera, toEye, settings.shadingParams);
-                    }
+                    if (perFragment)
+                        shaded = shade(s.colour, s.gradientCamera,
+                                       toEyeAt(glm::dvec2(x + 0.5, y + 0.5), plane.centrePx, plane.fPx, plane.orthographic),
+                                       settings.shadingParams);
                     for (int l = 0; l < layers; ++l) {
                         const double* colour = l == 0 ? &shaded[0] : heat;
                         double* p = sheets ? &sheet[l * bandSize + (size_t(y - y0) * w + x) * 4]

@@ -57,21 +57,39 @@ DecodedGradient decodeGradient(uint32_t texel) {
     return d;
 }
 
-glm::dvec3 shade(glm::dvec3 colour, glm::dvec3 gradientCamera, glm::dvec3 toEyeCamera,
-                 const ShadingParams& params) {
-    // 1. Trust in the normal: 0 without a gradient, 1 from flatGradient up; linear, so continuous.
+glm::dvec3 toEyeAt(glm::dvec2 px, glm::dvec2 centrePx, double fPx, bool orthographic) {
+    return orthographic ? glm::dvec3(0.0, 0.0, -1.0) : -glm::dvec3((px - centrePx) / fPx, 1.0);
+}
+
+namespace {
+
+glm::dvec3 unitOrZero(glm::dvec3 v) {
+    const double l = glm::length(v);
+    return l > 0.0 ? v / l : glm::dvec3(0.0);
+}
+
+// Trust in the normal: 0 without a gradient, 1 from flatGradient up; linear, so continuous.
+double normalTrust(glm::dvec3 gradientCamera, const ShadingParams& params) {
     const double r = glm::length(gradientCamera);
-    const double w = r > 0.0 ? std::min(r / params.flatGradient, 1.0) : 0.0;
-    const glm::dvec3 n = r > 0.0 ? gradientCamera / r : glm::dvec3(0.0);
-    // 2. Headlight: L = V, so |N.L| = |N.V| and R.V = 2 (N.V)^2 - 1 (R = 2 (N.L) N - L).
-    const double e = glm::length(toEyeCamera);
-    const glm::dvec3 v = e > 0.0 ? toEyeCamera / e : glm::dvec3(0.0);
+    return r > 0.0 ? std::min(r / params.flatGradient, 1.0) : 0.0;
+}
+
+glm::dvec3 shadeUnit(glm::dvec3 colour, glm::dvec3 n, double trust, glm::dvec3 v, const ShadingParams& params) {
+    // Headlight: L = V, so |N.L| = |N.V| and R.V = 2 (N.V)^2 - 1 (R = 2 (N.L) N - L).
     const double c = std::abs(glm::dot(n, v));
     const double rv = std::max(2.0 * c * c - 1.0, 0.0);
     const glm::dvec3 phong = colour * (params.ambient + params.diffuse * c) +
                              glm::dvec3(params.specular * std::pow(rv, params.shininess));
-    // 3. Fade to the unshaded colour where the normal is not to be trusted.
-    return colour + w * (phong - colour);
+    // Fade to the unshaded colour where the normal is not to be trusted.
+    return colour + trust * (phong - colour);
+}
+
+} // namespace
+
+glm::dvec3 shade(glm::dvec3 colour, glm::dvec3 gradientCamera, glm::dvec3 toEyeCamera,
+                 const ShadingParams& params) {
+    return shadeUnit(colour, unitOrZero(gradientCamera), normalTrust(gradientCamera, params),
+                     unitOrZero(toEyeCamera), params);
 }
 
 glm::dmat3 surfaceVarianceCamera(glm::dvec3 sigma, const glm::dmat3& viewFromObject, glm::dvec3 normalObject,
@@ -127,6 +145,11 @@ vec4 unpackGradient(uint texel) {
     return vec4(a > 0.0 ? n / sqrt(dot(n, n)) : vec3(0.0), gradientMagnitude(a));
 }
 
+// Towards the eye along the ray through the pixel centre `px` (pixels, y down), in camera space: the
+// view direction of per-fragment shading. centrePx and fPx are the image plane's.
+vec3 toEyeAt(vec2 px, vec2 centrePx, float fPx, bool orthographic) {
+    return orthographic ? vec3(0.0, 0.0, -1.0) : -vec3((px - centrePx) / fPx, 1.0);
+}
 vec3 unitOrZero(vec3 v) {
     float l = length(v);
     return l > 0.0 ? v / l : vec3(0.0);

@@ -546,7 +546,7 @@ vec4 composite(vec4 image, vec4 sheet) {
 #define STORE_HEAT(r)
 #endif
 #ifdef FRAGMENT_SHADING   // towards the eye along this pixel's ray, taken once a pixel
-#define DECLARE_VIEW(r) vec3 view##r = unitOrZero(uOrtho ? vec3(0.0, 0.0, -1.0) : -vec3((vec2(cx, float(y0 + r) + 0.5) - uCentrePx) / uFPx, 1.0));
+#define DECLARE_VIEW(r) vec3 view##r = unitOrZero(toEyeAt(vec2(cx, float(y0 + r) + 0.5), uCentrePx, uFPx, uOrtho));
 #define SHADE(r) vec3 colour = shadeUnit(c, normal, trust, view##r, uShadingParams);
 #else
 #define DECLARE_VIEW(r)
@@ -687,8 +687,8 @@ void main() {
     vec3 colour = vColour;
 #ifdef FRAGMENT_SHADING   // towards the eye along this pixel's ray
     vec2 px = vec2(gl_FragCoord.x, uViewport.y - gl_FragCoord.y);
-    vec3 toEye = uOrtho ? vec3(0.0, 0.0, -1.0) : -vec3((px - uCentrePx) / uFPx, 1.0);
-    colour = shadeUnit(vColour, vNormalTrust.xyz, vNormalTrust.w, unitOrZero(toEye), uShadingParams);
+    colour = shadeUnit(vColour, vNormalTrust.xyz, vNormalTrust.w, unitOrZero(toEyeAt(px, uCentrePx, uFPx, uOrtho)),
+                       uShadingParams);
 #endif
     fragColour = vec4(colour * w, w);
 #ifdef HEATMAP

@@ -65,6 +65,9 @@ struct ShadingParams {
 // for finite inputs (zero vectors included).
 glm::dvec3 shade(glm::dvec3 colour, glm::dvec3 gradientCamera, glm::dvec3 toEyeCamera,
                  const ShadingParams& params);
+// Towards the eye along the ray through the pixel centre `px` (pixels, y down), in camera space: the
+// view direction of per-fragment shading. centrePx and fPx are the image plane's.
+glm::dvec3 toEyeAt(glm::dvec2 px, glm::dvec2 centrePx, double fPx, bool orthographic);
 
 // == Surface splats (001 sec. 5)
 // Camera-space variance of the kernel diag(sigma^2) scaled by 1/flatten along the unit object-space
@@ -93,7 +96,8 @@ constexpr double kMinFootprintVariancePx2 = 0.3;
 glm::dmat2 clampFootprintVariance(const glm::dmat2& v, double minVariancePx2 = kMinFootprintVariancePx2);
 
 // == GLSL
-// GLSL 4.50 source (no #version) of ShadingParams, shade(), surfaceVarianceCamera(),
+// GLSL 4.50 source (no #version) of ShadingParams, toEyeAt(), shade() and the pieces of it the tiles'
+// composite calls apart (unitOrZero, normalTrust, shadeUnit), surfaceVarianceCamera(),
 // clampFootprintVariance() and unpackGradient(uint), line for line with the C++ above in float.
 const char* shadingGlsl();
 
