@@ -1303,7 +1303,9 @@ struct SplatRenderer::Gl {
         glUniform1i(glGetUniformLocation(p, "uFilter"), int(settings.filter));
         glUniform1i(glGetUniformLocation(p, "uOrtho"), plane.orthographic);
         glUniform1i(glGetUniformLocation(p, "uAxis"), axis);
-        glUniform1i(glGetUniformLocation(p, "uPatchSize"), std::max(settings.patchSize, 1));
+        const int patchSize = std::max(settings.patchSize, 1);
+        glUniform1i(glGetUniformLocation(p, "uPatchSize"), patchSize);
+        glUniform1f(glGetUniformLocation(p, "uInvPatchSize"), 1.0f / float(patchSize));
         glUniform1f(glGetUniformLocation(p, "uReconAbovePx"), float(t.reconstructionAbovePx));
         glUniform1f(glGetUniformLocation(p, "uLowPassBelowPx"), float(t.lowPassBelowPx));
         glUniform1f(glGetUniformLocation(p, "uSigmaMin"), float(t.sigmaMin));
@@ -1779,7 +1781,6 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     }
     const GLuint p = tiles ? g.tileProgram(Gl::kTileSplat, variant & ~kHeatmap) : g.splatProgram(variant);
     g.useProgram(p);
-    glUniform1f(glGetUniformLocation(p, "uInvPatchSize"), 1.0f / float(std::max(settings.patchSize, 1)));
     glBindTextureUnit(8, g.patchTexture);
     g.setCommonUniforms(p, plane, settings, trav.axis);
     glUniform1i(glGetUniformLocation(p, "uFilter"), int(drawnFilter));
