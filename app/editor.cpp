@@ -361,6 +361,10 @@ int runEditor(const EditorOptions& options) {
         if (volumePath.empty()) volumePath = sessionVolume;
     });
     if (exitCode == 0 && !volumePath.empty()) openVolume(volumePath);
+    if (options.preview && doc.volume && !doc.preview)
+        std::fprintf(stderr,
+                     "note: --preview: %s has %zu voxels, fewer than the %zu M that get a preview; it renders in full\n",
+                     volumePath.string().c_str(), doc.volume->voxelCount(), ui::PreviewSettings::kMinMegaVoxels);
     if (exitCode != 0) return exitCode;
 
     // 5. Frame loop. Edits made in frame N are rendered at the top of frame N+1, at the viewport size
@@ -421,7 +425,9 @@ int runEditor(const EditorOptions& options) {
         });
     };
     // Settings > Files > Save image (and --save-image): the view as the viewport shows it, at its size.
-    auto saveView = [&](const std::filesystem::path& path) {
+    // Returns what was written ("955 x 545 (heatmap)"), or nothing after reporting the failure.
+    auto saveView = [&](const std::filesystem::path& path) -> std::optional<std::string> {
+        std::optional<std::string> written;
         guarded([&] {
             if (!splats || texture == 0)
                 throw renderer::LoadError(path.string(), "", "no view to save: open a volume first");
@@ -430,9 +436,11 @@ int runEditor(const EditorOptions& options) {
             if (behind && !renderView(false)) return;
             const renderer::Image image = state.showHeatmap ? splats->readbackHeatmap() : splats->readback();
             renderer::writeImage(image, path, state.background.data());
-            state.imageSaved = "wrote " + path.filename().string() + ", " + std::to_string(image.width) + " x " +
-                               std::to_string(image.height) + (state.showHeatmap ? " (heatmap)" : "");
+            written = std::to_string(image.width) + " x " + std::to_string(image.height) +
+                      (state.showHeatmap ? " (heatmap)" : "");
+            state.imageSaved = "wrote " + path.filename().string() + ", " + *written;
         });
+        return written;
     };
     // What the Performance panel's figures are of, for its Copy: volume, image size, mode, GL_RENDERER.
     auto perfContext = [&] {
@@ -691,8 +699,8 @@ int runEditor(const EditorOptions& options) {
         guarded([] { renderer::checkGlErrors("editor frame"); });
         if (scripted && frame >= options.frames && exitCode == 0) {
             if (!options.saveImagePath.empty()) {
-                saveView(options.saveImagePath);
-                if (exitCode == 0) std::printf("%s\n", state.imageSaved.c_str());
+                if (const auto written = saveView(options.saveImagePath))
+                    std::printf("wrote %s, %s\n", options.saveImagePath.string().c_str(), written->c_str());
             }
             if (!options.screenshotPath.empty() && fbWidth > 0 && fbHeight > 0 && guarded([&] {
                     renderer::writeImage(readBackBuffer(fbWidth, fbHeight), options.screenshotPath);

@@ -20,7 +20,9 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -29,6 +31,13 @@
 namespace {
 
 using namespace renderer;
+
+// "in [lo, hi]", for a flag's range.
+std::string formatRange(double lo, double hi) {
+    char text[64];
+    std::snprintf(text, sizeof text, "in [%g, %g]", lo, hi);
+    return text;
+}
 
 std::vector<std::string> splitOn(const std::string& s, char sep) {
     std::vector<std::string> parts;
@@ -71,7 +80,9 @@ Camera parseCamera(const std::string& text) {
     c.fovYDeg = parseNumber(parts[3], "--camera", "fov");
     if (c.elevationDeg < -89.9 || c.elevationDeg > 89.9)
         throw CLI::ValidationError("--camera", "elevation must be within -89.9..89.9 degrees");
-    if (!(c.distance > 0)) throw CLI::ValidationError("--camera", "distance must be > 0 (bounding radii)");
+    if (!(c.distance >= kMinCameraDistance && c.distance <= kMaxCameraDistance))
+        throw CLI::ValidationError("--camera", "distance must be " + formatRange(kMinCameraDistance, kMaxCameraDistance) +
+                                                   " bounding radii");
     if (!(c.fovYDeg >= 1 && c.fovYDeg <= 170)) throw CLI::ValidationError("--camera", "fov must be 1..170 degrees");
     return c;
 }
@@ -128,10 +139,14 @@ WindowSettings parseWindow(const std::string& text) {
     if (parts.size() != 2)
         throw CLI::ValidationError("--window", "'" + text + "': expected data, p1-99 or LO,HI in data units");
     w.mode = WindowMode::Custom;
-    w.custom = {float(parseNumber(parts[0], "--window", "low value")),
-                float(parseNumber(parts[1], "--window", "high value"))};
+    // The window is kept in 32-bit floats, as the voxels are.
+    const double lo = parseNumber(parts[0], "--window", "low value"), hi = parseNumber(parts[1], "--window", "high value");
+    w.custom = {float(lo), float(hi)};
+    if (!std::isfinite(w.custom.lo) || !std::isfinite(w.custom.hi))
+        throw CLI::ValidationError("--window", "'" + text + "': LO and HI must be finite 32-bit floats (within +-3.4e38)");
     if (!(w.custom.lo < w.custom.hi))
-        throw CLI::ValidationError("--window", "'" + text + "': LO must be below HI");
+        throw CLI::ValidationError("--window", "'" + text + "': LO must be below HI" +
+                                                   (lo < hi ? " (as 32-bit floats the two are equal)" : ""));
     return w;
 }
 
@@ -280,7 +295,8 @@ Scene buildScene(const SceneArgs& a) {
     s.settings.filter = parseFilter(a.filter);
     if (!(a.kernelScale > 0.05 && a.kernelScale <= 10))
         throw CLI::ValidationError("--kernel-scale", "must be in (0.05, 10] voxel spacings");
-    if (!(a.density > 0)) throw CLI::ValidationError("--density", "must be > 0");
+    if (!(a.density >= kMinDensity && a.density <= kMaxDensity))
+        throw CLI::ValidationError("--density", "must be " + formatRange(kMinDensity, kMaxDensity));
     s.settings.kernelScale = a.kernelScale;
     s.settings.density = a.density;
     s.settings.shading = flagValue("--shading", [&] { return shadingFromName(a.shading); });
@@ -336,12 +352,13 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     const int frames = ra.frames;
     const bool cpu = ra.cpu;
     if (frames < 1) throw CLI::ValidationError("--frames", "must be >= 1");
+    checkImageWritable(a.out);   // before the volume loads and the frames render
     if (!(ra.opaqueAlpha > 0.0 && ra.opaqueAlpha <= 1.0)) throw CLI::ValidationError("--opaque-alpha", "must be in (0, 1]");
     if (!(ra.cMin > 0.0)) throw CLI::ValidationError("--c-min", "must be > 0");
     if (!(ra.cMax >= 0.0)) throw CLI::ValidationError("--c-max", "must be >= 0 (0: 2 (1 + 2 tan^2(fov/2)))");
     if (ra.patchSize < 1 || ra.patchSize > 256) throw CLI::ValidationError("--patch-size", "must be 1..256");
     if (ra.opaqueRefresh < 0 || ra.opaqueRefresh > 65535)
-        throw CLI::ValidationError("--opaque-refresh", "must be 1..65535 slices");
+        throw CLI::ValidationError("--opaque-refresh", "must be 0 (auto) or 1..65535 slices");
     Scene s = buildScene(a);
     if (a.session.empty()) {   // a session has its own
         s.settings.opaqueAlpha = ra.opaqueAlpha;
@@ -353,6 +370,10 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
         s.settings.primitive = parsePrimitive(ra.primitive);
     }
     s.settings.heatmap = !ra.heatmap.empty();
+    if (s.settings.heatmap && std::filesystem::path(ra.heatmap).lexically_normal() ==
+                                  std::filesystem::path(a.out).lexically_normal())
+        throw CLI::ValidationError("--heatmap", "'" + ra.heatmap + "' is also --out: the heatmap would replace the image");
+    if (s.settings.heatmap) checkImageWritable(ra.heatmap);
     s.settings.counters = ra.counters;
     Image heatmap;
     Image image;
@@ -406,13 +427,17 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     std::printf("%s: %dx%d, %zu splats, %s, %s, %.2f ms/frame (median of %d) on %s\n", a.out.c_str(),
                 s.plane.width, s.plane.height, s.scene.visibleCount(), filterModeName(s.settings.filter),
                 compositingName(s.settings.compositing), ms[ms.size() / 2], frames, device.c_str());
-    if (cpu || ra.counters) printCounters(counters);
+    if (ra.counters) printCounters(counters);
     return 0;
 }
 
-// A one-line progress bar on stderr, redrawn in place.
+// A one-line progress bar on stderr, redrawn in place when it grows (41 redraws at most: a log that
+// captures stderr keeps a short line).
 bool printProgress(double fraction) {
-    const int width = 40, filled = int(fraction * width + 0.5);
+    static int shown = -1;
+    const int width = 40, filled = std::clamp(int(fraction * width + 0.5), 0, width);
+    if (filled == shown && fraction < 1.0) return true;
+    shown = fraction >= 1.0 ? -1 : filled;
     std::fprintf(stderr, "\r  [%s%s] %5.1f%%", std::string(size_t(filled), '#').c_str(),
                  std::string(size_t(width - filled), '.').c_str(), 100.0 * fraction);
     if (fraction >= 1.0) std::fprintf(stderr, "\n");
@@ -420,6 +445,7 @@ bool printProgress(double fraction) {
 }
 
 int runReference(const SceneArgs& a, const GroundTruthOptions& options, const std::string& cacheDir, bool noCache) {
+    checkImageWritable(a.out);   // before the rays are traced
     const Scene s = buildScene(a);
     GroundTruthStats stats;
     const Image image = noCache ? renderGroundTruth(s.scene, s.plane, s.settings, options, printProgress, &stats)
@@ -438,8 +464,38 @@ int runReference(const SceneArgs& a, const GroundTruthOptions& options, const st
     return 0;
 }
 
+// A NaN or infinity in `image` would make every figure of the comparison NaN or inf.
+void requireFinite(const Image& image, const std::string& path) {
+    const auto bad = std::find_if(image.rgba.begin(), image.rgba.end(), [](float v) { return !std::isfinite(v); });
+    if (bad == image.rgba.end()) return;
+    const size_t pixel = size_t(bad - image.rgba.begin()) / 4;
+    throw LoadError(path, "", "a pixel is not a finite number (at (" + std::to_string(pixel % size_t(image.width)) +
+                                  ", " + std::to_string(pixel / size_t(image.width)) + ")): nothing to compare");
+}
+
 int runCompare(const std::string& a, const std::string& b, const std::string& diff, double gain) {
+    if (!(gain > 0.0 && std::isfinite(gain))) throw CLI::ValidationError("--gain", "must be a finite number > 0");
+    if (!diff.empty())
+        for (const std::string& input : {a, b}) {
+            std::error_code ec;
+            if (std::filesystem::equivalent(diff, input, ec))
+                throw CLI::ValidationError("--diff", "'" + diff + "' is an image being compared; name another file");
+        }
+    if (!diff.empty()) checkImageWritable(diff);
     const Image image = readImage(a), reference = readImage(b);
+    requireFinite(image, a);
+    requireFinite(reference, b);
+    // .png holds the view composited over the background in 8 bits; .exr and .tif premultiplied float RGBA.
+    const auto composited = [](const std::string& path) {
+        std::string ext = std::filesystem::path(path).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+        return ext == ".png" || ext == ".jpg" || ext == ".jpeg";
+    };
+    if (composited(a) != composited(b))
+        std::fprintf(stderr,
+                     "note: one image is 8-bit composited over its background (.png), the other premultiplied "
+                     "float RGBA: their alpha and colours differ by more than the renderers do; compare two of "
+                     "one kind\n");
     const ImageError e = compareImages(image, reference);
     std::printf("%s vs %s: RMSE %.6f  PSNR %.2f dB  SSIM %.5f  max error %.6f at (%d, %d)\n", a.c_str(), b.c_str(),
                 e.rmse, e.psnrDb, e.ssim, e.maxAbs, e.maxX, e.maxY);
@@ -495,7 +551,8 @@ int main(int argc, char** argv) {
     reference->add_option("--tolerance", gt.tolerance, "Per-ray convergence: max RGBA change when the step halves")
         ->capture_default_str();
     reference->add_option("--supersample", gt.supersample, "Rays per pixel axis for the 1-px low-pass (1..8)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::Range(1, 8));
     reference->add_option("--cache", cacheDir, "Cache folder (default: ~/.cache/splatlab/reference)");
     reference->add_flag("--no-cache", noCache, "Always compute, never read or write the cache");
 
@@ -530,7 +587,8 @@ int main(int argc, char** argv) {
                        "Open a saved session (JSON): its settings replace the other flags'; a volume argument "
                        "replaces its volume");
     editor->add_option("--screenshot", screenshot, "Write a PNG of the window after --frames frames, then exit");
-    editor->add_option("--frames", e.frames, "Exit after this many frames (0: run until closed)");
+    editor->add_option("--frames", e.frames, "Exit after this many frames (0: run until closed)")
+        ->check(CLI::NonNegativeNumber);
     editor->add_option("--size", editorSize, "Window size WxH")->capture_default_str();
     editor->add_option("--camera", editorCamera, "Starting view: azimuth,elevation,distance,fov");
     editor->add_flag("--fit", e.fit, "Start framed: everything the TF shows fills the viewport, centred "
@@ -581,6 +639,8 @@ int main(int argc, char** argv) {
         e.width = s.x;
         e.height = s.y;
         if ((!screenshot.empty() || !e.saveImagePath.empty()) && e.frames < 1) e.frames = 5;
+        for (const std::filesystem::path& out : {e.saveImagePath, e.screenshotPath})   // before the window opens
+            if (!out.empty()) checkImageWritable(out);
         return runEditor(e);
     } catch (const CLI::ParseError& err) {
         return app.exit(err);

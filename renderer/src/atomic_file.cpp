@@ -3,6 +3,11 @@
 
 #include "renderer/errors.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <system_error>
 
@@ -11,6 +16,14 @@ namespace renderer {
 void replaceFileAtomically(const std::filesystem::path& path,
                            const std::function<void(const std::filesystem::path& tmp)>& write) {
     const auto tmp = std::filesystem::path(path.string() + ".tmp");
+    // Claim the temporary name first: a file or folder of that name that is not ours is left alone.
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
+    if (fd < 0)
+        throw LoadError(path.string(), "",
+                        errno == EEXIST ? "cannot write: '" + tmp.string() +
+                                              "' is in the way (a file or folder of that name; move it and save again)"
+                                        : "cannot write: " + std::string(std::strerror(errno)));
+    ::close(fd);
     std::error_code ec;
     try {
         write(tmp);

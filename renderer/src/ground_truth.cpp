@@ -318,17 +318,24 @@ Image cachedGroundTruth(const SplatScene& scene, const ImagePlane& plane, const 
                         const Progress& progress, GroundTruthStats* stats) {
     const auto file = cacheDir / (groundTruthKey(scene, plane, settings, options) + ".exr");
     if (std::filesystem::exists(file)) {
-        Image img = readImage(file);
-        if (img.width == plane.width && img.height == plane.height) {
-            if (stats) *stats = GroundTruthStats{.fromCache = true};
-            return img;
+        try {
+            Image img = readImage(file);
+            if (img.width == plane.width && img.height == plane.height) {
+                if (stats) *stats = GroundTruthStats{.fromCache = true};
+                return img;
+            }
+        } catch (const LoadError&) {
+            // An unreadable entry is computed again and replaced.
         }
     }
+    // The folder is made before the rays are traced, so that a path that cannot be one fails at once.
+    std::error_code ec;
+    std::filesystem::create_directories(cacheDir, ec);
+    if (ec || !std::filesystem::is_directory(cacheDir))
+        throw LoadError(cacheDir.string(), "",
+                        "cannot be the ground-truth cache folder: " + (ec ? ec.message() : std::string("not a folder")));
     Image img = renderGroundTruth(scene, plane, settings, options, progress, stats);
-    std::filesystem::create_directories(cacheDir);
-    const auto tmp = std::filesystem::path(file.string() + ".tmp.exr");
-    writeImage(img, tmp);
-    std::filesystem::rename(tmp, file);   // atomic: a reader never sees half a file
+    writeImage(img, file);   // atomically: a reader never sees half a file
     return img;
 }
 

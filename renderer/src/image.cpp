@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <vector>
 
 namespace renderer {
 
@@ -43,11 +45,43 @@ static void writePixels(OIIO::ImageOutput& out, const Image& image, const std::f
     if (!ok || !out.close()) throw LoadError(path.string(), "", "cannot write image: " + out.geterror());
 }
 
+// The writer for `path`'s extension, after the checks a write would otherwise fail late on.
+static std::unique_ptr<OIIO::ImageOutput> imageWriter(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw LoadError(path.string(), "", "is a folder; name an image file in it (.png, .exr, .tif)");
+    const auto folder = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+    if (!std::filesystem::is_directory(folder, ec))
+        throw LoadError(path.string(), "", "cannot write: the folder '" + folder.string() + "' does not exist");
+    auto out = OIIO::ImageOutput::create(path.string());
+    if (!out)
+        throw LoadError(path.string(), "",
+                        "no image writer for the extension '" + path.extension().string() +
+                            "' (expected .png, .exr, .tif or another OpenImageIO format)");
+    return out;
+}
+
+void checkImageWritable(const std::filesystem::path& path) { imageWriter(path); }
+
 void writeImage(const Image& image, const std::filesystem::path& path, const float background[3]) {
     // The writer is chosen by `path`'s extension and fills a temporary file that replaces `path` whole.
-    auto out = OIIO::ImageOutput::create(path.string());
-    if (!out) throw LoadError(path.string(), "", "no image writer for this extension: " + OIIO::geterror());
-    replaceFileAtomically(path, [&](const std::filesystem::path& tmp) { writePixels(*out, image, tmp, path, background); });
+    auto out = imageWriter(path);
+    replaceFileAtomically(path, [&](const std::filesystem::path& tmp) {
+        writePixels(*out, image, tmp, path, background);
+        // Some writers (PNG) do not report a write the disk refused: read the file back before it replaces
+        // the old one.
+        auto in = OIIO::ImageInput::open(tmp.string());
+        std::vector<float> pixels;
+        bool ok = in && in->spec().width == image.width && in->spec().height == image.height;
+        if (ok) {
+            pixels.resize(size_t(image.width) * size_t(image.height) * size_t(in->spec().nchannels));
+            ok = in->read_image(0, 0, 0, in->spec().nchannels, OIIO::TypeDesc::FLOAT, pixels.data());
+        }
+        if (!ok)
+            throw LoadError(path.string(), "",
+                            std::string("cannot write image: what was written does not read back (is the disk full?)") +
+                                ": " + (in ? in->geterror() : OIIO::geterror()));
+    });
 }
 
 Image readImage(const std::filesystem::path& path) {

@@ -3,12 +3,12 @@
 
 #include "renderer/atomic_file.h"
 #include "renderer/errors.h"
+#include "renderer/json_file.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 namespace renderer {
@@ -98,9 +98,12 @@ TransferFunction builtinPreset(const std::string& name) {
     throw RenderError("unknown transfer-function preset '" + name + "' (known: " + known + ")");
 }
 
+// The format written; a file of a later one is refused rather than half read.
+constexpr int kTransferFunctionVersion = 1;
+
 nlohmann::json toJson(const TransferFunction& tf) {
     nlohmann::json j;
-    j["version"] = 1;
+    j["version"] = kTransferFunctionVersion;
     j["name"] = tf.name;
     j["points"] = nlohmann::json::array();
     for (const auto& p : tf.points)
@@ -116,6 +119,12 @@ TransferFunction transferFunctionFromJson(const nlohmann::json& j, const std::st
     tf.name = defaultName;
     try {
         if (!j.is_object()) throw LoadError(source, "", "expected a JSON object");
+        if (j.contains("version") && (!j["version"].is_number_integer() || j["version"].get<long long>() < 1))
+            throw LoadError(source, "version", j["version"].dump() + ", expected a whole number >= 1");
+        if (j.contains("version") && j["version"].get<long long>() > kTransferFunctionVersion)
+            throw LoadError(source, "version",
+                            j["version"].dump() + " is newer than this SplatLab reads (" +
+                                std::to_string(kTransferFunctionVersion) + ")");
         if (j.contains("name")) tf.name = j.at("name").get<std::string>();
         if (!j.contains("points") || !j["points"].is_array())
             throw LoadError(source, "points", "missing, expected an array of control points");
@@ -137,14 +146,7 @@ TransferFunction transferFunctionFromJson(const nlohmann::json& j, const std::st
 }
 
 TransferFunction loadTransferFunction(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    if (!in) throw LoadError(path.string(), "", "cannot open");
-    nlohmann::json j;
-    try {
-        j = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {
-        throw LoadError(path.string(), "", std::string("not valid JSON: ") + e.what());
-    }
+    const nlohmann::json j = readJsonFile(path, "a transfer function (.json)");
     return transferFunctionFromJson(j, path.string(), path.stem().string());
 }
 

@@ -377,7 +377,7 @@ Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOpti
         const std::optional<RawOptions> options = raw ? raw : rawOptionsFromFileName(path);
         if (!options)
             fail(path, "",
-                 "raw file without dims and type: give --dims and --type, or rename it like "
+                 "raw file without dims and type: give --raw-dims and --raw-type, or rename it like "
                  "name_256x256x128_uint8.raw (types: uint8, uint16, int16, float32)");
         return loadRaw(path, *options);
     }

@@ -296,9 +296,11 @@ std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm
     const size_t needed = count * voxelTypeBytes(type);
     const bool compressed = src.compression != Compression::None;
     const std::string where = src.file == report ? "file" : "data file '" + src.file.string() + "'";
+    // With a byte skip the file must hold the skip and then the data: the total is what is compared.
     const std::string expected =
-        std::to_string(needed) + " bytes (" + layoutText(dims, type) +
-        (src.byteSkip ? " after a " + std::to_string(src.byteSkip) + "-byte skip)" : ")");
+        src.byteSkip ? std::to_string(src.byteSkip + needed) + " bytes (a " + std::to_string(src.byteSkip) +
+                           "-byte skip, then " + std::to_string(needed) + " bytes of " + layoutText(dims, type) + ")"
+                     : std::to_string(needed) + " bytes (" + layoutText(dims, type) + ")";
     const std::string streamName = std::string(compressionName(src.compression)) + " stream";
 
     // 1. Open and find where the stored data starts (after the header and any skipped lines).
@@ -325,10 +327,14 @@ std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm
         if (available < src.byteSkip || available - src.byteSkip < needed)
             fail(report, "data",
                  where + " has " + std::to_string(available) + " bytes" + after + ", expected " + expected);
-        if (src.exact && available - src.byteSkip > needed)
+        // Headers that tolerate trailing bytes (a writer's newline) still refuse a whole slice more: the
+        // header's sizes are then wrong, and the volume read would be a wrong cut of the data.
+        const size_t trailing = available - src.byteSkip - needed;
+        if (trailing > 0 && (src.exact || trailing >= needed / size_t(dims.z)))
             fail(report, "data",
                  where + " has " + std::to_string(available) + " bytes" + after + ", expected " + expected +
-                     "; " + std::to_string(available - src.byteSkip - needed) + " trailing bytes");
+                     "; " + std::to_string(trailing) + " trailing bytes" +
+                     (src.exact ? "" : ", a slice or more: do the sizes in the header match the data?"));
         in.seekg(std::streamoff(src.byteSkip), std::ios::cur);
     } else if (src.compression == Compression::Zlib &&
                available * kMaxDeflateRatio + 64 < src.byteSkip + needed) {

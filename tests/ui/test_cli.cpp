@@ -239,10 +239,32 @@ TEST(Cli, InfoPrintsDimsTypeSpacingAndRange) {
 
 TEST(Cli, MistakesGetOneClearLineAndAFailingExit) {
     const std::string out = (testing_support::testOutputDir() / "never.png").string();
+    const std::string raw = (testing_support::testOutputDir() / "unnamed.raw").string();
+    std::ofstream(raw, std::ios::binary) << "12345678";
+    const std::string folder = (testing_support::testOutputDir() / "a_folder").string();
+    std::filesystem::create_directories(folder);
+    const std::string render = "render \"" + headsq() + "\" --size 8x8 --frames 1 ";
     const std::pair<std::string, std::string> cases[] = {
         {"render \"" + headsq() + "\" --out " + out + " --size 64", "expected WxH"},
         {"render \"" + headsq() + "\" --out " + out + " --camera 1,2,3", "azimuth,elevation,distance,fov"},
         {"render \"" + headsq() + "\" --out " + out + " --camera 0,0,2,200", "fov must be 1..170"},
+        {"render \"" + headsq() + "\" --out " + out + " --camera 0,0,1e300,30", "distance must be in [0.001, 1000]"},
+        {"render \"" + headsq() + "\" --out " + out + " --density inf", "--density: must be in [1e-06, 1e+06]"},
+        {"render \"" + headsq() + "\" --out " + out + " --density 1e300", "--density: must be in [1e-06, 1e+06]"},
+        {"render \"" + headsq() + "\" --out " + out + " --heatmap " + out, "is also --out"},
+        {"render \"" + raw + "\" --out " + out, "give --raw-dims and --raw-type"},
+        {render + "--out " + out + " --tf \"" + folder + "\"", "a_folder: is a folder, expected a transfer function"},
+        {render + "--out \"" + folder + "\"", "a_folder: is a folder; name an image file in it"},
+        {render + "--out never.bogus", "never.bogus: no image writer for the extension '.bogus'"},
+        {render + "--out no_such_folder/x.png", "x.png: cannot write: the folder 'no_such_folder' does not exist"},
+        {render + "--out " + out + " --window 0,1e-300", "LO must be below HI (as 32-bit floats the two are equal)"},
+        {render + "--out " + out + " --window 0,1e300", "LO and HI must be finite 32-bit floats"},
+        {render + "--out " + out + " --opaque-refresh -1", "must be 0 (auto) or 1..65535 slices"},
+        {"reference \"" + headsq() + "\" --size 8x8 --out " + out + " --cache \"" + raw + "\"",
+         "unnamed.raw: cannot be the ground-truth cache folder"},
+        {"reference \"" + headsq() + "\" --size 8x8 --out " + out + " --supersample 0", "--supersample: Value 0 not in range 1 to 8"},
+        // The output is checked before the rays are traced (no progress bar).
+        {"reference \"" + headsq() + "\" --size 8x8 --no-cache --out no_such_folder/gt.exr", "does not exist"},
         {"render \"" + headsq() + "\" --out " + out + " --compositing sheet", "known: splat-every-sample, xray"},
         {"render \"" + headsq() + "\" --out " + out + " --filter box", "known: reconstruction, low-pass, ewa"},
         {"render \"" + headsq() + "\" --out " + out + " --tf nonsense", "known: ct-skin-bone"},
@@ -258,20 +280,65 @@ TEST(Cli, MistakesGetOneClearLineAndAFailingExit) {
         const CliRun r = splatlab(args);
         EXPECT_NE(r.status, 0) << args;
         EXPECT_THAT(r.output, HasSubstr(expect)) << args;
+        EXPECT_THAT(r.output, Not(HasSubstr("%"))) << args;   // refused before any progress
     }
+}
+
+TEST(Cli, CompareReportsTheErrorWritesTheDifferenceAndRefusesWhatItCannotMeasure) {
+    const auto dir = testing_support::testOutputDir("cli_compare");
+    renderer::Image a(16, 8), b(16, 8);
+    std::fill(a.rgba.begin(), a.rgba.end(), 0.5f);
+    b.rgba = a.rgba;
+    b.rgba[(3 * 16 + 5) * 4 + 1] = 0.75f;   // one channel of pixel (5, 3) differs by 0.25
+    const std::string fa = (dir / "a.exr").string(), fb = (dir / "b.exr").string(), diff = (dir / "diff.exr").string();
+    renderer::writeImage(a, fa);
+    renderer::writeImage(b, fb);
+    std::filesystem::remove(diff);
+
+    const CliRun r = splatlab("compare \"" + fa + "\" \"" + fb + "\" --diff \"" + diff + "\" --gain 2");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_THAT(r.output, HasSubstr("max error 0.250000 at (5, 3)"));
+    EXPECT_THAT(r.output, Not(HasSubstr("note:")));
+    const renderer::Image d = renderer::readImage(diff);
+    EXPECT_FLOAT_EQ(d.rgba[(3 * 16 + 5) * 4 + 1], 0.5f);   // |A - B| x gain
+    EXPECT_FLOAT_EQ(d.rgba[(3 * 16 + 6) * 4 + 1], 0.0f);
+
+    // A 8-bit composited PNG against a float EXR: the figures come with a note that they mix two kinds.
+    const std::string png = (dir / "a.png").string();
+    renderer::writeImage(a, png);
+    EXPECT_THAT(splatlab("compare \"" + png + "\" \"" + fb + "\"").output, HasSubstr("note: one image is 8-bit"));
+
+    renderer::Image nan = a;
+    nan.rgba[(2 * 16 + 7) * 4] = std::nanf("");
+    const std::string fnan = (dir / "nan.exr").string();
+    renderer::writeImage(nan, fnan);
+    const std::pair<std::string, std::string> refused[] = {
+        {"compare \"" + fa + "\" \"" + fb + "\" --gain 0", "--gain: must be a finite number > 0"},
+        {"compare \"" + fa + "\" \"" + fb + "\" --gain inf", "--gain: must be a finite number > 0"},
+        {"compare \"" + fa + "\" \"" + fb + "\" --diff \"" + fb + "\"", "is an image being compared"},
+        {"compare \"" + fnan + "\" \"" + fb + "\"", "nan.exr: a pixel is not a finite number (at (7, 2))"},
+        {"compare \"" + fa + "\" \"" + fnan + "\"", "nan.exr: a pixel is not a finite number (at (7, 2))"},
+    };
+    for (const auto& [args, expect] : refused) {
+        const CliRun bad = splatlab(args);
+        EXPECT_NE(bad.status, 0) << args;
+        EXPECT_THAT(bad.output, HasSubstr(expect)) << args;
+    }
+    EXPECT_EQ(renderer::readImage(fb).rgba, b.rgba);   // the --diff that named it left it alone
 }
 
 TEST(Cli, EditorFlagMistakesNameTheFlagAndWhatItTakes) {
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
     const std::pair<std::string, std::string> cases[] = {
-        {"--tab Nope", "--tab: no panel called 'Nope' (panels: Transfer function, Settings, Viewport, Stats, "
-                       "Performance, Filters, Help)"},
-        {"--spin 200", "--spin takes -90 to 90 degrees a second"},
+        {"--frames 3 --tab Nope", "--tab: no panel called 'Nope' (panels: Transfer function, Settings, Viewport, "
+                                  "Stats, Performance, Filters, Help)"},
+        {"--frames 3 --spin 200", "--spin takes -90 to 90 degrees a second"},
+        {"--frames -1", "--frames"},
     };
     for (const auto& [args, expect] : cases) {
         const CliRun r = run("LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 640x480x24\" \"" SPLATLAB_EXE
-                             "\" editor --frames 3 " + args + " 2>&1");
+                             "\" editor " + args + " 2>&1");
         EXPECT_NE(r.status, 0) << args;
         EXPECT_THAT(r.output, HasSubstr(expect)) << args;
     }
@@ -308,13 +375,21 @@ TEST(Cli, AccuracyWritesTheReportWithItsTablesAndThumbnails) {
     std::ifstream in(dir / "accuracy.md");
     const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     for (const char* part : {"## Hard cases", "| one-voxel |", "## The paper's claims per region", "| minified |",
-                             "## Kernel scale on Marschner-Lobb", "| 0.60 |", "| 0.70 |"})
+                             "## Kernel scale on Marschner-Lobb", "| 0.60 |", "| 0.70 |",
+                             "covers only the hard cases named by `--only`: one-voxel."})
         EXPECT_THAT(md, HasSubstr(part));
+    EXPECT_THAT(md, Not(HasSubstr("| zebra |")));
     EXPECT_TRUE(std::filesystem::exists(dir / "images" / "accuracy" / "one-voxel_ewa.png"));
     EXPECT_TRUE(std::filesystem::exists(dir / "images" / "accuracy" / "board_regions.png"));
     const CliRun bad = splatlab("accuracy --out \"" + dir.string() + "\" --kernel-scales 0");
     EXPECT_NE(bad.status, 0);
     EXPECT_THAT(bad.output, HasSubstr("--kernel-scales"));
+    // A misspelt case is refused before anything runs, and the report stays as it was.
+    const CliRun misspelt = splatlab("accuracy --out \"" + dir.string() + "\" --only one-voxle");
+    EXPECT_NE(misspelt.status, 0);
+    EXPECT_THAT(misspelt.output, HasSubstr("--only: no hard case 'one-voxle' (known: near-plane,"));
+    std::ifstream again(dir / "accuracy.md");
+    EXPECT_EQ(std::string((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>()), md);
 }
 
 TEST(Cli, EditorSavesTheViewAsRenderDrawsItAndNamesAFileItCannotWrite) {
@@ -329,7 +404,7 @@ TEST(Cli, EditorSavesTheViewAsRenderDrawsItAndNamesAFileItCannotWrite) {
         std::filesystem::remove(saved);
         const CliRun e = run(editor + (heatmap ? "--heatmap " : "") + "--save-image \"" + saved.string() + "\" 2>&1");
         ASSERT_EQ(e.status, 0) << e.output;
-        EXPECT_THAT(e.output, HasSubstr("wrote " + saved.filename().string()));
+        EXPECT_THAT(e.output, HasSubstr("wrote " + saved.string() + ", "));   // the whole path, then the size
         const renderer::Image fromEditor = renderer::readImage(saved);
         ASSERT_GT(fromEditor.width, 400);
         ASSERT_GT(fromEditor.height, 300);

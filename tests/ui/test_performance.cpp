@@ -109,10 +109,10 @@ TEST(PerfHistory, SummaryTextGivesTheContextAndTheFiguresForAReport) {
     s.splatsPerSecond = 4.16e5;
     s.passMedianMs[size_t(renderer::GpuPass::Splats)] = 9.1;
     s.passMedianMs[size_t(renderer::GpuPass::Composite)] = 40.4;
-    EXPECT_EQ(ui::summaryText(s, "headsq 64x64x93, 955x550 px"),
-              "SplatLab performance: headsq 64x64x93, 955x550 px\n"
+    EXPECT_EQ(ui::summaryText(s, "headsq 64x64x93, 955x545 px"),
+              "SplatLab performance: headsq 64x64x93, 955x545 px\n"
               "58 renders: GPU median 74.20 ms (13.5 /s), p95 91.80, min 61.40, max 154.70 ms; CPU median 74.70 ms\n"
-              "renders seen 10.5 /s; splats 4.16e+05 /s\n"
+              "renders seen 10.5 /s; splats sent 4.16e+05 /s\n"
               "passes (medians): splats 9.10 ms, composite 40.40 ms\n");
     s.intervals = 0;
     EXPECT_THAT(ui::summaryText(s, ""), HasSubstr("renders seen: none back to back"));

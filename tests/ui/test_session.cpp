@@ -225,6 +225,18 @@ TEST(Session, MangledFilesAreOpenedOrRefusedNeverAnythingElse) {
     EXPECT_GT(refused, 0);
 }
 
+TEST(Session, AFolderInsteadOfASessionIsNamed) {
+    const auto dir = testing_support::testOutputDir("session") / "a_folder.json";
+    std::filesystem::create_directories(dir);
+    ui::EditorState state;
+    try {
+        ui::loadSession(dir, state);
+        ADD_FAILURE() << "opened a folder as a session";
+    } catch (const renderer::LoadError& e) {
+        EXPECT_THAT(e.what(), HasSubstr("a_folder.json: is a folder, expected a SplatLab session"));
+    }
+}
+
 TEST(Session, AFailedSaveKeepsTheOldFile) {
     const auto dir = testing_support::testOutputDir("session");
     ui::saveSession(unusualState(), {}, dir / "keep.json");

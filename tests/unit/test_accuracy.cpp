@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -474,4 +475,12 @@ TEST(GroundTruth, CacheKeyChangesWithTheViewAndCachedImagesAreReused) {
     EXPECT_FALSE(first.fromCache);
     EXPECT_TRUE(second.fromCache);
     EXPECT_EQ(x.rgba, y.rgba);
+
+    // A damaged entry (a crash of another tool, a full disk) is computed again and replaced.
+    const auto entry = dir / (groundTruthKey(scene, a, SplatSettings{}, o) + ".exr");
+    std::ofstream(entry, std::ios::binary | std::ios::trunc) << "not an image";
+    GroundTruthStats third;
+    EXPECT_EQ(cachedGroundTruth(scene, a, SplatSettings{}, o, dir, {}, &third).rgba, x.rgba);
+    EXPECT_FALSE(third.fromCache);
+    EXPECT_EQ(readImage(entry).rgba, x.rgba);
 }

@@ -10,8 +10,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <fstream>
 #include <numbers>
 #include <numeric>
@@ -220,6 +223,9 @@ TEST(TransferFunction, JsonRoundTripsAndRejectsBadFiles) {
         {"{\"points\": [{\"value\": 1.5, \"colour\": [1, 1, 1], \"opacity\": 1}]}", "expected [0,1]"},
         {"{\"points\": [{\"value\": 0.5, \"colour\": [1, 1, 1]}]}", "'points'"},
         {"{\"points\": []}", "no control points"},
+        {"{\"version\": 2, \"points\": [{\"value\": 0.5, \"colour\": [1, 1, 1], \"opacity\": 1}]}",
+         "field 'version': 2 is newer than this SplatLab reads (1)"},
+        {"{\"version\": \"1\", \"points\": []}", "field 'version': \"1\", expected a whole number >= 1"},
     };
     for (auto [text, expect] : bad) {
         std::ofstream(dir / "bad_tf.json") << text;
@@ -270,19 +276,53 @@ TEST(ImageFiles, WritingReplacesTheFileWholeOrFailsNamingItAndKeepsTheOldOne) {
         EXPECT_EQ(readImage(path).rgba, second.rgba) << name;
         EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp")) << name;
 
-        // The temporary file cannot be made (a folder has its name): the old image stays as it was.
+        // A folder has the temporary file's name: the error says so, and neither it nor the old image is touched.
         std::filesystem::create_directories(path.string() + ".tmp/blocked");
         try {
             writeImage(first, path);
             ADD_FAILURE() << "wrote through a folder: " << name;
         } catch (const LoadError& e) {
             EXPECT_THAT(e.what(), HasSubstr(path.string()));
-            EXPECT_THAT(e.what(), HasSubstr("cannot write image"));
+            EXPECT_THAT(e.what(), HasSubstr("is in the way"));
         }
         EXPECT_EQ(readImage(path).rgba, second.rgba) << name;
+        EXPECT_TRUE(std::filesystem::is_directory(path.string() + ".tmp/blocked")) << name;
         std::filesystem::remove_all(path.string() + ".tmp");
     }
     EXPECT_THROW(writeImage(first, dir / "no_such_dir" / "view.png"), LoadError);
+}
+
+// A full disk, made by a file-size limit: PNG's writer does not report the refused write, so the file
+// is read back before it replaces the old one.
+TEST(ImageFiles, AWriteTheDiskRefusesFailsAndKeepsTheOldFile) {
+    const auto dir = testing_support::testOutputDir();
+    Image old(8, 8), noise(64, 64);
+    std::fill(old.rgba.begin(), old.rgba.end(), 1.0f);
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (float& v : noise.rgba) v = unit(random);   // incompressible: far over the limit below
+    for (const char* name : {"full_disk.png", "full_disk.exr"}) {
+        const auto path = dir / name;
+        writeImage(old, path);
+        const Image before = readImage(path);
+        rlimit saved{};
+        ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
+        const auto previousSignal = std::signal(SIGXFSZ, SIG_IGN);   // a write past the limit fails, not kills
+        rlimit small = saved;
+        small.rlim_cur = 2048;
+        ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+        std::string error;
+        try {
+            writeImage(noise, path);
+        } catch (const LoadError& e) {
+            error = e.what();
+        }
+        setrlimit(RLIMIT_FSIZE, &saved);
+        std::signal(SIGXFSZ, previousSignal);
+        EXPECT_THAT(error, HasSubstr(path.string())) << name;
+        EXPECT_EQ(readImage(path).rgba, before.rgba) << name;
+        EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp")) << name;
+    }
 }
 
 TEST(TransferFunction, EvaluateInterpolatesAndHoldsTheEndsOutsideThePoints) {

@@ -600,7 +600,7 @@ std::vector<BadFile> badFiles() {
          {"field 'vox_offset': nan"}},
         {"nii_truncated.nii",
          nii([](NiftiFields&) {}, 40),
-         {"field 'data'", "has 392 bytes", "expected 48 bytes (4x3x2 int16 after a 352-byte skip)"}},
+         {"field 'data'", "has 392 bytes", "expected 400 bytes (a 352-byte skip, then 48 bytes of 4x3x2 int16)"}},
         {"nii_inf_slope.nii",
          nii([](NiftiFields& f) { f.slope = INFINITY; }),
          {"field 'scl_slope': inf, expected a finite number"}},

@@ -328,6 +328,13 @@ const BadHeader kBadHeaders[] = {
      {"'spacings'", "'space directions'"}},
     {"line_without_colon", {"+this line has no colon"}, {"line 7", "'field: value'"}},
     {"no_data_anywhere", {"-data file"}, {"'data file'", "missing"}},
+    // Sizes that name fewer slices than the data holds would load a wrong cut of it: refused.
+    {"sizes_short_of_the_data",
+     {"sizes: 4 4 3"},
+     {"'data'", "has 64 bytes, expected 48 bytes", "16 trailing bytes, a slice or more"}},
+    {"byte_skip_past_the_data",
+     {"+byte skip: 32"},
+     {"'data'", "has 64 bytes, expected 96 bytes (a 32-byte skip, then 64 bytes of 4x4x4 uint8)"}},
 };
 
 class MalformedHeader : public ::testing::TestWithParam<BadHeader> {};
@@ -344,6 +351,14 @@ TEST_P(MalformedHeader, ThrowsLoadErrorNamingFileAndField) {
         (data = gz)[2] = 7;   // compression method 7 does not exist (deflate is 8)
     writeFile(outDir() / (c.name + ".data"), data);
     expectLoadError(path, c.expect);
+}
+
+// Less than a slice after the data (a writer's closing newline) is not an error.
+TEST(NrrdLoad, ToleratesTrailingBytesShortOfASlice) {
+    writeFile(outDir() / "trailing_newline.nhdr", editedHeader("trailing_newline", {}));
+    writeFile(outDir() / "trailing_newline.data", rampBytes(64) + std::string(15, '\n'));
+    const Volume v = loadVolume(outDir() / "trailing_newline.nhdr");
+    EXPECT_EQ(v.values.size(), 64u);
 }
 
 INSTANTIATE_TEST_SUITE_P(VolumeIo, MalformedHeader, ::testing::ValuesIn(kBadHeaders),
@@ -369,7 +384,7 @@ const BadFile kBadFiles[] = {
      std::string(65, 'x'),
      {"'data'", "more than the expected 64 bytes"}},
     {"raw_gzip_too_short_4x4x4_uint8.raw.gz", std::string(63, 'x'), {"'data'", "ended after 63 of 64 bytes"}},
-    {"raw_without_dims.raw", std::string(64, 'x'), {"--dims", "--type"}},
+    {"raw_without_dims.raw", std::string(64, 'x'), {"--raw-dims", "--raw-type"}},
     {"unknown_extension.vti", "<VTKFile/>", {"unknown file type '.vti'", ".nrrd, .nhdr, .mhd, .mha, .nii"}},
 };
 

@@ -93,9 +93,9 @@ void drawDepthBar(const renderer::FilterDepths& d, glm::dvec2 volume, double rad
 
 // Cost beside error: the Measure button (or the progress of a measurement) and a row per filter measured.
 void drawCostColumn(const EditorState& state, const FiltersView& view, FiltersChanges& changes) {
-    ImGui::TextUnformatted("cost and error in this view");
+    textWrapped("cost and error in this view");
     if (renderer::needsGradients(state.settings)) {
-        ImGui::TextDisabled("no ground truth with shading or surface splats");
+        textDisabledWrapped("no ground truth with shading or surface splats");
         return;
     }
     if (view.measuring) {
@@ -113,7 +113,7 @@ void drawCostColumn(const EditorState& state, const FiltersView& view, FiltersCh
              "the ground truth: the exact integral along Gaussian-weighted rays, computed on the CPU (seconds to\n"
              "minutes, cached on disk for the next time)");
         if (view.measurementsStale && !view.measurements.empty()) {
-            ImGui::SameLine();
+            sameLineIfFits("(for an earlier view)");
             ImGui::TextDisabled("(for an earlier view)");
         }
     }
@@ -135,7 +135,7 @@ void drawCostColumn(const EditorState& state, const FiltersView& view, FiltersCh
         ImGui::Text("%.1f dB (%.4f)", m.psnrDb, m.rmse);
     }
     ImGui::EndTable();
-    ImGui::TextDisabled("error over the centre %d x %d px", view.cropPx, view.cropPx);
+    textDisabledWrapped("error over the centre %d x %d px", view.cropPx, view.cropPx);
 }
 
 } // namespace

@@ -120,7 +120,7 @@ std::string summaryText(const PerfSummary& s, const std::string& context) {
     if (s.intervals > 0) std::snprintf(line, sizeof line, "renders seen %.1f /s; ", 1000.0 / s.intervalMedianMs);
     else std::snprintf(line, sizeof line, "renders seen: none back to back; ");
     text += line;
-    std::snprintf(line, sizeof line, "splats %.3g /s\npasses (medians): ", s.splatsPerSecond);
+    std::snprintf(line, sizeof line, "splats sent %.3g /s\npasses (medians): ", s.splatsPerSecond);
     return text + line + passListText(s.passMedianMs, ", ") + "\n";
 }
 

@@ -133,8 +133,10 @@ void drawPerformancePanel(EditorState& state, PerfHistory& history, const std::f
             ImGui::TextDisabled("  renders -- /s");
         hint("Renders a second as the user sees them: the median time from one render's start to the\n"
              "next's, over renders that followed each other (render continuously)");
-        ImGui::Text("splats %.3g /s", sum.splatsPerSecond);
-        hint("The median render's splats over the median GPU time");
+        ImGui::Text("splats sent %.3g /s", sum.splatsPerSecond);
+        hint("The median render's splats over the median GPU time. Splats sent: every voxel of the\n"
+             "buckets the transfer function shows, a few more than the visible voxels (Stats), since\n"
+             "a bucket's voxels below the TF's first opacity are dropped by the vertex stage");
         drawPassList("passes", sum.passMedianMs);
     }
 

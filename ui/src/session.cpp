@@ -4,11 +4,11 @@
 
 #include "renderer/atomic_file.h"
 #include "renderer/errors.h"
+#include "renderer/json_file.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <fstream>
 
 namespace ui {
 
@@ -140,14 +140,7 @@ void saveSession(const EditorState& state, const std::filesystem::path& volume, 
 
 std::filesystem::path loadSession(const std::filesystem::path& file, EditorState& state) {
     const std::string name = file.string();
-    std::ifstream in(file);
-    if (!in) throw renderer::LoadError(name, "", "cannot open");
-    json j;
-    try {
-        j = json::parse(in);
-    } catch (const json::exception& e) {
-        throw renderer::LoadError(name, "", std::string("not valid JSON: ") + e.what());
-    }
+    json j = renderer::readJsonFile(file, "a SplatLab session (.json)");
     if (!j.is_object()) throw renderer::LoadError(name, "", "expected a JSON object");
     if (!j.contains("splatlab_session") || !j["splatlab_session"].is_number_integer())
         throw renderer::LoadError(name, "splatlab_session", "missing: not a SplatLab session");
@@ -183,7 +176,7 @@ std::filesystem::path loadSession(const std::filesystem::path& file, EditorState
     renderer::Camera& c = next.camera;
     camera.number("azimuth", c.azimuthDeg, -360.0, 360.0);
     camera.number("elevation", c.elevationDeg, -90.0, 90.0);
-    camera.number("distance", c.distance, 1e-3, 1e3);
+    camera.number("distance", c.distance, renderer::kMinCameraDistance, renderer::kMaxCameraDistance);
     camera.number("fov", c.fovYDeg, 1.0, 170.0);
     double pan[2] = {c.panPx.x, c.panPx.y}, up[3] = {c.up.x, c.up.y, c.up.z};
     camera.numbers("pan", pan, -1e6, 1e6);
@@ -198,7 +191,7 @@ std::filesystem::path loadSession(const std::filesystem::path& file, EditorState
     renderer::SplatSettings& s = next.settings;
     splatting.number("kernel_scale", s.kernelScale, 0.05, 10.0);
     splatting.number("cutoff", s.cutoffSigmas, 0.5, 10.0);
-    splatting.number("density", s.density, 1e-6, 1e6);
+    splatting.number("density", s.density, renderer::kMinDensity, renderer::kMaxDensity);
     splatting.name("filter", s.filter, &renderer::filterModeFromName);
     splatting.number("c_min", s.cMin, 0.01, 10.0);
     splatting.number("c_max", s.cMax, 0.0, 100.0);

@@ -12,10 +12,13 @@
 
 namespace renderer {
 
+// The camera distances a session or the command line accepts, in bounding-sphere radii.
+constexpr double kMinCameraDistance = 1e-3, kMaxCameraDistance = 1e3;
+
 struct Camera {
     double azimuthDeg = 30.0;      // rotation about `up`
     double elevationDeg = 20.0;    // above the plane normal to `up`
-    double distance = 2.5;         // from the volume centre, in bounding-sphere radii
+    double distance = 2.5;         // from the volume centre, in bounding-sphere radii (kMinCameraDistance..kMaxCameraDistance)
     double fovYDeg = 30.0;         // vertical field of view
     glm::dvec2 panPx{0.0};         // image-plane shift of the orbit centre, pixels at the centre depth
     glm::dvec3 up{0.0, 0.0, 1.0};  // object-space axis shown upwards (CT stacks often need -z)

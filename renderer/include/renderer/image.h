@@ -20,6 +20,9 @@ struct Image {
 // PNG/JPEG etc.: composited over `background` (linear RGB), 8-bit. EXR/HDR/TIFF float: raw RGBA.
 void writeImage(const Image& image, const std::filesystem::path& path, const float background[3] = nullptr);
 Image readImage(const std::filesystem::path& path);
+// Throws the LoadError writeImage(path) would for a folder, a missing folder or an unknown extension,
+// so a long render can fail before it starts.
+void checkImageWritable(const std::filesystem::path& path);
 
 struct ImageStats {
     double meanAlpha = 0.0, maxAlpha = 0.0;

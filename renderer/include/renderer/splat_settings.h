@@ -81,6 +81,9 @@ const char* primitiveName(SplatSettings::Primitive p);
 SplatSettings::Primitive primitiveFromName(const std::string& name);
 
 constexpr int kOpaqueTilePx = 8;
+// The densities a session or the command line accepts (SplatSettings::density): beyond them a frame
+// is all clear or all opaque, and infinity would make every footprint NaN.
+constexpr double kMinDensity = 1e-6, kMaxDensity = 1e6;
 // Side of the square screen tiles of tiled splatting (one compute workgroup each).
 constexpr int kSplatTilePx = 8;
 
