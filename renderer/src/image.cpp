@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <memory>
 #include <vector>
 
@@ -45,6 +46,20 @@ static void writePixels(OIIO::ImageOutput& out, const Image& image, const std::f
     if (!ok || !out.close()) throw LoadError(path.string(), "", "cannot write image: " + out.geterror());
 }
 
+enum class IsPng { No, Complete, Truncated };
+
+// Whether `file` is a PNG (by its signature), and if so whether it ends in its IEND chunk.
+static IsPng endsLikeAPng(const std::filesystem::path& file) {
+    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    static const unsigned char iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};
+    std::ifstream in(file, std::ios::binary);
+    unsigned char head[8] = {}, tail[12] = {};
+    if (!in.read(reinterpret_cast<char*>(head), 8) || !std::equal(head, head + 8, signature)) return IsPng::No;
+    in.seekg(-12, std::ios::end);
+    const bool ended = bool(in.read(reinterpret_cast<char*>(tail), 12)) && std::equal(tail, tail + 12, iend);
+    return ended ? IsPng::Complete : IsPng::Truncated;
+}
+
 // The writer for `path`'s extension, after the checks a write would otherwise fail late on.
 static std::unique_ptr<OIIO::ImageOutput> imageWriter(const std::filesystem::path& path) {
     std::error_code ec;
@@ -69,8 +84,9 @@ void writeImage(const Image& image, const std::filesystem::path& path, const flo
     replaceFileAtomically(path, [&](const std::filesystem::path& tmp) {
         writePixels(*out, image, tmp, path, background);
         // Some writers (PNG) do not report a write the disk refused: read the file back before it replaces
-        // the old one.
-        auto in = OIIO::ImageInput::open(tmp.string());
+        // the old one. A PNG must end in its IEND chunk; that is checked first, since libpng's error exit
+        // on a truncated file leaks in OpenImageIO 2.4.
+        auto in = endsLikeAPng(tmp) != IsPng::Truncated ? OIIO::ImageInput::open(tmp.string()) : nullptr;
         std::vector<float> pixels;
         bool ok = in && in->spec().width == image.width && in->spec().height == image.height;
         if (ok) {

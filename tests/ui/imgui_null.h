@@ -6,6 +6,7 @@
 #include <imgui_internal.h>
 
 #include <functional>
+#include <string>
 
 class ImGuiNull : public testing::Test {
   protected:
@@ -18,19 +19,39 @@ class ImGuiNull : public testing::Test {
         unsigned char* pixels = nullptr;
         int w = 0, h = 0;
         io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h); // builds the atlas; nothing uploads it
+        ImGui::GetStyle().AntiAliasedLinesUseTex = false;   // only glyphs sample the atlas (textCutOff)
     }
     void TearDown() override { ImGui::DestroyContext(); }
 
-    float windowHeight = 700;
-    // One frame with `body` inside a fixed 400 x windowHeight window at the origin.
+    float windowWidth = 400, windowHeight = 700;
+    // One frame with `body` inside a fixed windowWidth x windowHeight window at the origin.
     void frame(const std::function<void()>& body) {
         ImGui::NewFrame();
         ImGui::SetNextWindowPos(ImVec2(0, 0));
-        ImGui::SetNextWindowSize(ImVec2(400, windowHeight));
+        ImGui::SetNextWindowSize(ImVec2(windowWidth, windowHeight));
         ImGui::Begin("Panel", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
         body();
         ImGui::End();
         ImGui::Render();
+    }
+    // After a frame: the first glyph drawn past the right edge of its clip rectangle (text a column or
+    // window cuts off), as "x at y past clip edge", or "" when all text fits. Widgets that clip text on
+    // purpose (a combo's preview) clip it on the CPU, so their glyphs never cross the edge.
+    static std::string textCutOff() {
+        const ImVec2 white = ImGui::GetIO().Fonts->TexUvWhitePixel;
+        const ImDrawData* data = ImGui::GetDrawData();
+        for (int l = 0; l < data->CmdListsCount; ++l) {
+            const ImDrawList* list = data->CmdLists[l];
+            for (const ImDrawCmd& cmd : list->CmdBuffer)
+                for (unsigned i = 0; i < cmd.ElemCount; ++i) {
+                    const ImDrawVert& v = list->VtxBuffer[int(cmd.VtxOffset + list->IdxBuffer[int(cmd.IdxOffset + i)])];
+                    const bool glyph = v.uv.x != white.x || v.uv.y != white.y;
+                    if (glyph && v.pos.x > cmd.ClipRect.z + 1.0f && v.pos.y < cmd.ClipRect.w)
+                        return std::to_string(v.pos.x) + " at y " + std::to_string(v.pos.y) + " past " +
+                               std::to_string(cmd.ClipRect.z);
+                }
+        }
+        return "";
     }
     void mouse(float x, float y, bool down) {
         ImGui::GetIO().MousePos = ImVec2(x, y);

@@ -3,6 +3,7 @@
 #include "imgui_null.h"
 #include "ui/dock_layout.h"
 #include "ui/panels.h"
+#include "ui/perf_history.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gmock/gmock.h>
@@ -567,6 +568,72 @@ TEST_F(ImGuiNull, FiltersPanelAsksToMeasureAndToCancelAndShowsEachFiltersRow) {
     EXPECT_FALSE(seen.measure);
 }
 
+// At the widths the editor gives the Filters tab (800x600 and 1280x800 windows), no text is cut off
+// by its column: headings wrap, and a narrow cost column lists each filter over two lines.
+TEST_F(ImGuiNull, FiltersPanelTextFitsItsColumnsInSmallAndLargeWindows) {
+    ui::EditorState state;
+    const renderer::ImagePlane plane = renderer::makeImagePlane(renderer::Camera{}, {32, 32, 46}, 60.0, 512, 512);
+    ui::FiltersView view;
+    view.plane = &plane;
+    view.dims = {64, 64, 93};
+    view.radius = 60.0;
+    view.cropPx = 96;
+    view.patches = std::array<uint64_t, 3>{10, 0, 30};
+    view.measurements = {{renderer::FilterMode::Reconstruction, 112.5, 0.0324, 29.78},
+                         {renderer::FilterMode::Adaptive, 63.5, 0.0329, 29.64}};
+    view.measurementsStale = true;
+    for (const float width : {560.0f, 955.0f}) {
+        windowWidth = width;
+        frame([&] { ui::drawFiltersPanel(state, view); });
+        EXPECT_EQ(textCutOff(), "") << "panel " << width << " px wide";
+    }
+}
+
+// The other panels at the widths the editor gives them (left column and bottom strip, 800x600 and
+// 1280x800 windows): no text is cut off by its window or column.
+TEST_F(ImGuiNull, PanelTextFitsInSmallAndLargeWindows) {
+    ui::EditorState state;
+    renderer::Volume volume;
+    volume.name = "headsq";
+    volume.dims = {64, 64, 93};
+    volume.spacing = {3.2, 3.2, 1.5};
+    volume.range = {0.0f, 3926.0f};
+    ui::StatsView stats;
+    stats.volume = &volume;
+    stats.visibleSplats = 30903;
+    stats.glRenderer = "llvmpipe (LLVM 15.0.6, 256 bits)";
+    stats.frame.splatsDrawn = 32327;
+    stats.frame.gpuMs = 47.1;
+    ui::PerfHistory history;
+    for (uint64_t k = 1; k <= 12; ++k) {   // renders with times, so the chart and the summary are drawn
+        renderer::FrameStats f;
+        f.frame = f.gpuFrame = k;
+        f.cpuMs = 74.7;
+        f.gpuMs = 60.0 + double(k);
+        f.splatsDrawn = 32327;
+        f.passMs[size_t(renderer::GpuPass::Splats)] = 9.1;
+        f.passMs[size_t(renderer::GpuPass::Composite)] = 40.4;
+        history.addRender(f, 95.2);
+        history.addTimes(f);
+    }
+    windowHeight = 3000;   // only the width is under test
+    const std::vector<float> leftColumn{205.0f, 320.0f}, bottomStrip{560.0f, 955.0f};
+    const std::tuple<const char*, std::function<void()>, std::vector<float>> panels[] = {
+        {"Settings", [&] { ui::drawSettingsPanel(state); }, leftColumn},
+        {"Transfer function",
+         [&] { ui::drawTransferFunctionPanel(state, {.histogram = nullptr, .window = {0, 3926}}); }, leftColumn},
+        {"Stats", [&] { ui::drawStatsPanel(stats); }, bottomStrip},
+        {"Help", [&] { ui::drawHelpPanel(); }, bottomStrip},
+        {"Performance", [&] { ui::drawPerformancePanel(state, history); }, bottomStrip},
+    };
+    for (const auto& [name, draw, widths] : panels)
+        for (const float width : widths) {
+            windowWidth = width;
+            frame(draw);
+            EXPECT_EQ(textCutOff(), "") << name << ", " << width << " px wide";
+        }
+}
+
 // == Stats
 
 // The Stats panel says how the file's axes are drawn: nothing for the world's own axes, the angle the
@@ -577,6 +644,7 @@ TEST_F(ImGuiNull, StatsPanelSaysHowTheFilesAxesAreDrawn) {
     volume.dims = {2, 2, 2};
     ui::StatsView stats;
     stats.volume = &volume;
+    windowWidth = 955;   // the bottom strip of a 1280x800 window: the lines unwrapped
     auto text = [&] {
         std::string captured;
         frame([&] {

@@ -79,10 +79,17 @@ void drawDepthBar(const renderer::FilterDepths& d, glm::dvec2 volume, double rad
     const ImU32 grey = ImGui::GetColorU32(ImGuiCol_TextDisabled);
     std::snprintf(text, sizeof text, "%.2f", lo / radius);
     draw->AddText(ImVec2(origin.x, barBottom + font * 0.1f), grey, text);
+    float ends = ImGui::CalcTextSize(text).x;
     std::snprintf(text, sizeof text, "%.2f", hi / radius);
     draw->AddText(ImVec2(origin.x + width - ImGui::CalcTextSize(text).x, barBottom + font * 0.1f), grey, text);
-    const char* label = "depth from the eye, log scale";
-    draw->AddText(ImVec2(origin.x + (width - ImGui::CalcTextSize(label).x) * 0.5f, barBottom + font * 0.1f), grey, label);
+    ends = 2.0f * std::max(ends, ImGui::CalcTextSize(text).x) + 2.0f * font;
+    // The axis's name between the two end depths: the long one where it fits, else the short one.
+    for (const char* label : {"depth from the eye, log scale", "log depth"})
+        if (ImGui::CalcTextSize(label).x + ends <= width) {
+            draw->AddText(ImVec2(origin.x + (width - ImGui::CalcTextSize(label).x) * 0.5f, barBottom + font * 0.1f),
+                          grey, label);
+            break;
+        }
     if (hovered) {
         const double t = double(ImGui::GetIO().MousePos.x - origin.x) / width;
         const double depth = lo * std::pow(hi / lo, std::clamp(t, 0.0, 1.0));
@@ -118,17 +125,30 @@ void drawCostColumn(const EditorState& state, const FiltersView& view, FiltersCh
         }
     }
     if (view.measurements.empty()) return;
+    const auto filterName = [](const renderer::FilterMeasurement& m) {
+        if (int(m.filter) < 3) ImGui::TextColored(kModeColour[int(m.filter)], "%s", renderer::filterModeName(m.filter));
+        else ImGui::TextUnformatted(renderer::filterModeName(m.filter));
+    };
+    // A narrow column (a small window) lists each filter over two lines instead of a table's row.
+    const float rowWidth = ImGui::CalcTextSize("reconstruction  000.0 ms  00.00 dB (0.0000)").x +
+                           4.0f * ImGui::GetStyle().CellPadding.x;
+    if (ImGui::GetContentRegionAvail().x < rowWidth) {
+        for (const renderer::FilterMeasurement& m : view.measurements) {
+            filterName(m);
+            textWrapped("  %.1f ms, %.1f dB (%.4f)", m.frameMs, m.psnrDb, m.rmse);
+        }
+        textDisabledWrapped("error over the centre %d x %d px", view.cropPx, view.cropPx);
+        return;
+    }
     if (!ImGui::BeginTable("##cost", 3, ImGuiTableFlags_SizingStretchProp)) return;
     ImGui::TableSetupColumn("filter");
     ImGui::TableSetupColumn("frame");
     ImGui::TableSetupColumn("PSNR (RMSE)");
     ImGui::TableHeadersRow();
     for (const renderer::FilterMeasurement& m : view.measurements) {
-        const int mode = int(m.filter);
         ImGui::TableNextRow();
         ImGui::TableNextColumn();
-        if (mode < 3) ImGui::TextColored(kModeColour[mode], "%s", renderer::filterModeName(m.filter));
-        else ImGui::TextUnformatted(renderer::filterModeName(m.filter));
+        filterName(m);
         ImGui::TableNextColumn();
         ImGui::Text("%.1f ms", m.frameMs);
         ImGui::TableNextColumn();
@@ -196,9 +216,13 @@ FiltersChanges drawFiltersPanel(EditorState& state, const FiltersView& view) {
         char nearer[64], farther[64];
         std::snprintf(nearer, sizeof nearer, "reconstruction nearer than %.2f", d.reconstructionNearer / r);
         std::snprintf(farther, sizeof farther, "low-pass farther than %.2f", d.lowPassFarther / r);
-        ImGui::TextColored(kModeColour[0], "%s", nearer);
-        sameLineIfFits(farther);
-        ImGui::TextColored(kModeColour[1], "%s", farther);
+        if (ImGui::CalcTextSize(nearer).x <= ImGui::GetContentRegionAvail().x) {
+            ImGui::TextColored(kModeColour[0], "%s", nearer);
+            sameLineIfFits(farther);
+        } else {
+            textColouredWrapped(kModeColour[0], "%s", nearer);
+        }
+        textColouredWrapped(kModeColour[1], "%s", farther);
     }
     if (s.hysteresis > 0.0) {
         textDisabledWrapped("hysteresis %.2f: a patch keeps its filter until a threshold is passed by %.0f %%",

@@ -118,7 +118,7 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     if (ImGui::Button("Save image")) changes.saveImage = true;
     if (!state.imageSaved.empty()) {
         sameLineIfFits(state.imageSaved.c_str());
-        ImGui::TextDisabled("%s", state.imageSaved.c_str());
+        textDisabledWrapped("%s", state.imageSaved.c_str());
     }
 
     sectionTitle("Splatting");
@@ -195,7 +195,7 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     hint("Flatten: surface-splat kernels are this much thinner along the gradient (1: off)\n"
          "Surface at: gradient magnitude, as a fraction of the largest, from which a voxel is a surface");
     ImGui::EndDisabled();
-    if (!state.gradientsReady) ImGui::TextDisabled("(gradients not computed yet)");
+    if (!state.gradientsReady) textDisabledWrapped("(gradients not computed yet)");
 
     sectionTitle("Inspect");
     changes.settingsChanged |= ImGui::Checkbox("GPU counters", &s.counters);
@@ -209,7 +209,7 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
         "point or drag the window, in full a quarter second after";
     hint(previewHint.c_str());
     if (!state.preview.available)
-        ImGui::TextDisabled("(under %zu M voxels: always drawn in full)", PreviewSettings::kMinMegaVoxels);
+        textDisabledWrapped("(under %zu M voxels: always drawn in full)", PreviewSettings::kMinMegaVoxels);
 
     sectionTitle("Camera");
     changes.cameraChanged |= sliderDouble("Field of view", state.camera.fovYDeg, 10.0, 100.0, "%.0f deg");
@@ -226,20 +226,17 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     hint("Frame: move the camera along its line of sight, and pan, until everything the transfer function\n"
          "shows fills the viewport, centred. A double-click in the viewport does the same");
     const renderer::Camera& c = state.camera;
-    ImGui::TextDisabled("azimuth %.1f  elevation %.1f  distance %.2f", c.azimuthDeg, c.elevationDeg,
-                        c.distance);
+    textDisabledWrapped("azimuth %.1f  elevation %.1f  distance %.2f", c.azimuthDeg, c.elevationDeg, c.distance);
 
     sectionTitle("3D mouse");
-    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-    textWrapped("%s", state.spaceMouseStatus.empty() ? "not looked for" : state.spaceMouseStatus.c_str());
-    ImGui::PopStyleColor();
+    textDisabledWrapped("%s", state.spaceMouseStatus.empty() ? "not looked for" : state.spaceMouseStatus.c_str());
     SpaceMouseMapping& m = state.spaceMouse;
     ImGui::Checkbox("Navigate with it", &m.enabled);
     hint("Twist: orbit around; tilt forward or back: look from above or below; push or pull: zoom;\n"
          "slide sideways or lift: pan. The knob's deflection sets the speed");
     sliderDouble("Speed", m.speed, 0.1, 10.0, "%.2f", ImGuiSliderFlags_Logarithmic);
     ImGui::Checkbox("Invert rotation", &m.invertRotation);
-    ImGui::SameLine();
+    sameLineIfFits("Invert moves", ImGui::GetFrameHeight() + ImGui::GetStyle().ItemInnerSpacing.x);
     ImGui::Checkbox("Invert moves", &m.invertTranslation);
     hint("Off: the knob turns and moves the object. On: it turns or moves the camera instead");
 
@@ -353,21 +350,21 @@ void drawStatsPanel(const StatsView& stats) {
     const renderer::FrameStats& f = stats.frame;
     // The GPU timer is read a few renders late (no stalls), and the editor renders only on edits.
     if (f.gpuMs > 0.0)
-        ImGui::Text("render  cpu %.2f ms   gpu %.2f ms", f.cpuMs, f.gpuMs);
+        textWrapped("render  cpu %.2f ms   gpu %.2f ms", f.cpuMs, f.gpuMs);
     else
-        ImGui::Text("render  cpu %.2f ms   gpu (pending)", f.cpuMs);
+        textWrapped("render  cpu %.2f ms   gpu (pending)", f.cpuMs);
     if (const int first = std::max(f.firstUsePrograms, f.gpuMs > 0.0 ? f.gpuFirstUsePrograms : 0); first > 0) {
         textDisabledWrapped("first use of %d shader programs: these times include compiling them", first);
         hint("Drivers compile a program when it first draws (llvmpipe: hundreds of ms). The next render\n"
              "of the same settings shows what they cost; Performance > Render continuously shows many");
     }
     drawPassBar(f);
-    ImGui::Text("splats  %llu sent (%zu visible)", static_cast<unsigned long long>(f.splatsDrawn),
+    textWrapped("splats  %llu sent (%zu visible)", static_cast<unsigned long long>(f.splatsDrawn),
                 stats.visibleSplats);
-    ImGui::Text("upload  %.1f KiB", double(f.frameUploadBytes) / 1024.0);
+    textWrapped("upload  %.1f KiB", double(f.frameUploadBytes) / 1024.0);
     hint("Bytes this frame cost to upload, since the render before it: a TF edit, the 64 KiB table;\n"
          "a turn past a diagonal, that axis's lists; a new scene, all of it; otherwise nothing");
-    ImGui::TextWrapped("drawn as  %s", renderer::primitiveName(f).c_str());
+    textWrapped("drawn as  %s", renderer::primitiveName(f).c_str());
     hint("Rasterised, each slice takes point sprites where its footprints fit the driver's point size\n"
          "and are round enough, else two-triangle quads (close up, the near slices)");
     if (const std::string splits = renderer::tileSplitsText(f); !splits.empty()) {
@@ -378,64 +375,64 @@ void drawStatsPanel(const StatsView& stats) {
              "image, a little slower");
     }
     if (f.adaptiveAs != renderer::FilterMode::Adaptive)
-        ImGui::Text("adaptive  every patch %s at this depth range", renderer::filterModeName(f.adaptiveAs));
+        textWrapped("adaptive  every patch %s at this depth range", renderer::filterModeName(f.adaptiveAs));
     if (f.hasCounters) {
         const renderer::SplatCounters& c = f.counters;
-        ImGui::Text("filters recon %llu  low-pass %llu  ewa %llu", (unsigned long long)c.drawnPerMode[0],
+        textWrapped("filters recon %llu  low-pass %llu  ewa %llu", (unsigned long long)c.drawnPerMode[0],
                     (unsigned long long)c.drawnPerMode[1], (unsigned long long)c.drawnPerMode[2]);
-        ImGui::Text("culled  transparent %llu  near %llu  offscreen %llu  huge %llu",
+        textWrapped("culled  transparent %llu  near %llu  offscreen %llu  huge %llu",
                     (unsigned long long)c.culledTransparent, (unsigned long long)c.culledNear,
                     (unsigned long long)c.culledOffscreen, (unsigned long long)c.culledHuge);
-        ImGui::Text("hidden  behind opaque tiles %llu", (unsigned long long)c.culledOccluded);
-        ImGui::Text("fragments %llu (all passes)", (unsigned long long)f.fragments);
+        textWrapped("hidden  behind opaque tiles %llu", (unsigned long long)c.culledOccluded);
+        textWrapped("fragments %llu (all passes)", (unsigned long long)f.fragments);
     }
 
     // Volume column.
     ImGui::TableNextColumn();
     if (const renderer::Volume* v = stats.volume) {
-        ImGui::Text("volume  %s", v->name.c_str());
-        ImGui::Text("dims    %d x %d x %d  %s", v->dims.x, v->dims.y, v->dims.z,
+        textWrapped("volume  %s", v->name.c_str());
+        textWrapped("dims    %d x %d x %d  %s", v->dims.x, v->dims.y, v->dims.z,
                     renderer::voxelTypeName(v->type));
-        ImGui::Text("spacing %.3g x %.3g x %.3g", v->spacing.x, v->spacing.y, v->spacing.z);
-        ImGui::Text("range   [%g, %g]", double(v->range.lo), double(v->range.hi));
+        textWrapped("spacing %.3g x %.3g x %.3g", v->spacing.x, v->spacing.y, v->spacing.z);
+        textWrapped("range   [%g, %g]", double(v->range.lo), double(v->range.hi));
         if (v->axesNotDrawn()) {
-            ImGui::TextDisabled("axes    sheared, not applied");
+            textDisabledWrapped("axes    sheared, not applied");
             hint("The file's axes are not orthogonal; SplatLab draws the volume along its index axes,\n"
                  "so this picture may be turned or skewed against the file's world frame");
         } else if (v->directions != glm::dmat3(1.0)) {
             // The rotation's angle from its trace: 1 + 2 cos(angle).
             const double trace = v->directions[0][0] + v->directions[1][1] + v->directions[2][2];
             // %g: a scanner's slight tilt (0.0057 degrees) must not read as 0.0.
-            ImGui::Text("axes    oblique, turned %.3g degrees",
+            textWrapped("axes    oblique, turned %.3g degrees",
                         glm::degrees(std::acos(std::clamp((trace - 1.0) / 2.0, -1.0, 1.0))));
             hint("The file's axes are turned against its world frame. The view turns with them, so the\n"
                  "camera orbits in the file's world frame while slices follow the volume's own axes");
         }
     } else {
-        ImGui::TextDisabled("no volume loaded");
+        textDisabledWrapped("no volume loaded");
     }
 
     // GL column.
     ImGui::TableNextColumn();
     textWrapped("GL_RENDERER  %s", stats.glRenderer.c_str());
-    ImGui::Text("ui      %.1f fps", double(ImGui::GetIO().Framerate));
+    textWrapped("ui      %.1f fps", double(ImGui::GetIO().Framerate));
     ImGui::EndTable();
 }
 
 void drawHelpPanel() {
-    ImGui::BulletText("Left drag in the viewport: orbit");
-    ImGui::BulletText("Right or middle drag: pan");
-    ImGui::BulletText("Wheel: zoom (distance %.2f to %.0f bounding radii)", kMinDistance, kMaxDistance);
-    ImGui::BulletText("Double-click: frame everything visible (Settings > Camera > Frame)");
-    ImGui::BulletText("Drag the bars between regions to resize them");
-    ImGui::BulletText("Transfer function curve: drag a point, click empty space to add one, right-click to remove");
-    ImGui::BulletText("3D mouse: twist to orbit, tilt to look from above or below, push or pull to zoom, slide to pan");
-    ImGui::BulletText("Performance tab: render continuously (and spin) to watch frame times; hover the chart");
-    ImGui::BulletText("Volumes of %zu M voxels or more show a half-resolution preview while you move them\n"
-                      "(Settings > Inspect > Preview while moving)",
-                      PreviewSettings::kMinMegaVoxels);
-    ImGui::BulletText("Ctrl+Z, Ctrl+Y: undo, redo a transfer-function edit (while its panel has focus)");
-    ImGui::BulletText("Drop a volume, a transfer function (.json) or a session on the window to open it");
+    bulletWrapped("Left drag in the viewport: orbit");
+    bulletWrapped("Right or middle drag: pan");
+    bulletWrapped("Wheel: zoom (distance %.2f to %.0f bounding radii)", kMinDistance, kMaxDistance);
+    bulletWrapped("Double-click: frame everything visible (Settings > Camera > Frame)");
+    bulletWrapped("Drag the bars between regions to resize them");
+    bulletWrapped("Transfer function curve: drag a point, click empty space to add one, right-click to remove");
+    bulletWrapped("3D mouse: twist to orbit, tilt to look from above or below, push or pull to zoom, slide to pan");
+    bulletWrapped("Performance tab: render continuously (and spin) to watch frame times; hover the chart");
+    bulletWrapped("Volumes of %zu M voxels or more show a half-resolution preview while you move them "
+                  "(Settings > Inspect > Preview while moving)",
+                  PreviewSettings::kMinMegaVoxels);
+    bulletWrapped("Ctrl+Z, Ctrl+Y: undo, redo a transfer-function edit (while its panel has focus)");
+    bulletWrapped("Drop a volume, a transfer function (.json) or a session on the window to open it");
 }
 
 void drawErrorModal(EditorState& state) {

@@ -6,6 +6,7 @@
 
 #include <imgui.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdarg>
 #include <cstdio>
@@ -45,12 +46,14 @@ inline void sameLineIfFits(const char* text, float extra = 0.0f) {
 }
 
 // Text that wraps at the region's edge, between words only (wrapAtSpaces: ImGui's own wrapping splits
-// numbers at their decimal point).
+// numbers at their decimal point). In a table cell the region can end a pixel or two past the cell's
+// clip rectangle: the nearer edge is the one that counts.
 inline void textWrappedV(const char* format, va_list args) {
     char text[1024];
     std::vsnprintf(text, sizeof text, format, args);
     const auto measure = [](std::string_view s) { return ImGui::CalcTextSize(s.data(), s.data() + s.size()).x; };
-    const auto lines = wrapAtSpaces(text, ImGui::GetContentRegionAvail().x, measure);
+    const float visible = ImGui::GetWindowDrawList()->GetClipRectMax().x - ImGui::GetCursorScreenPos().x;
+    const auto lines = wrapAtSpaces(text, std::min(ImGui::GetContentRegionAvail().x, visible), measure);
     // Lines of one text sit a line height apart, as ImGui's wrapping sets them; the item spacing follows the last.
     ImGui::PushStyleVar(ImGuiStyleVar_ItemSpacing, ImVec2(ImGui::GetStyle().ItemSpacing.x, 0.0f));
     for (size_t i = 0; i < lines.size(); ++i) {
@@ -67,15 +70,39 @@ inline void textWrapped(const char* format, ...) {
     va_end(args);
 }
 
+// Text in `colour` that wraps at the region's edge, as textWrapped.
+inline void textColouredWrappedV(const ImVec4& colour, const char* format, va_list args) {
+    ImGui::PushStyleColor(ImGuiCol_Text, colour);
+    textWrappedV(format, args);
+    ImGui::PopStyleColor();
+}
+inline void textColouredWrapped(const ImVec4& colour, const char* format, ...) IM_FMTARGS(2);
+inline void textColouredWrapped(const ImVec4& colour, const char* format, ...) {
+    va_list args;
+    va_start(args, format);
+    textColouredWrappedV(colour, format, args);
+    va_end(args);
+}
+
 // Disabled (grey) text that wraps at the region's edge, as textWrapped.
 inline void textDisabledWrapped(const char* format, ...) IM_FMTARGS(1);
 inline void textDisabledWrapped(const char* format, ...) {
-    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    va_list args;
+    va_start(args, format);
+    textColouredWrappedV(ImGui::GetStyle().Colors[ImGuiCol_TextDisabled], format, args);
+    va_end(args);
+}
+
+// A bullet and text that wraps at the region's edge, its later lines under its first.
+inline void bulletWrapped(const char* format, ...) IM_FMTARGS(1);
+inline void bulletWrapped(const char* format, ...) {
+    ImGui::Bullet();
+    ImGui::BeginGroup();   // the group's left edge is where the text starts
     va_list args;
     va_start(args, format);
     textWrappedV(format, args);
     va_end(args);
-    ImGui::PopStyleColor();
+    ImGui::EndGroup();
 }
 
 // "label" then each pass that took time, "name ms" in its colour, wrapping at the region's edge.
