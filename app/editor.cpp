@@ -313,7 +313,7 @@ int runEditor(const EditorOptions& options) {
         return guarded([&] {
             Document next;
             next.tf = state.tf;
-            renderer::Volume volume = renderer::alignedToWorldAxes(renderer::loadVolume(path));
+            renderer::Volume volume = renderer::loadVolumeInWorldFrame(path);
             next.histogram = renderer::computeHistogram(volume, 128);
             next.percentile = renderer::percentileWindow(volume, 1.0, 99.0);
             const renderer::ValueRange window = renderer::windowFor(volume, state.window);

@@ -164,13 +164,15 @@ int runInfo(const std::string& path, const RawFlags& raw, bool gradients) {
         const glm::dmat3& d = v.directions;
         Volume axesOnly;   // no voxels: what alignment leaves of these axes, for the message
         axesOnly.directions = d;
-        const glm::dmat3 left = alignedToWorldAxes(axesOnly).directions;
-        const char* how = left == glm::dmat3(1.0)   ? "in the file's world frame: the voxels are reordered"
-                          : !isRotation(left)       ? "sheared: not applied, drawn along the index axes"
+        const Volume aligned = alignedToWorldAxes(axesOnly);
+        const glm::dmat3 left = aligned.directions;
+        const char* how = aligned.resampled ? "sheared: render and the editor resample the voxels onto the world "
+                                              "axes (trilinear)"
+                          : left == glm::dmat3(1.0) ? "in the file's world frame: the voxels are reordered"
                           : glm::determinant(d) > 0 ? "in the file's world frame: the view turns with them"
                                                     : "in the file's world frame: x reversed, the view turns with them";
         // Axes a header rounded: alignment takes them as the orthonormal axes nearest them.
-        const bool rounded = isRotation(left) && !isRotation(d) && !isRotation(glm::dmat3(-d[0], d[1], d[2]));
+        const bool rounded = !aligned.resampled && !isRotation(d) && !isRotation(glm::dmat3(-d[0], d[1], d[2]));
         std::printf("  axes     x (%g, %g, %g)  y (%g, %g, %g)  z (%g, %g, %g)  (%s%s)\n",
                     d[0].x, d[0].y, d[0].z, d[1].x, d[1].y, d[1].z, d[2].x, d[2].y, d[2].z, how,
                     rounded ? "; rounded cosines, not quite orthonormal: drawn as the orthonormal axes nearest them"
@@ -253,13 +255,14 @@ struct Scene {
 // The volume classified by `tf` over `window`, its gradients when the settings need them, and the view.
 void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFlags& raw, const TransferFunction& tf,
                  const WindowSettings& window, Camera camera, glm::ivec2 size, bool fit = false) {
-    const Volume volume = alignedToWorldAxes(loadVolume(volumePath, rawOptions(raw)));
-    if (volume.axesNotDrawn())
+    const Volume volume = loadVolumeInWorldFrame(volumePath, rawOptions(raw));
+    if (volume.resampled)
         std::fprintf(stderr,
-                     "note: %s: its axes are sheared (not orthogonal) and are not applied; it is drawn "
-                     "along its index axes, so the picture may be turned or skewed against the file's "
-                     "world frame (splatlab info prints them)\n",
-                     volumePath.string().c_str());
+                     "note: %s: its axes are sheared (not orthogonal); the voxels are resampled (trilinear) onto "
+                     "a grid along the world axes, %d x %d x %d at %g x %g x %g (splatlab info prints the "
+                     "file's axes)\n",
+                     volumePath.string().c_str(), volume.dims.x, volume.dims.y, volume.dims.z, volume.spacing.x,
+                     volume.spacing.y, volume.spacing.z);
     s.scene = buildSplatScene(volume, tf, windowFor(volume, window));
     if (needsGradients(s.settings)) {
         std::fprintf(stderr, "gradients\n");

@@ -5,9 +5,12 @@
 
 #include "renderer/errors.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -165,10 +168,75 @@ Volume alignedToWorldAxes(Volume volume) {
     if (const std::optional<glm::dmat3> q = nearestOrthonormal(volume.directions)) volume.directions = *q;
     if (const std::optional<AxisMap> map = signedPermutation(volume.directions))
         return reordered(volume, *map, glm::dmat3(1.0));
+    if (isRotation(volume.directions)) return volume;
     glm::dmat3 flipped = volume.directions;
     flipped[0] = -flipped[0];
-    if (!isRotation(flipped)) return volume;   // a rotation already, or sheared
-    return reordered(volume, AxisMap{.world = {0, 1, 2}, .sign = {-1, 1, 1}}, flipped);
+    if (isRotation(flipped)) return reordered(volume, AxisMap{.world = {0, 1, 2}, .sign = {-1, 1, 1}}, flipped);
+    return resampledOntoWorldAxes(volume);
+}
+
+Volume resampledOntoWorldAxes(const Volume& volume) {
+    // Columns: one index step along each axis, in the world.
+    const glm::dmat3 toWorld = volume.directions * glm::dmat3(glm::dvec3(volume.spacing.x, 0, 0),
+                                                              glm::dvec3(0, volume.spacing.y, 0),
+                                                              glm::dvec3(0, 0, volume.spacing.z));
+    const double det = glm::determinant(toWorld);
+    if (!(std::abs(det) > 1e-9 * volume.spacing.x * volume.spacing.y * volume.spacing.z))
+        throw LoadError(volume.name, "directions", "the axes are parallel or not finite: no volume to resample");
+    const glm::dmat3 fromWorld = glm::inverse(toWorld);
+    Volume out;
+    out.name = volume.name;
+    out.type = volume.type;
+    out.resampled = true;
+    if (volume.values.empty()) return out;   // axes without voxels (info's question): none to resample
+    const glm::dvec3 last(glm::max(volume.dims - 1, 0));
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::dvec3 at(corner & 1 ? last.x : 0.0, corner & 2 ? last.y : 0.0, corner & 4 ? last.z : 0.0);
+        lo = glm::min(lo, volume.origin + toWorld * at);
+        hi = glm::max(hi, volume.origin + toWorld * at);
+    }
+    // Each world axis takes the step of the index axis most along it, as far as it goes along it: so
+    // a CT tilted about x keeps its slice distance along z and its pixel size in x and y.
+    for (int k = 0; k < 3; ++k) {
+        double step = 0.0;
+        for (int j = 0; j < 3; ++j) step = std::max(step, std::abs(toWorld[j][k]));
+        out.spacing[k] = step;
+        out.dims[k] = int(std::floor((hi[k] - lo[k]) / step + 1e-6)) + 1;
+    }
+    out.origin = lo;
+    constexpr size_t kMaxGrowth = 8;
+    if (out.voxelCount() > kMaxGrowth * std::max<size_t>(volume.voxelCount(), 1 << 17))
+        throw LoadError(volume.name, "directions",
+                        "the axes are sheared so far that the world-aligned grid holding the volume would have " +
+                            std::to_string(out.dims.x) + " x " + std::to_string(out.dims.y) + " x " +
+                            std::to_string(out.dims.z) + " voxels, more than " + std::to_string(kMaxGrowth) +
+                            " times the file's");
+    // Trilinear in the file's index space; where the grid reaches past the scan, the data's minimum (air).
+    const float outside = volume.range.lo;
+    out.values.assign(out.voxelCount(), outside);
+    tbb::parallel_for(0, out.dims.z, [&](int z) {
+        for (int y = 0; y < out.dims.y; ++y)
+            for (int x = 0; x < out.dims.x; ++x) {
+                const glm::dvec3 f = fromWorld * (out.positionOf(x, y, z) - volume.origin);
+                constexpr double kEdge = 1e-6;   // grid points on the scan's faces, up to rounding
+                if (glm::any(glm::lessThan(f, glm::dvec3(-kEdge))) || glm::any(glm::greaterThan(f, last + kEdge)))
+                    continue;
+                const glm::dvec3 g = glm::clamp(f, glm::dvec3(0.0), last);
+                const glm::ivec3 i0 = glm::min(glm::ivec3(glm::floor(g)), glm::max(volume.dims - 2, 0));
+                const glm::dvec3 t = glm::min(g - glm::dvec3(i0), glm::dvec3(1.0));
+                const glm::ivec3 i1 = glm::min(i0 + 1, volume.dims - 1);
+                double sum = 0.0;
+                for (int c = 0; c < 8; ++c) {
+                    const glm::ivec3 at(c & 1 ? i1.x : i0.x, c & 2 ? i1.y : i0.y, c & 4 ? i1.z : i0.z);
+                    const double w = (c & 1 ? t.x : 1.0 - t.x) * (c & 2 ? t.y : 1.0 - t.y) * (c & 4 ? t.z : 1.0 - t.z);
+                    if (w != 0.0) sum += w * double(volume.at(at.x, at.y, at.z));   // 0 x NaN would be NaN
+                }
+                out.values[out.index(x, y, z)] = float(sum);
+            }
+    });
+    updateRange(out);
+    return out;
 }
 
 Volume halfResolution(const Volume& volume) {

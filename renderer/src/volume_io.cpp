@@ -385,4 +385,13 @@ Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOpti
                        supportedVolumeTypes() + ")");
 }
 
+Volume loadVolumeInWorldFrame(const std::filesystem::path& path, const std::optional<RawOptions>& raw) {
+    Volume volume = loadVolume(path, raw);
+    try {
+        return alignedToWorldAxes(std::move(volume));
+    } catch (const LoadError& e) {   // it knows the volume by name only
+        throw LoadError(path.string(), e.field(), e.reason());
+    }
+}
+
 } // namespace renderer

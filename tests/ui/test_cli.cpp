@@ -3,6 +3,7 @@
 #include "image_compare.h"
 #include "renderer/image.h"
 #include "renderer/metrics.h"
+#include "renderer/volume_io.h"
 #include "test_paths.h"
 #include "ui/session.h"
 
@@ -91,9 +92,9 @@ std::filesystem::path writeNrrd(const std::string& name, const std::string& dire
 // A file is drawn in its world frame: one whose x axis runs the world's -x as the same world volume
 // stored with x running +x (not as its stored order); one whose axes are turned 30 degrees about z, seen
 // from azimuth 60, as the unturned one from azimuth 30; and a turned one that also mirrors x likewise.
-// Axes off orthonormal by a header's rounding are drawn as the orthonormal axes nearest them. Sheared
-// axes are not applied, and render says so.
-TEST(Cli, RenderDrawsTheFileInItsWorldFrameAndNamesShearedAxes) {
+// Axes off orthonormal by a header's rounding are drawn as the orthonormal axes nearest them (sheared
+// ones: the next test).
+TEST(Cli, RenderDrawsTheFileInItsWorldFrame) {
     const std::string identity = "(1,0,0) (0,1,0) (0,0,1)";
     const std::string c = "0.8660254037844387";   // cos 30 degrees
     // A corner block: low x and low y in index order.
@@ -144,13 +145,74 @@ TEST(Cli, RenderDrawsTheFileInItsWorldFrameAndNamesShearedAxes) {
                 HasSubstr("the view turns with them; rounded cosines"));
     EXPECT_THAT(splatlab("info \"" + obliqueFile.string() + "\"").output, Not(HasSubstr("rounded")));
 
-    const auto shearedFile = writeNrrd("cli_sheared.nrrd", "(1,0,0) (0.6,0.8,0) (0,0,1)", stored);
-    const auto out = testing_support::testOutputDir() / "cli_sheared.png";
-    const CliRun r =
-        splatlab("render \"" + shearedFile.string() + "\" --out \"" + out.string() + "\" --size 32x32 --frames 1");
-    ASSERT_EQ(r.status, 0) << r.output;
-    EXPECT_THAT(r.output, HasSubstr("note: " + shearedFile.string() + ": its axes are sheared"));
-    EXPECT_TRUE(std::filesystem::exists(out));
+}
+
+// A float NRRD of `dims` voxels whose index steps are the columns of `steps` (in the world), from
+// `origin`, holding field(world position) at each voxel.
+std::filesystem::path writeFieldNrrd(const std::string& name, glm::ivec3 dims, const glm::dmat3& steps,
+                                     const glm::dvec3& origin, const std::function<double(glm::dvec3)>& field) {
+    const auto path = testing_support::testOutputDir() / name;
+    std::ofstream f(path, std::ios::binary);
+    char header[512];
+    std::snprintf(header, sizeof header,
+                  "NRRD0004\ntype: float\ndimension: 3\nsizes: %d %d %d\nspace: left-posterior-superior\n"
+                  "space directions: (%.17g,%.17g,%.17g) (%.17g,%.17g,%.17g) (%.17g,%.17g,%.17g)\n"
+                  "space origin: (%.17g,%.17g,%.17g)\nendian: little\nencoding: raw\n\n",
+                  dims.x, dims.y, dims.z, steps[0].x, steps[0].y, steps[0].z, steps[1].x, steps[1].y, steps[1].z,
+                  steps[2].x, steps[2].y, steps[2].z, origin.x, origin.y, origin.z);
+    f << header;
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x) {
+                const float v = float(field(origin + steps * glm::dvec3(x, y, z)));
+                f.write(reinterpret_cast<const char*>(&v), sizeof v);
+            }
+    return path;
+}
+
+// A scan with a gantry tilt (slices stacked along a tilted axis) is resampled onto the world axes, so it
+// draws as the same object sampled on that world grid: a blob placed off-centre, where the tilt would
+// move it if it were ignored.
+TEST(Cli, ShearedAxesAreResampledSoTheVolumeDrawsWhereItsFileSays) {
+    const double tilt = glm::radians(25.0);
+    const glm::dvec3 centre{14.0, 9.0, 8.0};
+    const auto blob = [&](glm::dvec3 p) {   // two Gaussian lumps, so that a shift or a skew shows
+        return 1000.0 * std::exp(-glm::dot(p - centre, p - centre) / 18.0) +
+               600.0 * std::exp(-glm::dot(p - centre - glm::dvec3(-6, 5, 4), p - centre - glm::dvec3(-6, 5, 4)) / 8.0);
+    };
+    const glm::dmat3 tilted(glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, std::sin(tilt), std::cos(tilt)));
+    const auto shearedFile = writeFieldNrrd("cli_gantry_tilt.nrrd", {24, 24, 20}, tilted, {0, -4, 0}, blob);
+    // The same voxels with the tilt left out, and the blob sampled on the grid the tilted scan resamples to.
+    const auto ignoredFile = writeFieldNrrd("cli_gantry_tilt_ignored.nrrd", {24, 24, 20}, glm::dmat3(1.0), {0, -4, 0},
+                                            [&](glm::dvec3 p) { return blob(tilted * (p - glm::dvec3(0, -4, 0)) + glm::dvec3(0, -4, 0)); });
+    const renderer::Volume grid = renderer::loadVolumeInWorldFrame(shearedFile);
+    ASSERT_TRUE(grid.resampled);
+    const glm::dmat3 gridSteps(glm::dvec3(grid.spacing.x, 0, 0), glm::dvec3(0, grid.spacing.y, 0),
+                               glm::dvec3(0, 0, grid.spacing.z));
+    const auto worldFile = writeFieldNrrd("cli_gantry_tilt_world.nrrd", grid.dims, gridSteps, grid.origin, blob);
+
+    auto render = [](const std::filesystem::path& in, std::string* output = nullptr) {
+        const auto out = std::filesystem::path(in).replace_extension(".exr");
+        const CliRun r = splatlab("render \"" + in.string() + "\" --out \"" + out.string() +
+                                  "\" --size 64x64 --frames 1 --tf grey-ramp --window 0,1000 --camera 30,20,2.5,30");
+        EXPECT_EQ(r.status, 0) << r.output;
+        if (output) *output = r.output;
+        return renderer::readImage(out);
+    };
+    std::string note;
+    const renderer::Image sheared = render(shearedFile, &note);
+    EXPECT_THAT(note, HasSubstr("note: " + shearedFile.string() + ": its axes are sheared"));
+    EXPECT_THAT(note, HasSubstr("resampled (trilinear) onto a grid along the world axes, " +
+                                std::to_string(grid.dims.x) + " x " + std::to_string(grid.dims.y) + " x " +
+                                std::to_string(grid.dims.z)));
+    const renderer::ImageError resampled = renderer::compareImages(sheared, render(worldFile));
+    const renderer::ImageError ignored = renderer::compareImages(render(ignoredFile), render(worldFile));
+    std::printf("tilted scan vs the world grid: RMSE %.5f (max %.4f); tilt ignored: RMSE %.5f (max %.4f)\n",
+                resampled.rmse, resampled.maxAbs, ignored.rmse, ignored.maxAbs);
+    EXPECT_LT(resampled.rmse, 0.01);
+    EXPECT_GT(ignored.rmse, 5.0 * resampled.rmse) << "the tilt must show when it is left out";
+    EXPECT_THAT(splatlab("info \"" + shearedFile.string() + "\"").output,
+                HasSubstr("sheared: render and the editor resample the voxels onto the world axes"));
 }
 
 TEST(Cli, RenderWritesTheHeatmapAndPrintsGpuCountersWithShadingAndSheets) {

@@ -637,7 +637,7 @@ TEST_F(ImGuiNull, PanelTextFitsInSmallAndLargeWindows) {
 // == Stats
 
 // The Stats panel says how the file's axes are drawn: nothing for the world's own axes, the angle the
-// view turns by for oblique ones, and that sheared ones are not applied.
+// view turns by for oblique ones, and that sheared ones are resampled (or not applied, unaligned).
 TEST_F(ImGuiNull, StatsPanelSaysHowTheFilesAxesAreDrawn) {
     renderer::Volume volume;
     volume.name = "axes";
@@ -663,5 +663,8 @@ TEST_F(ImGuiNull, StatsPanelSaysHowTheFilesAxesAreDrawn) {
     volume.directions = glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(0.0057), glm::dvec3(1, 0, 0)));
     EXPECT_THAT(text(), testing::HasSubstr("turned 0.0057 degrees")) << "a slight tilt is not 0";
     volume.directions[1] = glm::normalize(glm::dvec3(0.6, 0.8, 0.0));
-    EXPECT_THAT(text(), testing::HasSubstr("axes    sheared, not applied"));
+    EXPECT_THAT(text(), testing::HasSubstr("axes    sheared, not applied"));   // a volume not aligned
+    const renderer::Volume resampled = renderer::alignedToWorldAxes(volume);
+    stats.volume = &resampled;
+    EXPECT_THAT(text(), testing::HasSubstr("axes    sheared, resampled"));
 }

@@ -538,14 +538,15 @@ TEST(AlignedToWorldAxes, KeepsEveryVoxelWhereTheFilesAxesPutItInTheWorld) {
                     EXPECT_EQ(a.at(n.x, n.y, n.z), v.at(kx, ky, kz));
                 }
     }
-    // Sheared axes cannot be drawn: the volume comes back as it was, and says so.
+    // Sheared axes cannot be reordered: they are resampled (next test), and the volume says so.
     Volume sheared = makeCheckerboard({4, 4, 4}, 2);
     sheared.directions = glm::dmat3(x, glm::normalize(x + y), z);
     EXPECT_FALSE(axesAlignable(sheared.directions));
-    const Volume same = alignedToWorldAxes(sheared);
-    EXPECT_TRUE(same.axesNotDrawn());
-    EXPECT_EQ(same.drawnAxes(), glm::dmat3(1.0));
-    EXPECT_EQ(same.values, sheared.values);
+    EXPECT_TRUE(sheared.axesNotDrawn());
+    const Volume resampled = alignedToWorldAxes(sheared);
+    EXPECT_TRUE(resampled.resampled);
+    EXPECT_FALSE(resampled.axesNotDrawn());
+    EXPECT_EQ(resampled.directions, glm::dmat3(1.0));
     EXPECT_FALSE(axesAlignable(glm::dmat3(x, x, z))) << "two axes along one";
     EXPECT_FALSE(axesAlignable(glm::dmat3(2.0 * x, y, z))) << "not a unit vector";
     EXPECT_FALSE(axesAlignable(glm::dmat3(glm::dvec3(std::nan(""), 1, 0), y, z)));
@@ -589,10 +590,80 @@ TEST(AlignedToWorldAxes, TakesAHeadersRoundedCosinesAsTheNearestOrthonormalAxes)
         // Within the rounding: three digits move an axis by under 2e-3.
         for (int c = 0; c < 3; ++c) EXPECT_LT(glm::length(a.directions[c] - k.left[c]), 2e-3) << "axis " << c;
     }
-    // A shear of 0.01 (0.57 degrees) is not a header's rounding: refused, and drawn along the index axes.
+    // A shear of 0.01 (0.57 degrees) is not a header's rounding: resampled, not taken as a rotation.
     Volume sheared = makeCheckerboard({4, 4, 4}, 2);
     sheared.directions = glm::dmat3(x, glm::normalize(y + 0.01 * x), z);
-    EXPECT_TRUE(alignedToWorldAxes(sheared).axesNotDrawn());
+    EXPECT_TRUE(alignedToWorldAxes(sheared).resampled);
+}
+
+// Sheared axes (a CT's gantry tilt, or any skew) are resampled onto a grid along the world axes. A field
+// linear in the world is linear in the file's index space, where trilinear interpolation reproduces it:
+// every grid point inside the scan must hold the field's value there, and every one outside the scan
+// the data's minimum.
+TEST(AlignedToWorldAxes, ResamplesShearedAxesOntoTheWorldGridExactlyForALinearField) {
+    const glm::dvec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+    const double tilt = glm::radians(20.0);
+    const glm::dmat3 cases[] = {
+        glm::dmat3(x, y, glm::dvec3(0, std::sin(tilt), std::cos(tilt))),   // gantry tilt about x
+        glm::dmat3(x, glm::normalize(glm::dvec3(0.6, 0.8, 0)), glm::normalize(glm::dvec3(0.1, -0.2, 1))),
+    };
+    const glm::dvec3 gradient{0.7, -1.3, 2.1};
+    for (const glm::dmat3& axes : cases) {
+        Volume v;
+        v.name = "sheared";
+        v.dims = {7, 6, 5};
+        v.spacing = {1.5, 2.0, 2.5};
+        v.origin = {3.0, -2.0, 1.0};
+        v.directions = axes;
+        v.values.resize(v.voxelCount());
+        const glm::dmat3 toWorld = axes * glm::dmat3(glm::dvec3(1.5, 0, 0), glm::dvec3(0, 2.0, 0), glm::dvec3(0, 0, 2.5));
+        for (int k = 0; k < v.dims.z; ++k)
+            for (int j = 0; j < v.dims.y; ++j)
+                for (int i = 0; i < v.dims.x; ++i)
+                    v.values[v.index(i, j, k)] =
+                        float(100.0 + glm::dot(gradient, v.origin + toWorld * glm::dvec3(i, j, k)));
+        updateRange(v);
+        const Volume a = alignedToWorldAxes(v);
+        ASSERT_TRUE(a.resampled);
+        EXPECT_EQ(a.directions, glm::dmat3(1.0));
+        // Each world axis steps as far along it as the index axis most along it.
+        for (int w = 0; w < 3; ++w) {
+            double step = 0.0;
+            for (int j = 0; j < 3; ++j) step = std::max(step, std::abs(toWorld[j][w]));
+            EXPECT_NEAR(a.spacing[w], step, 1e-12) << "world axis " << w;
+        }
+        size_t inside = 0;
+        for (int k = 0; k < a.dims.z; ++k)
+            for (int j = 0; j < a.dims.y; ++j)
+                for (int i = 0; i < a.dims.x; ++i) {
+                    const glm::dvec3 p = a.positionOf(i, j, k);
+                    const glm::dvec3 f = glm::inverse(toWorld) * (p - v.origin);
+                    const bool in = glm::all(glm::greaterThanEqual(f, glm::dvec3(-1e-9))) &&
+                                    glm::all(glm::lessThanEqual(f, glm::dvec3(v.dims - 1) + 1e-9));
+                    const double expected = in ? 100.0 + glm::dot(gradient, p) : double(v.range.lo);
+                    ASSERT_NEAR(a.at(i, j, k), expected, 1e-3) << i << " " << j << " " << k << (in ? " in" : " out");
+                    inside += in;
+                }
+        EXPECT_GT(double(inside), 0.4 * double(a.voxelCount())) << "the grid must mostly hold the scan";
+        // The grid holds every voxel centre of the file.
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::dvec3 p = v.origin + toWorld * (glm::dvec3(v.dims - 1) * glm::dvec3(corner & 1, corner >> 1 & 1, corner >> 2 & 1));
+            EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, a.origin - 1e-9)) &&
+                        glm::all(glm::lessThanEqual(p, a.positionOf(a.dims.x - 1, a.dims.y - 1, a.dims.z - 1) + a.spacing)))
+                << "corner " << corner;
+        }
+    }
+    // Axes sheared so far that the grid would hold more than 8 times the voxels are refused, by name.
+    Volume far = makeCheckerboard({64, 64, 64}, 2);
+    far.name = "far";
+    far.directions = glm::dmat3(glm::normalize(glm::dvec3(1, 0.9, 0.9)), glm::normalize(glm::dvec3(0.9, 1, 0.9)),
+                                glm::normalize(glm::dvec3(0.9, 0.9, 1)));
+    try {
+        alignedToWorldAxes(far);
+        ADD_FAILURE() << "resampled onto a grid many times the file's";
+    } catch (const LoadError& e) {
+        EXPECT_THAT(e.what(), HasSubstr("far: field 'directions': the axes are sheared so far"));
+    }
 }
 
 // A rotation left in Volume::directions is drawn by the image plane (SplatScene::axes): turned 30 degrees

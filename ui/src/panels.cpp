@@ -395,7 +395,12 @@ void drawStatsPanel(const StatsView& stats) {
                     renderer::voxelTypeName(v->type));
         textWrapped("spacing %.3g x %.3g x %.3g", v->spacing.x, v->spacing.y, v->spacing.z);
         textWrapped("range   [%g, %g]", double(v->range.lo), double(v->range.hi));
-        if (v->axesNotDrawn()) {
+        if (v->resampled) {
+            textWrapped("axes    sheared, resampled");
+            hint("The file's axes are not orthogonal (a CT's gantry tilt, for one): its voxels were resampled\n"
+                 "(trilinear) onto a grid along the world axes, the size shown above, so the picture is in the\n"
+                 "file's world frame. Grid points outside the scan take the data's minimum");
+        } else if (v->axesNotDrawn()) {
             textDisabledWrapped("axes    sheared, not applied");
             hint("The file's axes are not orthogonal; SplatLab draws the volume along its index axes,\n"
                  "so this picture may be turned or skewed against the file's world frame");

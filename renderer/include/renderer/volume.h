@@ -37,8 +37,9 @@ struct Volume {
     // Unit vector of each index axis in the file's world frame (columns: x, y, z), from NRRD space
     // directions, a MetaImage TransformMatrix or a NIfTI qform/sform. Object space is index x spacing +
     // origin; alignedToWorldAxes() reorders the voxels so that what is left here is a rotation, which the
-    // image plane applies (SplatScene::axes), or sheared axes, which are not drawn.
+    // image plane applies (SplatScene::axes), and resamples sheared ones onto the world's.
     glm::dmat3 directions{1.0};
+    bool resampled = false;           // sheared axes resampled onto the world's (alignedToWorldAxes)
     VoxelType type = VoxelType::F32;  // the type the values had on disk
     std::vector<float> values;        // x fastest, then y, then z; in the data's own units
     ValueRange range;                 // min and max of the finite values (see updateRange)
@@ -69,9 +70,15 @@ bool axesAlignable(const glm::dmat3& directions);
 // in the file's world frame (its left stays left). Axes within 2e-3 of orthonormal (a header's rounded
 // cosines) are first replaced by the orthonormal axes nearest them; then
 // - axes that are the world's mirrored or swapped (axesAlignable; as scanners store them) become x, y, z;
-// - oblique axes that mirror (determinant -1) have x reversed, which leaves a rotation (drawnAxes).
-// Sheared axes (further from orthonormal) are returned as they are.
+// - oblique axes that mirror (determinant -1) have x reversed, which leaves a rotation (drawnAxes);
+// - sheared axes (further from orthonormal) are resampled onto the world's (resampledOntoWorldAxes).
 Volume alignedToWorldAxes(Volume volume);
+// The volume resampled (trilinear, in its index space) onto a grid along the world axes that holds every
+// voxel centre: each world axis takes the step of the index axis most along it, projected onto it (a CT
+// tilted about x keeps its pixel size and its slice distance along z). Grid points outside the scan take
+// the data's minimum (air in CT). Throws LoadError naming the volume where the axes are degenerate or
+// the grid would hold more than 8 times the file's voxels (at least 1 M).
+Volume resampledOntoWorldAxes(const Volume& volume);
 
 // The volume at half resolution, for the editor's preview while the view moves (8 times fewer splats):
 // voxel i is the mean of the finite values of fine voxels 2i and 2i + 1 on each axis (NaN where none

@@ -46,6 +46,9 @@ Volume loadImageStack(const std::filesystem::path& pathOrPattern);
 // extension (.nrrd, .nhdr, .mhd, .mha, .nii, .nii.gz, .slc, .dat, .tif, .tiff, .raw, .raw.gz); raw
 // files need their dims in the file name unless `raw` is given.
 Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOptions>& raw = std::nullopt);
+// loadVolume, then alignedToWorldAxes: the volume as the tools draw it, in its file's world frame. A
+// LoadError from the alignment (axes too sheared to resample) names `path`.
+Volume loadVolumeInWorldFrame(const std::filesystem::path& path, const std::optional<RawOptions>& raw = std::nullopt);
 // The extensions loadVolume() knows, for messages and file dialogs: ".nrrd, .nhdr, ...".
 const char* supportedVolumeTypes();
 
