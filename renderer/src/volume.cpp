@@ -4,6 +4,7 @@
 #include "renderer/volume.h"
 
 #include "renderer/errors.h"
+#include "renderer/volume_io.h"   // kMaxVoxels
 
 #include <tbb/parallel_for.h>
 
@@ -206,7 +207,7 @@ Volume resampledOntoWorldAxes(const Volume& volume) {
     }
     out.origin = lo;
     constexpr size_t kMaxGrowth = 8;
-    if (out.voxelCount() > kMaxGrowth * std::max<size_t>(volume.voxelCount(), 1 << 17))
+    if (out.voxelCount() > std::min(kMaxVoxels, kMaxGrowth * std::max<size_t>(volume.voxelCount(), 1 << 17)))
         throw LoadError(volume.name, "directions",
                         "the axes are sheared so far that the world-aligned grid holding the volume would have " +
                             std::to_string(out.dims.x) + " x " + std::to_string(out.dims.y) + " x " +

@@ -6,6 +6,7 @@
 #include "renderer/volume.h"
 #include "renderer/volume_io.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -46,9 +47,14 @@ template <class Load> void loadAndCheck(Load&& load) {
         if (v.values.size() != v.voxelCount() || v.dims.x < 1 || v.dims.y < 1 || v.dims.z < 1) std::abort();
         if (!(v.spacing.x > 0 && v.spacing.y > 0 && v.spacing.z > 0)) std::abort();
         if (v.voxelCount() > renderer::kMaxVoxels) std::abort();
-        // Whatever axes the header gave, alignment keeps every voxel and leaves a rotation or flags them.
+        // Whatever axes the header gave, alignment keeps every voxel and leaves a rotation, or resamples
+        // sheared axes onto a bounded grid along the world's (or refuses them with a LoadError).
         const renderer::Volume a = renderer::alignedToWorldAxes(v);
-        if (a.values.size() != v.values.size() || a.voxelCount() != v.voxelCount()) std::abort();
+        if (a.values.size() != a.voxelCount() || a.dims.x < 1 || a.dims.y < 1 || a.dims.z < 1) std::abort();
+        if (!a.resampled && a.voxelCount() != v.voxelCount()) std::abort();
+        if (a.resampled && (a.directions != glm::dmat3(1.0) || a.voxelCount() > renderer::kMaxVoxels ||
+                            a.voxelCount() > 8 * std::max<size_t>(v.voxelCount(), 1 << 17)))
+            std::abort();
         if (!(a.spacing.x > 0 && a.spacing.y > 0 && a.spacing.z > 0)) std::abort();
         if (!renderer::isRotation(a.drawnAxes())) std::abort();
     } catch (const renderer::LoadError&) {

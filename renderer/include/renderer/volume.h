@@ -77,7 +77,7 @@ Volume alignedToWorldAxes(Volume volume);
 // voxel centre: each world axis takes the step of the index axis most along it, projected onto it (a CT
 // tilted about x keeps its pixel size and its slice distance along z). Grid points outside the scan take
 // the data's minimum (air in CT). Throws LoadError naming the volume where the axes are degenerate or
-// the grid would hold more than 8 times the file's voxels (at least 1 M).
+// the grid would hold more than 8 times the file's voxels (at least 1 M; at most kMaxVoxels).
 Volume resampledOntoWorldAxes(const Volume& volume);
 
 // The volume at half resolution, for the editor's preview while the view moves (8 times fewer splats):
