@@ -163,6 +163,38 @@ struct GradientJob : WorkerJob<renderer::GradientField> {
     }
 };
 
+// A volume read on the worker: what the UI thread needs to show it (it makes the GL parts).
+struct LoadedVolume {
+    renderer::Volume volume;
+    renderer::Histogram histogram;     // of the whole volume, for the Window section
+    renderer::ValueRange percentile;   // p1..p99
+    renderer::SplatScene scene;        // classified with the job's TF over its window
+};
+
+// Opening a volume: read, aligned to its world axes, its histogram taken and its scene classified on the
+// worker, since a large scan takes seconds; the UI shows the progress modal meanwhile. Cancel takes
+// effect between those steps. The work holds its own copies: the job's members are gone before the
+// base joins the thread.
+struct VolumeJob : WorkerJob<LoadedVolume> {
+    std::filesystem::path path;
+    renderer::TransferFunction tf;
+    VolumeJob(const std::filesystem::path& file, const renderer::TransferFunction& classify,
+              const renderer::WindowSettings& window)
+        : path(file), tf(classify) {
+        start([file, classify, window](const renderer::ProgressCallback& progress) -> std::optional<LoadedVolume> {
+            LoadedVolume out;
+            out.volume = renderer::loadVolumeInWorldFrame(file);
+            if (!progress(0.6)) return std::nullopt;
+            out.histogram = renderer::computeHistogram(out.volume, 128);
+            out.percentile = renderer::percentileWindow(out.volume, 1.0, 99.0);
+            if (!progress(0.7)) return std::nullopt;
+            out.scene = renderer::buildSplatScene(out.volume, classify, renderer::windowFor(out.volume, window));
+            progress(1.0);
+            return out;
+        });
+    }
+};
+
 // The Filters panel's "Measure": the ground truth of the view's centre crop on the worker (cached on
 // disk), then, one filter a UI frame, each filter timed on the whole view and compared on the crop.
 // It works on a copy of the scene: a TF edit changes the document's while the worker reads.
@@ -306,23 +338,33 @@ int runEditor(const EditorOptions& options) {
     Document doc;
     std::unique_ptr<renderer::SplatRenderer> splats;
     std::unique_ptr<GradientJob> gradientJob;
-    // Loads `path`, classified with state.tf over state.window, into a new document and scene; its
-    // gradients start on a worker thread (a scripted run waits for them: deterministic frames). On
-    // failure the document shown stays.
+    std::unique_ptr<VolumeJob> volumeJob;
+    // Starts reading `path`, to be classified with state.tf over state.window, on the worker (a scripted
+    // run waits for it: deterministic frames); the frame loop shows it once read (showVolume).
     auto openVolume = [&](const std::filesystem::path& path) {
+        volumeJob = std::make_unique<VolumeJob>(path, state.tf, state.window);
+        if (scripted) volumeJob->thread.join();
+    };
+    // A volume read by a VolumeJob, on screen: a new document and the renderer's scene (and the preview's,
+    // GL objects made on this thread); its gradients start on the worker. On failure the document shown
+    // stays.
+    auto showVolume = [&](LoadedVolume loaded, const std::filesystem::path& path, const renderer::TransferFunction& tf) {
         return guarded([&] {
             Document next;
-            next.tf = state.tf;
-            renderer::Volume volume = renderer::loadVolumeInWorldFrame(path);
-            next.histogram = renderer::computeHistogram(volume, 128);
-            next.percentile = renderer::percentileWindow(volume, 1.0, 99.0);
-            const renderer::ValueRange window = renderer::windowFor(volume, state.window);
-            next.scene = renderer::buildSplatScene(volume, next.tf, window);
-            if (volume.voxelCount() >= ui::PreviewSettings::kMinVoxels) {
-                next.preview = std::make_unique<Preview>(volume);
-                next.preview->classify(next.tf, window);
+            next.tf = tf;
+            next.histogram = std::move(loaded.histogram);
+            next.percentile = loaded.percentile;
+            next.scene = std::move(loaded.scene);
+            if (loaded.volume.voxelCount() >= ui::PreviewSettings::kMinVoxels) {
+                next.preview = std::make_unique<Preview>(loaded.volume);
+                next.preview->classify(next.tf, next.scene.window);
+            } else if (options.preview) {
+                std::fprintf(stderr,
+                             "note: --preview: %s has %zu voxels, fewer than the %zu M that get a preview; it "
+                             "renders in full\n",
+                             path.string().c_str(), loaded.volume.voxelCount(), ui::PreviewSettings::kMinMegaVoxels);
             }
-            next.volume = std::move(volume);
+            next.volume = std::move(loaded.volume);
             auto fresh = splats ? nullptr : std::make_unique<renderer::SplatRenderer>();
             (splats ? *splats : *fresh).setScene(next.scene);
             if (fresh) splats = std::move(fresh);
@@ -361,10 +403,6 @@ int runEditor(const EditorOptions& options) {
         if (volumePath.empty()) volumePath = sessionVolume;
     });
     if (exitCode == 0 && !volumePath.empty()) openVolume(volumePath);
-    if (options.preview && doc.volume && !doc.preview)
-        std::fprintf(stderr,
-                     "note: --preview: %s has %zu voxels, fewer than the %zu M that get a preview; it renders in full\n",
-                     volumePath.string().c_str(), doc.volume->voxelCount(), ui::PreviewSettings::kMinMegaVoxels);
     if (exitCode != 0) return exitCode;
 
     // 5. Frame loop. Edits made in frame N are rendered at the top of frame N+1, at the viewport size
@@ -529,6 +567,12 @@ int runEditor(const EditorOptions& options) {
 
         // 5a. Renderer work for last frame's edits. A failed step waits for the next edit instead of
         //     repeating (and re-opening the error modal) every frame.
+        if (volumeJob && volumeJob->done) {   // a volume read: show it, or say why it could not be
+            if (volumeJob->thread.joinable()) volumeJob->thread.join();
+            const std::unique_ptr<VolumeJob> job = std::move(volumeJob);
+            if (!job->error.empty()) report(std::runtime_error(job->error));
+            else if (job->result && showVolume(std::move(*job->result), job->path, job->tf)) renderPending = true;
+        }
         if (settingsChanges.openVolume) {
             openVolume(state.volumeFile);
             renderPending = true;
@@ -602,8 +646,9 @@ int runEditor(const EditorOptions& options) {
             }
         }
         // Framing needs the viewport's aspect, known from the first frame on, and the scene's current LUT.
-        framePending = (framePending || settingsChanges.frame || viewport.frame) && splats;   // none: nothing to frame
-        if (framePending && renderWidth > 0) {
+        // No volume, none being read: nothing to frame. One being read: framed once it is shown.
+        framePending = (framePending || settingsChanges.frame || viewport.frame) && (splats || volumeJob);
+        if (framePending && renderWidth > 0 && !volumeJob) {
             framePending = false;
             state.camera = renderer::framedCamera(state.camera, doc.scene, state.settings, renderWidth, renderHeight,
                                                   ui::kMinDistance, ui::kMaxDistance);
@@ -649,6 +694,7 @@ int runEditor(const EditorOptions& options) {
         }
 
         // 5b. The UI: layout, panels, error modal.
+        state.openingVolume = volumeJob ? volumeJob->path : std::filesystem::path();
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
@@ -663,10 +709,17 @@ int runEditor(const EditorOptions& options) {
         }
         ui::drawDockSpace(layout, panels, tabsToFront);
         ui::drawErrorModal(state);
+        if (ui::drawProgressModal("Opening volume",
+                                  volumeJob ? "Reading " + volumeJob->path.filename().string() +
+                                                  (volumeJob->cancel ? " (cancelling after this step)" : "")
+                                            : std::string(),
+                                  volumeJob ? volumeJob->fraction.load() : 1.0, volumeJob != nullptr))
+            volumeJob->cancel = true;
+        // One modal at a time: the gradients of the volume shown go on under a volume being read.
         if (ui::drawProgressModal("Computing gradients",
                                   "Gradients of " + (doc.volume ? doc.volume->name : std::string()) +
                                       " (central differences, all cores)",
-                                  gradientJob ? gradientJob->fraction.load() : 1.0, gradientJob != nullptr))
+                                  gradientJob ? gradientJob->fraction.load() : 1.0, gradientJob && !volumeJob))
             gradientJob->cancel = true;
         ImGui::Render();
         tfPending |= tfChanged;

@@ -486,6 +486,10 @@ int runCompare(const std::string& a, const std::string& b, const std::string& di
         }
     if (!diff.empty()) checkImageWritable(diff);
     const Image image = readImage(a), reference = readImage(b);
+    if (image.width != reference.width || image.height != reference.height)
+        throw LoadError(a, "", std::to_string(image.width) + "x" + std::to_string(image.height) + " px, but " + b +
+                                   " is " + std::to_string(reference.width) + "x" + std::to_string(reference.height) +
+                                   ": render both at one --size");
     requireFinite(image, a);
     requireFinite(reference, b);
     // .png holds the view composited over the background in 8 bits; .exr and .tif premultiplied float RGBA.

@@ -370,6 +370,7 @@ TEST(Cli, CompareReportsTheErrorWritesTheDifferenceAndRefusesWhatItCannotMeasure
     renderer::writeImage(a, png);
     EXPECT_THAT(splatlab("compare \"" + png + "\" \"" + fb + "\"").output, HasSubstr("note: one image is 8-bit"));
 
+    renderer::writeImage(renderer::Image(8, 8), dir / "small.exr");
     renderer::Image nan = a;
     nan.rgba[(2 * 16 + 7) * 4] = std::nanf("");
     const std::string fnan = (dir / "nan.exr").string();
@@ -380,6 +381,7 @@ TEST(Cli, CompareReportsTheErrorWritesTheDifferenceAndRefusesWhatItCannotMeasure
         {"compare \"" + fa + "\" \"" + fb + "\" --diff \"" + fb + "\"", "is an image being compared"},
         {"compare \"" + fnan + "\" \"" + fb + "\"", "nan.exr: a pixel is not a finite number (at (7, 2))"},
         {"compare \"" + fa + "\" \"" + fnan + "\"", "nan.exr: a pixel is not a finite number (at (7, 2))"},
+        {"compare \"" + fa + "\" \"" + (dir / "small.exr").string() + "\"", "a.exr: 16x8 px, but "},
     };
     for (const auto& [args, expect] : refused) {
         const CliRun bad = splatlab(args);
@@ -397,6 +399,8 @@ TEST(Cli, EditorFlagMistakesNameTheFlagAndWhatItTakes) {
                                   "Stats, Performance, Filters, Help)"},
         {"--frames 3 --spin 200", "--spin takes -90 to 90 degrees a second"},
         {"--frames -1", "--frames"},
+        // Read on the worker: a volume that fails still ends a scripted run with the reader's error.
+        {"--frames 3 no_such_volume.nhdr", "splatlab editor: no_such_volume.nhdr: cannot open"},
     };
     for (const auto& [args, expect] : cases) {
         const CliRun r = run("LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 640x480x24\" \"" SPLATLAB_EXE

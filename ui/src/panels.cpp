@@ -301,10 +301,12 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
             draw->AddText(ImVec2(origin.x + 8.0f, origin.y + 6.0f), ImGui::GetColorU32(ImGuiCol_TextDisabled),
                           "preview: half resolution while the view moves");
     } else {
-        const char* note = "No volume loaded: splatlab editor VOLUME";
-        const ImVec2 size = ImGui::CalcTextSize(note);
+        const std::string note = state.openingVolume.empty()
+                                     ? "No volume loaded: splatlab editor VOLUME"
+                                     : "Opening " + state.openingVolume.filename().string() + " ...";
+        const ImVec2 size = ImGui::CalcTextSize(note.c_str());
         draw->AddText(ImVec2(origin.x + (extent.x - size.x) * 0.5f, origin.y + (extent.y - size.y) * 0.5f),
-                      ImGui::GetColorU32(ImGuiCol_TextDisabled), note);
+                      ImGui::GetColorU32(ImGuiCol_TextDisabled), note.c_str());
     }
     return result;
 }

@@ -64,6 +64,7 @@ struct EditorState {
     bool showHeatmap = false;        // the viewport shows the filter-mode heatmap instead of the image
     // Files: the volume shown (set by the app once it loaded), and the Files section's path fields.
     std::filesystem::path loadedVolume;
+    std::filesystem::path openingVolume;   // being read on the worker (set by the app); empty when none
     std::string volumeFile;
     std::string sessionFile = "session.json";
     std::string imageFile = "view.png";   // Save image: PNG over the background, or EXR/TIFF float RGBA
