@@ -172,9 +172,9 @@ struct LoadedVolume {
 };
 
 // Opening a volume: read, aligned to its world axes, its histogram taken and its scene classified on the
-// worker, since a large scan takes seconds; the UI shows the progress modal meanwhile. Cancel takes
-// effect between those steps. The work holds its own copies: the job's members are gone before the
-// base joins the thread.
+// worker, since a large scan takes seconds; the UI shows the progress modal meanwhile. Cancel stops the
+// reading (of the streamed formats) at once, the rest between steps. The work holds its own copies: the
+// job's members are gone before the base joins the thread.
 struct VolumeJob : WorkerJob<LoadedVolume> {
     std::filesystem::path path;
     renderer::TransferFunction tf;
@@ -183,7 +183,12 @@ struct VolumeJob : WorkerJob<LoadedVolume> {
         : path(file), tf(classify) {
         start([file, classify, window](const renderer::ProgressCallback& progress) -> std::optional<LoadedVolume> {
             LoadedVolume out;
-            out.volume = renderer::loadVolumeInWorldFrame(file);
+            try {
+                out.volume = renderer::loadVolumeInWorldFrame(file, std::nullopt,
+                                                              [&](double f) { return progress(0.6 * f); });
+            } catch (const renderer::Cancelled&) {
+                return std::nullopt;
+            }
             if (!progress(0.6)) return std::nullopt;
             out.histogram = renderer::computeHistogram(out.volume, 128);
             out.percentile = renderer::percentileWindow(out.volume, 1.0, 99.0);
@@ -711,7 +716,7 @@ int runEditor(const EditorOptions& options) {
         ui::drawErrorModal(state);
         if (ui::drawProgressModal("Opening volume",
                                   volumeJob ? "Reading " + volumeJob->path.filename().string() +
-                                                  (volumeJob->cancel ? " (cancelling after this step)" : "")
+                                                  (volumeJob->cancel ? " (cancelling)" : "")
                                             : std::string(),
                                   volumeJob ? volumeJob->fraction.load() : 1.0, volumeJob != nullptr))
             volumeJob->cancel = true;

@@ -241,7 +241,7 @@ std::optional<RawOptions> rawOptionsFromFileName(const std::filesystem::path& pa
     return options;
 }
 
-Volume loadRaw(const std::filesystem::path& path, const RawOptions& options) {
+Volume loadRaw(const std::filesystem::path& path, const RawOptions& options, const ProgressCallback& progress) {
     Volume volume;
     volume.dims = checkedDims(path, "dims", options.dims.x, options.dims.y, options.dims.z);
     for (int axis = 0; axis < 3; ++axis)
@@ -250,7 +250,11 @@ Volume loadRaw(const std::filesystem::path& path, const RawOptions& options) {
                  "axis " + std::to_string(axis) + " is " + std::to_string(options.spacing[axis]) +
                      ", expected a finite positive number");
 
-    DataSource src{.file = path, .byteSkip = options.headerBytes, .exact = true, .endian = options.endian};
+    DataSource src{.file = path,
+                   .byteSkip = options.headerBytes,
+                   .exact = true,
+                   .endian = options.endian,
+                   .progress = progress};
     // Compressed when named so or when it starts with the gzip magic bytes 1f 8b.
     std::ifstream probe = openFile(path, path, "");
     unsigned char magic[2] = {0, 0};
@@ -266,7 +270,7 @@ Volume loadRaw(const std::filesystem::path& path, const RawOptions& options) {
     return volume;
 }
 
-Volume loadNrrd(const std::filesystem::path& path) {
+Volume loadNrrd(const std::filesystem::path& path, const ProgressCallback& progress) {
     // 1. Header lines into fields (duplicates and malformed lines rejected there).
     const NrrdHeader header = readNrrdHeader(path);
     const auto require = [&](const std::string& key, const std::string& name) -> const NrrdField& {
@@ -314,6 +318,7 @@ Volume loadNrrd(const std::filesystem::path& path) {
 
     // 4. Storage: encoding, endianness (multi-byte types only), skips and the data's location.
     DataSource src;
+    src.progress = progress;
     const NrrdField& encoding = require("encoding", "encoding");
     const std::string enc = lower(encoding.value);
     if (enc == "gzip" || enc == "gz")
@@ -361,17 +366,18 @@ const char* supportedVolumeTypes() {
            ".tif/.png slices or a slice pattern such as slice_%03d.png";
 }
 
-Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOptions>& raw) {
+Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOptions>& raw,
+                  const ProgressCallback& progress) {
     std::error_code ec;
     const std::string name = lower(path.filename().string());
     if (name.find('%') != std::string::npos) return loadImageStack(path);
     if (!fs::exists(path, ec)) fail(path, "", "cannot open: no such file");
     if (fs::is_directory(path, ec)) return loadImageStack(path);
-    if (name.ends_with(".nrrd") || name.ends_with(".nhdr")) return loadNrrd(path);
-    if (name.ends_with(".mhd") || name.ends_with(".mha")) return loadMetaImage(path);
-    if (name.ends_with(".nii") || name.ends_with(".nii.gz")) return loadNifti(path);
+    if (name.ends_with(".nrrd") || name.ends_with(".nhdr")) return loadNrrd(path, progress);
+    if (name.ends_with(".mhd") || name.ends_with(".mha")) return loadMetaImage(path, progress);
+    if (name.ends_with(".nii") || name.ends_with(".nii.gz")) return loadNifti(path, progress);
     if (name.ends_with(".slc")) return loadSlc(path);
-    if (name.ends_with(".dat")) return loadDat(path);
+    if (name.ends_with(".dat")) return loadDat(path, progress);
     if (name.ends_with(".tif") || name.ends_with(".tiff")) return loadImageStack(path);
     if (name.ends_with(".raw") || name.ends_with(".raw.gz")) {
         const std::optional<RawOptions> options = raw ? raw : rawOptionsFromFileName(path);
@@ -379,14 +385,15 @@ Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOpti
             fail(path, "",
                  "raw file without dims and type: give --raw-dims and --raw-type, or rename it like "
                  "name_256x256x128_uint8.raw (types: uint8, uint16, int16, float32)");
-        return loadRaw(path, *options);
+        return loadRaw(path, *options, progress);
     }
     fail(path, "", "unknown file type " + excerpt(path.extension().string()) + " (supported: " +
                        supportedVolumeTypes() + ")");
 }
 
-Volume loadVolumeInWorldFrame(const std::filesystem::path& path, const std::optional<RawOptions>& raw) {
-    Volume volume = loadVolume(path, raw);
+Volume loadVolumeInWorldFrame(const std::filesystem::path& path, const std::optional<RawOptions>& raw,
+                              const ProgressCallback& progress) {
+    Volume volume = loadVolume(path, raw, progress);
     try {
         return alignedToWorldAxes(std::move(volume));
     } catch (const LoadError& e) {   // it knows the volume by name only

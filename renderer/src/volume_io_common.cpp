@@ -373,6 +373,8 @@ std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm
         if (values.size() < (done + want) / voxelBytes) values.resize((done + want) / voxelBytes);
         decodeVoxels(chunk.data(), want / voxelBytes, type, src.endian, values.data() + done / voxelBytes);
         done += want;
+        if (src.progress && !src.progress(double(done) / double(needed)))
+            throw Cancelled(report.string() + ": reading cancelled");
     }
     if (src.exact && compressed && reader.read(chunk.data(), 1) == 1)
         fail(report, "data", streamName + " holds more than the expected " + expected);

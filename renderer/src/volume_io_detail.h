@@ -82,6 +82,7 @@ struct DataSource {
     Compression compression = Compression::None;
     bool exact = false; // trailing bytes are an error (raw files) instead of being ignored (NRRD)
     Endian endian = Endian::Little;
+    ProgressCallback progress; // the fraction of the voxels read, every chunk; false: throw Cancelled
 };
 
 // Reads dims/type voxels from `src` into floats. `report` is the file named in errors.

@@ -99,7 +99,7 @@ bool boolean(const fs::path& path, const MetaField& field) {
 
 } // namespace
 
-Volume loadMetaImage(const std::filesystem::path& path) {
+Volume loadMetaImage(const std::filesystem::path& path, const ProgressCallback& progress) {
     // 1. Header fields up to ElementDataFile.
     const MetaHeader header = readMetaHeader(path);
     const auto require = [&](const std::string& key, const std::string& name) -> const MetaField& {
@@ -173,6 +173,7 @@ Volume loadMetaImage(const std::filesystem::path& path) {
         fail(path, binary->key, "ASCII voxel data is not supported, expected True");
 
     DataSource src;
+    src.progress = progress;
     for (const char* key : {"binarydatabyteordermsb", "elementbyteordermsb"})
         if (const MetaField* msb = header.find(key))
             src.endian = boolean(path, *msb) ? Endian::Big : Endian::Little;

@@ -51,7 +51,7 @@ const NiftiType kNiftiTypes[] = {
 
 } // namespace
 
-Volume loadNifti(const std::filesystem::path& path) {
+Volume loadNifti(const std::filesystem::path& path, const ProgressCallback& progress) {
     // 1. The header, through zlib when the file is gzip-compressed (by name or by its 1f 8b magic).
     std::ifstream in = openFile(path, path, "");
     unsigned char magic[2] = {0, 0};
@@ -168,8 +168,10 @@ Volume loadNifti(const std::filesystem::path& path) {
     }
 
     // 7. Voxels after vox_offset (decompressed bytes for .nii.gz), then the data units.
-    DataSource src{
-        .file = path, .byteSkip = size_t(voxOffset), .endian = h.big ? Endian::Big : Endian::Little};
+    DataSource src{.file = path,
+                   .byteSkip = size_t(voxOffset),
+                   .endian = h.big ? Endian::Big : Endian::Little,
+                   .progress = progress};
     if (gzip) src.compression = Compression::Zlib;
     volume.values = readVoxels(path, src, volume.dims, volume.type);
     if (slope != 0 && !(slope == 1 && inter == 0))

@@ -175,7 +175,7 @@ Volume loadSlc(const std::filesystem::path& path) {
     return volume;
 }
 
-Volume loadDat(const std::filesystem::path& path) {
+Volume loadDat(const std::filesystem::path& path, const ProgressCallback& progress) {
     // 1. Three little-endian uint16 sizes, x first.
     std::ifstream in = openFile(path, path, "");
     unsigned char header[6];
@@ -189,7 +189,7 @@ Volume loadDat(const std::filesystem::path& path) {
     volume.type = VoxelType::U16;
     volume.dims = checkedDims(path, "dims", u16(0), u16(1), u16(2));
     // 2. uint16 voxels, exactly filling the rest of the file.
-    DataSource src{.file = path, .offset = 6, .exact = true, .endian = Endian::Little};
+    DataSource src{.file = path, .offset = 6, .exact = true, .endian = Endian::Little, .progress = progress};
     volume.values = readVoxels(path, src, volume.dims, volume.type);
     updateRange(volume);
     return volume;

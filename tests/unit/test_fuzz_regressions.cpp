@@ -28,10 +28,14 @@ std::string readFile(const fs::path& path) {
 
 // Loads `input` the way the parser's fuzz target does (see tests/fuzz/fuzz_<parser>.cpp).
 void loadAsFuzzTargetDoes(const std::string& parser, const fs::path& input, const fs::path& scratch) {
-    static const std::map<std::string, std::pair<const char*, Volume (*)(const fs::path&)>> kLoaders = {
-        {"nrrd", {"fuzz.nrrd", &loadNrrd}},  {"metaimage", {"fuzz.mha", &loadMetaImage}},
-        {"nifti", {"fuzz.nii", &loadNifti}}, {"slc", {"fuzz.slc", &loadSlc}},
-        {"dat", {"fuzz.dat", &loadDat}},     {"stack", {"fuzz.tif", &loadImageStack}},
+    using Load = std::function<Volume(const fs::path&)>;
+    static const std::map<std::string, std::pair<const char*, Load>> kLoaders = {
+        {"nrrd", {"fuzz.nrrd", [](const fs::path& p) { return loadNrrd(p); }}},
+        {"metaimage", {"fuzz.mha", [](const fs::path& p) { return loadMetaImage(p); }}},
+        {"nifti", {"fuzz.nii", [](const fs::path& p) { return loadNifti(p); }}},
+        {"slc", {"fuzz.slc", &loadSlc}},
+        {"dat", {"fuzz.dat", [](const fs::path& p) { return loadDat(p); }}},
+        {"stack", {"fuzz.tif", &loadImageStack}},
     };
     const std::string bytes = readFile(input);
     if (parser == "raw_name") {

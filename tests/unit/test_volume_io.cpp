@@ -202,6 +202,30 @@ TEST(RawLoad, BigEndianRoundTrip) {
     }
 }
 
+// Streamed formats report the share of the voxels read, every 64 KiB, up to 1; a callback that
+// returns false stops the read with Cancelled (the editor's Cancel), raw and gzip alike.
+TEST(RawLoad, ReportsProgressAndStopsWhenCancelled) {
+    const std::string data = rampBytes(size_t(64) * 64 * 64 * 2);   // 512 KiB of uint16: 8 chunks
+    writeFile(outDir() / "progress_64x64x64_uint16.raw", data);
+    writeFile(outDir() / "progress_64x64x64_uint16.raw.gz", gzipBytes(data));
+    for (const char* name : {"progress_64x64x64_uint16.raw", "progress_64x64x64_uint16.raw.gz"}) {
+        std::vector<double> seen;
+        const Volume v = loadVolume(outDir() / name, std::nullopt, [&](double f) {
+            seen.push_back(f);
+            return true;
+        });
+        EXPECT_EQ(v.voxelCount(), size_t(64) * 64 * 64) << name;
+        ASSERT_EQ(seen.size(), 8u) << name;
+        EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end())) << name;
+        EXPECT_DOUBLE_EQ(seen.front(), 0.125) << name;
+        EXPECT_DOUBLE_EQ(seen.back(), 1.0) << name;
+        int calls = 0;
+        EXPECT_THROW(loadVolume(outDir() / name, std::nullopt, [&](double f) { return ++calls, f < 0.5; }), Cancelled)
+            << name;
+        EXPECT_EQ(calls, 4) << name << ": the read stops at the first false";
+    }
+}
+
 TEST(RawLoad, GzipRawIsDetectedByMagicAndName) {
     const std::string data = rampBytes(4 * 3 * 2);
     writeFile(outDir() / "ramp_4x3x2_uint8.raw.gz", gzipBytes(data));

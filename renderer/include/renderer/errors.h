@@ -31,6 +31,12 @@ public:
         : std::runtime_error(stage + ": " + message) {}
 };
 
+// Work stopped because its ProgressCallback returned false (the user cancelled it): not a failure to report.
+class Cancelled : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
 // A request the renderer cannot honour (bad settings, empty volume, sizes out of range).
 class RenderError : public std::runtime_error {
 public:

@@ -9,10 +9,6 @@
 
 namespace renderer {
 
-// Called with the fraction done (0..1, non-decreasing) from the thread that called computeGradients,
-// between batches of slices. Return false to cancel.
-using ProgressCallback = std::function<bool(double fraction)>;
-
 // Gradients quantised to 3 x int16 per voxel: component = q / 32767 * scale. 6 bytes a voxel instead
 // of 12; the error is below scale / 65534 per component (about 1e-5 of the largest component).
 struct GradientField {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,10 @@ struct Histogram {
 
 // Whether `m` is a rotation (orthonormal columns, determinant +1), within 1e-6.
 bool isRotation(const glm::dmat3& m);
+
+// Long work (reading a volume, its gradients) calls this with the fraction done (0..1, non-decreasing),
+// from the thread doing the work, between chunks of it. Return false to cancel.
+using ProgressCallback = std::function<bool(double fraction)>;
 
 struct Volume {
     std::string name;                 // shown in the UI and in `info`; usually the file stem

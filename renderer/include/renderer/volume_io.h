@@ -25,18 +25,20 @@ struct RawOptions {
 // std::nullopt when the name does not follow that pattern.
 std::optional<RawOptions> rawOptionsFromFileName(const std::filesystem::path& path);
 
-Volume loadRaw(const std::filesystem::path& path, const RawOptions& options);
-Volume loadNrrd(const std::filesystem::path& path);
+// The loaders of formats whose voxels are streamed (raw, NRRD, MetaImage, NIfTI, .dat) report the
+// fraction of the voxels read to `progress` every 64 KiB; when it returns false they throw Cancelled.
+Volume loadRaw(const std::filesystem::path& path, const RawOptions& options, const ProgressCallback& progress = {});
+Volume loadNrrd(const std::filesystem::path& path, const ProgressCallback& progress = {});
 // MetaImage: .mha (data LOCAL) or .mhd with ElementDataFile; zlib-compressed data, ElementSpacing,
 // Offset and TransformMatrix (kept as Volume::directions).
-Volume loadMetaImage(const std::filesystem::path& path);
+Volume loadMetaImage(const std::filesystem::path& path, const ProgressCallback& progress = {});
 // NIfTI-1 single file (.nii, or gzip-compressed .nii.gz), either byte order; pixdim as spacing,
 // scl_slope/scl_inter applied to the values, the sform (else qform) as origin and directions.
-Volume loadNifti(const std::filesystem::path& path);
+Volume loadNifti(const std::filesystem::path& path, const ProgressCallback& progress = {});
 // VolVis SLC: 8-bit voxels, raw or run-length encoded slices.
 Volume loadSlc(const std::filesystem::path& path);
 // The .dat layout of the classic CT datasets: three little-endian uint16 dims, then uint16 voxels.
-Volume loadDat(const std::filesystem::path& path);
+Volume loadDat(const std::filesystem::path& path, const ProgressCallback& progress = {});
 // An image stack through OpenImageIO: a folder of slices (.tif, .tiff, .png; sorted by the number in
 // their names), a printf pattern ("slice_%03d.png", numbered from the lowest that exists) or a
 // multi-page TIFF. Slices must agree in size, channels (1) and pixel type (u8, u16, i16, f32).
@@ -44,11 +46,14 @@ Volume loadImageStack(const std::filesystem::path& pathOrPattern);
 
 // Picks the reader from the path: a folder or a name with '%' is an image stack; otherwise by the
 // extension (.nrrd, .nhdr, .mhd, .mha, .nii, .nii.gz, .slc, .dat, .tif, .tiff, .raw, .raw.gz); raw
-// files need their dims in the file name unless `raw` is given.
-Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOptions>& raw = std::nullopt);
+// files need their dims in the file name unless `raw` is given. `progress` as the loaders above (SLC and
+// image stacks report none).
+Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOptions>& raw = std::nullopt,
+                  const ProgressCallback& progress = {});
 // loadVolume, then alignedToWorldAxes: the volume as the tools draw it, in its file's world frame. A
 // LoadError from the alignment (axes too sheared to resample) names `path`.
-Volume loadVolumeInWorldFrame(const std::filesystem::path& path, const std::optional<RawOptions>& raw = std::nullopt);
+Volume loadVolumeInWorldFrame(const std::filesystem::path& path, const std::optional<RawOptions>& raw = std::nullopt,
+                              const ProgressCallback& progress = {});
 // The extensions loadVolume() knows, for messages and file dialogs: ".nrrd, .nhdr, ...".
 const char* supportedVolumeTypes();
 
