@@ -166,15 +166,23 @@ int runInfo(const std::string& path, const RawFlags& raw, bool gradients) {
         axesOnly.directions = d;
         const Volume aligned = alignedToWorldAxes(axesOnly);
         const glm::dmat3 left = aligned.directions;
-        const char* how = aligned.resampled ? "sheared: render and the editor resample the voxels onto the world "
-                                              "axes (trilinear)"
-                          : left == glm::dmat3(1.0) ? "in the file's world frame: the voxels are reordered"
+        std::string how = left == glm::dmat3(1.0)   ? "in the file's world frame: the voxels are reordered"
                           : glm::determinant(d) > 0 ? "in the file's world frame: the view turns with them"
                                                     : "in the file's world frame: x reversed, the view turns with them";
+        if (aligned.resampled) try {
+                const Volume grid = worldGrid(v);
+                char text[160];
+                std::snprintf(text, sizeof text, "%d x %d x %d at %g x %g x %g", grid.dims.x, grid.dims.y,
+                              grid.dims.z, grid.spacing.x, grid.spacing.y, grid.spacing.z);
+                how = std::string("sheared: render and the editor resample the voxels (trilinear) onto a grid along "
+                                  "the world axes, ") + text;
+            } catch (const LoadError& e) {
+                how = "sheared, and too far to resample: " + e.reason();
+            }
         // Axes a header rounded: alignment takes them as the orthonormal axes nearest them.
         const bool rounded = !aligned.resampled && !isRotation(d) && !isRotation(glm::dmat3(-d[0], d[1], d[2]));
         std::printf("  axes     x (%g, %g, %g)  y (%g, %g, %g)  z (%g, %g, %g)  (%s%s)\n",
-                    d[0].x, d[0].y, d[0].z, d[1].x, d[1].y, d[1].z, d[2].x, d[2].y, d[2].z, how,
+                    d[0].x, d[0].y, d[0].z, d[1].x, d[1].y, d[1].z, d[2].x, d[2].y, d[2].z, how.c_str(),
                     rounded ? "; rounded cosines, not quite orthonormal: drawn as the orthonormal axes nearest them"
                             : "");
     }

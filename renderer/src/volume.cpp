@@ -176,20 +176,25 @@ Volume alignedToWorldAxes(Volume volume) {
     return resampledOntoWorldAxes(volume);
 }
 
-Volume resampledOntoWorldAxes(const Volume& volume) {
-    // Columns: one index step along each axis, in the world.
-    const glm::dmat3 toWorld = volume.directions * glm::dmat3(glm::dvec3(volume.spacing.x, 0, 0),
-                                                              glm::dvec3(0, volume.spacing.y, 0),
-                                                              glm::dvec3(0, 0, volume.spacing.z));
+namespace {
+
+// One index step along each of `volume`'s axes, in the world (columns).
+glm::dmat3 indexStepsInWorld(const Volume& volume) {
+    return volume.directions * glm::dmat3(glm::dvec3(volume.spacing.x, 0, 0), glm::dvec3(0, volume.spacing.y, 0),
+                                          glm::dvec3(0, 0, volume.spacing.z));
+}
+
+} // namespace
+
+Volume worldGrid(const Volume& volume) {
+    const glm::dmat3 toWorld = indexStepsInWorld(volume);
     const double det = glm::determinant(toWorld);
     if (!(std::abs(det) > 1e-9 * volume.spacing.x * volume.spacing.y * volume.spacing.z))
         throw LoadError(volume.name, "directions", "the axes are parallel or not finite: no volume to resample");
-    const glm::dmat3 fromWorld = glm::inverse(toWorld);
     Volume out;
     out.name = volume.name;
     out.type = volume.type;
     out.resampled = true;
-    if (volume.values.empty()) return out;   // axes without voxels (info's question): none to resample
     const glm::dvec3 last(glm::max(volume.dims - 1, 0));
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
     for (int corner = 0; corner < 8; ++corner) {
@@ -213,6 +218,17 @@ Volume resampledOntoWorldAxes(const Volume& volume) {
                             std::to_string(out.dims.x) + " x " + std::to_string(out.dims.y) + " x " +
                             std::to_string(out.dims.z) + " voxels, more than " + std::to_string(kMaxGrowth) +
                             " times the file's");
+    return out;
+}
+
+Volume resampledOntoWorldAxes(const Volume& volume) {
+    Volume out = worldGrid(volume);
+    if (volume.values.empty()) {   // axes only (info's question): no voxels to resample
+        out.dims = glm::ivec3(0);
+        return out;
+    }
+    const glm::dmat3 fromWorld = glm::inverse(indexStepsInWorld(volume));
+    const glm::dvec3 last(glm::max(volume.dims - 1, 0));
     // Trilinear in the file's index space; where the grid reaches past the scan, the data's minimum (air).
     const float outside = volume.range.lo;
     out.values.assign(out.voxelCount(), outside);

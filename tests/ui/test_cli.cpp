@@ -212,7 +212,9 @@ TEST(Cli, ShearedAxesAreResampledSoTheVolumeDrawsWhereItsFileSays) {
     EXPECT_LT(resampled.rmse, 0.01);
     EXPECT_GT(ignored.rmse, 5.0 * resampled.rmse) << "the tilt must show when it is left out";
     EXPECT_THAT(splatlab("info \"" + shearedFile.string() + "\"").output,
-                HasSubstr("sheared: render and the editor resample the voxels onto the world axes"));
+                HasSubstr("sheared: render and the editor resample the voxels (trilinear) onto a grid along the "
+                          "world axes, " + std::to_string(grid.dims.x) + " x " + std::to_string(grid.dims.y) +
+                          " x " + std::to_string(grid.dims.z)));
 }
 
 TEST(Cli, RenderWritesTheHeatmapAndPrintsGpuCountersWithShadingAndSheets) {

@@ -84,6 +84,9 @@ Volume alignedToWorldAxes(Volume volume);
 // the data's minimum (air in CT). Throws LoadError naming the volume where the axes are degenerate or
 // the grid would hold more than 8 times the file's voxels (at least 1 M; at most kMaxVoxels).
 Volume resampledOntoWorldAxes(const Volume& volume);
+// The grid resampledOntoWorldAxes puts `volume` on: dims, spacing and origin, no values (what `info`
+// prints); throws as it does.
+Volume worldGrid(const Volume& volume);
 
 // The volume at half resolution, for the editor's preview while the view moves (8 times fewer splats):
 // voxel i is the mean of the finite values of fine voxels 2i and 2i + 1 on each axis (NaN where none
