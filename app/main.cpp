@@ -486,13 +486,14 @@ void requireFinite(const Image& image, const std::string& path) {
 
 int runCompare(const std::string& a, const std::string& b, const std::string& diff, double gain) {
     if (!(gain > 0.0 && std::isfinite(gain))) throw CLI::ValidationError("--gain", "must be a finite number > 0");
-    if (!diff.empty())
+    if (!diff.empty()) {
         for (const std::string& input : {a, b}) {
             std::error_code ec;
             if (std::filesystem::equivalent(diff, input, ec))
                 throw CLI::ValidationError("--diff", "'" + diff + "' is an image being compared; name another file");
         }
-    if (!diff.empty()) checkImageWritable(diff);
+        checkImageWritable(diff);
+    }
     const Image image = readImage(a), reference = readImage(b);
     if (image.width != reference.width || image.height != reference.height)
         throw LoadError(a, "", std::to_string(image.width) + "x" + std::to_string(image.height) + " px, but " + b +
@@ -501,12 +502,7 @@ int runCompare(const std::string& a, const std::string& b, const std::string& di
     requireFinite(image, a);
     requireFinite(reference, b);
     // .png holds the view composited over the background in 8 bits; .exr and .tif premultiplied float RGBA.
-    const auto composited = [](const std::string& path) {
-        std::string ext = std::filesystem::path(path).extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-        return ext == ".png" || ext == ".jpg" || ext == ".jpeg";
-    };
-    if (composited(a) != composited(b))
+    if (isFloatImageFormat(a) != isFloatImageFormat(b))
         std::fprintf(stderr,
                      "note: one image is 8-bit composited over its background (.png), the other premultiplied "
                      "float RGBA: their alpha and colours differ by more than the renderers do; compare two of "

@@ -14,7 +14,7 @@
 
 namespace renderer {
 
-static bool isFloatFormat(const std::filesystem::path& path) {
+bool isFloatImageFormat(const std::filesystem::path& path) {
     auto ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
     return ext == ".exr" || ext == ".hdr" || ext == ".tif" || ext == ".tiff" || ext == ".pfm";
@@ -25,7 +25,7 @@ static void writePixels(OIIO::ImageOutput& out, const Image& image, const std::f
                         const std::filesystem::path& path, const float background[3]) {
     const size_t n = size_t(image.width) * size_t(image.height);
     bool ok;
-    if (isFloatFormat(path)) {
+    if (isFloatImageFormat(path)) {
         OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::FLOAT);
         ok = out.open(file.string(), spec) && out.write_image(OIIO::TypeDesc::FLOAT, image.rgba.data());
     } else {

@@ -211,13 +211,14 @@ Volume worldGrid(const Volume& volume) {
         out.dims[k] = int(std::floor((hi[k] - lo[k]) / step + 1e-6)) + 1;
     }
     out.origin = lo;
-    constexpr size_t kMaxGrowth = 8;
-    if (out.voxelCount() > std::min(kMaxVoxels, kMaxGrowth * std::max<size_t>(volume.voxelCount(), 1 << 17)))
+    // At most 8 times the file's voxels (at least 1 M), and never more than a loader accepts.
+    const size_t limit = std::min(kMaxVoxels, 8 * std::max<size_t>(volume.voxelCount(), 1 << 17));
+    if (out.voxelCount() > limit)
         throw LoadError(volume.name, "directions",
                         "the axes are sheared so far that the world-aligned grid holding the volume would have " +
                             std::to_string(out.dims.x) + " x " + std::to_string(out.dims.y) + " x " +
-                            std::to_string(out.dims.z) + " voxels, more than " + std::to_string(kMaxGrowth) +
-                            " times the file's");
+                            std::to_string(out.dims.z) + " voxels, more than the " + std::to_string(limit) +
+                            " allowed (8 times the file's)");
     return out;
 }
 

@@ -17,6 +17,9 @@ struct Image {
     const float* pixel(int x, int y) const { return &rgba[(size_t(y) * size_t(width) + size_t(x)) * 4]; }
 };
 
+// Whether writeImage keeps `path`'s pixels as float premultiplied RGBA (.exr, .hdr, .tif, .tiff, .pfm)
+// rather than compositing them over a background in 8 bits (.png and the rest).
+bool isFloatImageFormat(const std::filesystem::path& path);
 // PNG/JPEG etc.: composited over `background` (linear RGB), 8-bit. EXR/HDR/TIFF float: raw RGBA.
 void writeImage(const Image& image, const std::filesystem::path& path, const float background[3] = nullptr);
 Image readImage(const std::filesystem::path& path);
