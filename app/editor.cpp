@@ -173,7 +173,7 @@ struct LoadedVolume {
 
 // Opening a volume: read, aligned to its world axes, its histogram taken and its scene classified on the
 // worker, since a large scan takes seconds; the UI shows the progress modal meanwhile. Cancel stops the
-// reading (of the streamed formats) at once, the rest between steps. The work holds its own copies: the
+// reading at once (volume_io.h), the rest between steps. The work holds its own copies: the
 // job's members are gone before the base joins the thread.
 struct VolumeJob : WorkerJob<LoadedVolume> {
     std::filesystem::path path;

@@ -370,15 +370,15 @@ Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOpti
                   const ProgressCallback& progress) {
     std::error_code ec;
     const std::string name = lower(path.filename().string());
-    if (name.find('%') != std::string::npos) return loadImageStack(path);
+    if (name.find('%') != std::string::npos) return loadImageStack(path, progress);
     if (!fs::exists(path, ec)) fail(path, "", "cannot open: no such file");
-    if (fs::is_directory(path, ec)) return loadImageStack(path);
+    if (fs::is_directory(path, ec)) return loadImageStack(path, progress);
     if (name.ends_with(".nrrd") || name.ends_with(".nhdr")) return loadNrrd(path, progress);
     if (name.ends_with(".mhd") || name.ends_with(".mha")) return loadMetaImage(path, progress);
     if (name.ends_with(".nii") || name.ends_with(".nii.gz")) return loadNifti(path, progress);
-    if (name.ends_with(".slc")) return loadSlc(path);
+    if (name.ends_with(".slc")) return loadSlc(path, progress);
     if (name.ends_with(".dat")) return loadDat(path, progress);
-    if (name.ends_with(".tif") || name.ends_with(".tiff")) return loadImageStack(path);
+    if (name.ends_with(".tif") || name.ends_with(".tiff")) return loadImageStack(path, progress);
     if (name.ends_with(".raw") || name.ends_with(".raw.gz")) {
         const std::optional<RawOptions> options = raw ? raw : rawOptionsFromFileName(path);
         if (!options)

@@ -290,6 +290,10 @@ void decodeVoxels(const unsigned char* bytes, size_t count, VoxelType type, Endi
     }
 }
 
+void reportProgress(const ProgressCallback& progress, double fraction, const fs::path& report) {
+    if (progress && !progress(fraction)) throw Cancelled(report.string() + ": reading cancelled");
+}
+
 std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm::ivec3 dims,
                               VoxelType type) {
     const size_t count = size_t(dims.x) * size_t(dims.y) * size_t(dims.z); // checkedDims() bounded it
@@ -373,8 +377,7 @@ std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm
         if (values.size() < (done + want) / voxelBytes) values.resize((done + want) / voxelBytes);
         decodeVoxels(chunk.data(), want / voxelBytes, type, src.endian, values.data() + done / voxelBytes);
         done += want;
-        if (src.progress && !src.progress(double(done) / double(needed)))
-            throw Cancelled(report.string() + ": reading cancelled");
+        reportProgress(src.progress, double(done) / double(needed), report);
     }
     if (src.exact && compressed && reader.read(chunk.data(), 1) == 1)
         fail(report, "data", streamName + " holds more than the expected " + expected);

@@ -85,6 +85,9 @@ struct DataSource {
     ProgressCallback progress; // the fraction of the voxels read, every chunk; false: throw Cancelled
 };
 
+// Tells `progress` (if any) the fraction done; throws Cancelled naming `report` when it says stop.
+void reportProgress(const ProgressCallback& progress, double fraction, const fs::path& report);
+
 // Reads dims/type voxels from `src` into floats. `report` is the file named in errors.
 std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm::ivec3 dims, VoxelType type);
 

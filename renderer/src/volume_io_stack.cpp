@@ -185,7 +185,7 @@ std::unique_ptr<OIIO::ImageInput> openImage(const fs::path& report, const fs::pa
 
 } // namespace
 
-Volume loadImageStack(const std::filesystem::path& pathOrPattern) {
+Volume loadImageStack(const std::filesystem::path& pathOrPattern, const ProgressCallback& progress) {
     StackBuilder stack;
     stack.report = pathOrPattern;
     std::error_code ec;
@@ -217,11 +217,12 @@ Volume loadImageStack(const std::filesystem::path& pathOrPattern) {
     if (files.size() > size_t(kMaxSlices))
         fail(pathOrPattern, "slices",
              std::to_string(files.size()) + " files, more than " + std::to_string(kMaxSlices));
-    for (const fs::path& file : files) {
-        const std::string where = "slice '" + file.filename().string() + "'";
-        auto in = openImage(pathOrPattern, file, where);
-        stack.fileBytes += fileSize(file, pathOrPattern, "slice");
+    for (size_t k = 0; k < files.size(); ++k) {
+        const std::string where = "slice '" + files[k].filename().string() + "'";
+        auto in = openImage(pathOrPattern, files[k], where);
+        stack.fileBytes += fileSize(files[k], pathOrPattern, "slice");
         stack.add(*in, where);
+        reportProgress(progress, double(k + 1) / double(files.size()), pathOrPattern);
     }
     return stack.finish();
 }

@@ -113,7 +113,7 @@ void decodeSlcSlice(const fs::path& path, int z, std::string_view in, float* out
 
 } // namespace
 
-Volume loadSlc(const std::filesystem::path& path) {
+Volume loadSlc(const std::filesystem::path& path, const ProgressCallback& progress) {
     const std::string bytes = readSmallFile(path, kMaxSlcBytes);
     SlcCursor in(path, bytes);
 
@@ -170,6 +170,7 @@ Volume loadSlc(const std::filesystem::path& path) {
             for (size_t i = 0; i < plane; ++i)
                 out[i] = float(static_cast<unsigned char>(data[i]));
         }
+        reportProgress(progress, double(slice + 1) / double(volume.dims.z), path);
     }
     updateRange(volume);
     return volume;

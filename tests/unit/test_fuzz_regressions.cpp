@@ -33,9 +33,9 @@ void loadAsFuzzTargetDoes(const std::string& parser, const fs::path& input, cons
         {"nrrd", {"fuzz.nrrd", [](const fs::path& p) { return loadNrrd(p); }}},
         {"metaimage", {"fuzz.mha", [](const fs::path& p) { return loadMetaImage(p); }}},
         {"nifti", {"fuzz.nii", [](const fs::path& p) { return loadNifti(p); }}},
-        {"slc", {"fuzz.slc", &loadSlc}},
+        {"slc", {"fuzz.slc", [](const fs::path& p) { return loadSlc(p); }}},
         {"dat", {"fuzz.dat", [](const fs::path& p) { return loadDat(p); }}},
-        {"stack", {"fuzz.tif", &loadImageStack}},
+        {"stack", {"fuzz.tif", [](const fs::path& p) { return loadImageStack(p); }}},
     };
     const std::string bytes = readFile(input);
     if (parser == "raw_name") {

@@ -355,6 +355,29 @@ TEST(ImageStackLoad, FolderOfPngSlicesInNumberOrder) {
     EXPECT_EQ(v.at(1, 0, 2), 201.0f);
 }
 
+// SLC files report a slice at a time, folders of slices a file at a time; a callback that says stop
+// ends the read with Cancelled (the editor's Cancel).
+TEST(ImageStackLoad, SlicesAndSlcReportProgressAndStopWhenCancelled) {
+    const fs::path dir = outDir() / "progress_stack";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    for (int z = 0; z < 4; ++z)
+        writeSlice(dir / ("s" + std::to_string(z) + ".png"), 3, 2, OIIO::TypeDesc::UINT8, std::vector<uint8_t>(6, 7));
+    writeFile(outDir() / "progress.slc",
+              slcFile({4, 2, 4}, 0, {rampBytes(8), rampBytes(8), rampBytes(8), rampBytes(8)}));
+    for (const fs::path& path : {dir, outDir() / "progress.slc"}) {
+        std::vector<double> seen;
+        loadVolume(path, std::nullopt, [&](double f) {
+            seen.push_back(f);
+            return true;
+        });
+        EXPECT_EQ(seen, (std::vector<double>{0.25, 0.5, 0.75, 1.0})) << path;
+        int calls = 0;
+        EXPECT_THROW(loadVolume(path, std::nullopt, [&](double f) { return ++calls, f < 0.5; }), Cancelled) << path;
+        EXPECT_EQ(calls, 2) << path;
+    }
+}
+
 TEST(ImageStackLoad, NumberedTiffPatternAndMultiPageTiff) {
     const fs::path dir = outDir() / "tif_pattern";
     fs::remove_all(dir);

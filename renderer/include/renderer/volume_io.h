@@ -25,8 +25,9 @@ struct RawOptions {
 // std::nullopt when the name does not follow that pattern.
 std::optional<RawOptions> rawOptionsFromFileName(const std::filesystem::path& path);
 
-// The loaders of formats whose voxels are streamed (raw, NRRD, MetaImage, NIfTI, .dat) report the
-// fraction of the voxels read to `progress` every 64 KiB; when it returns false they throw Cancelled.
+// Every loader reports the fraction read to `progress` (streamed formats every 64 KiB, SLC every slice,
+// image stacks every file; a multi-page TIFF, whose page count is unknown until read, not at all); when
+// it returns false the loader throws Cancelled.
 Volume loadRaw(const std::filesystem::path& path, const RawOptions& options, const ProgressCallback& progress = {});
 Volume loadNrrd(const std::filesystem::path& path, const ProgressCallback& progress = {});
 // MetaImage: .mha (data LOCAL) or .mhd with ElementDataFile; zlib-compressed data, ElementSpacing,
@@ -36,18 +37,17 @@ Volume loadMetaImage(const std::filesystem::path& path, const ProgressCallback& 
 // scl_slope/scl_inter applied to the values, the sform (else qform) as origin and directions.
 Volume loadNifti(const std::filesystem::path& path, const ProgressCallback& progress = {});
 // VolVis SLC: 8-bit voxels, raw or run-length encoded slices.
-Volume loadSlc(const std::filesystem::path& path);
+Volume loadSlc(const std::filesystem::path& path, const ProgressCallback& progress = {});
 // The .dat layout of the classic CT datasets: three little-endian uint16 dims, then uint16 voxels.
 Volume loadDat(const std::filesystem::path& path, const ProgressCallback& progress = {});
 // An image stack through OpenImageIO: a folder of slices (.tif, .tiff, .png; sorted by the number in
 // their names), a printf pattern ("slice_%03d.png", numbered from the lowest that exists) or a
 // multi-page TIFF. Slices must agree in size, channels (1) and pixel type (u8, u16, i16, f32).
-Volume loadImageStack(const std::filesystem::path& pathOrPattern);
+Volume loadImageStack(const std::filesystem::path& pathOrPattern, const ProgressCallback& progress = {});
 
 // Picks the reader from the path: a folder or a name with '%' is an image stack; otherwise by the
 // extension (.nrrd, .nhdr, .mhd, .mha, .nii, .nii.gz, .slc, .dat, .tif, .tiff, .raw, .raw.gz); raw
-// files need their dims in the file name unless `raw` is given. `progress` as the loaders above (SLC and
-// image stacks report none).
+// files need their dims in the file name unless `raw` is given. `progress` as the loaders above.
 Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOptions>& raw = std::nullopt,
                   const ProgressCallback& progress = {});
 // loadVolume, then alignedToWorldAxes: the volume as the tools draw it, in its file's world frame. A
