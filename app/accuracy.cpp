@@ -77,7 +77,7 @@ bool selected(const AccuracyArgs& args, const std::string& name) {
 }
 
 // 1. Hard case x filter mode.
-void hardCaseTable(Report& r, const AccuracyArgs& args) {
+void hardCaseTable(Report& r, const AccuracyArgs& args, const std::vector<HardCase>& cases) {
     r.md << "## Hard cases\n\n"
             "PSNR in dB (RMSE in brackets) of the CPU splat image against the ground truth, 48x48 px, "
             "splat-every-sample "
@@ -86,7 +86,7 @@ void hardCaseTable(Report& r, const AccuracyArgs& args) {
             "(PNG over black).\n\n"
             "| case | what it stresses | ground truth | EWA | reconstruction | low-pass | adaptive |\n"
             "|---|---|---|---|---|---|---|\n";
-    for (const HardCase& hc : hardCases(1)) {
+    for (const HardCase& hc : cases) {
         if (!selected(args, hc.name))
             continue;
         const SplatScene scene = buildSplatScene(hc.volume, hc.tf);
@@ -172,7 +172,7 @@ void claimsTable(Report& r, const AccuracyArgs& args) {
 }
 
 // 3. Filter order: the minified hard cases at falling density.
-void densityTable(Report& r, const AccuracyArgs& args) {
+void densityTable(Report& r, const AccuracyArgs& args, const std::vector<HardCase>& cases) {
     r.md << "## Filtering each footprint vs filtering the image\n\n"
             "EWA band-limits each footprint before compositing (001 eq. 8); the ground truth composites and "
             "then "
@@ -185,7 +185,7 @@ void densityTable(Report& r, const AccuracyArgs& args) {
             "volume optically thin, where the assumptions hold. PSNR in dB:\n\n"
             "| case | density | ground truth mean / max alpha | EWA | reconstruction | low-pass "
             "|\n|---|---|---|---|---|---|\n";
-    for (const HardCase& hc : hardCases(1)) {
+    for (const HardCase& hc : cases) {
         if (hc.name != "far-away" && hc.name != "zebra" && hc.name != "grazing-checkerboard") continue;
         if (!selected(args, hc.name))
             continue;
@@ -275,12 +275,11 @@ int runAccuracy(const AccuracyArgs& a) {
     for (double k : a.kernelScales)
         if (!(k > 0.05 && k <= 10))
             throw CLI::ValidationError("--kernel-scales", "each must be in (0.05, 10]");
-    std::vector<std::string> names;
-    for (const HardCase& hc : hardCases(1)) names.push_back(hc.name);
+    const std::vector<HardCase> cases = hardCases(1);   // built once: the tables below share them
     for (const std::string& name : a.only)
-        if (std::find(names.begin(), names.end(), name) == names.end()) {
+        if (std::none_of(cases.begin(), cases.end(), [&](const HardCase& hc) { return hc.name == name; })) {
             std::string known;
-            for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+            for (const HardCase& hc : cases) known += (known.empty() ? "" : ", ") + hc.name;
             throw CLI::ValidationError("--only", "no hard case '" + name + "' (known: " + known + ")");
         }
     const auto t0 = std::chrono::steady_clock::now();
@@ -291,9 +290,9 @@ int runAccuracy(const AccuracyArgs& a) {
     fs::create_directories(r.images);
     std::ostringstream body;
     std::swap(r.md, body);
-    hardCaseTable(r, a);
+    hardCaseTable(r, a, cases);
     claimsTable(r, a);
-    densityTable(r, a);
+    densityTable(r, a, cases);
     kernelScaleTable(r, a);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::ostringstream md;

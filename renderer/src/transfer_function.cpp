@@ -119,12 +119,15 @@ TransferFunction transferFunctionFromJson(const nlohmann::json& j, const std::st
     tf.name = defaultName;
     try {
         if (!j.is_object()) throw LoadError(source, "", "expected a JSON object");
-        if (j.contains("version") && (!j["version"].is_number_integer() || j["version"].get<long long>() < 1))
-            throw LoadError(source, "version", j["version"].dump() + ", expected a whole number >= 1");
-        if (j.contains("version") && j["version"].get<long long>() > kTransferFunctionVersion)
-            throw LoadError(source, "version",
-                            j["version"].dump() + " is newer than this SplatLab reads (" +
-                                std::to_string(kTransferFunctionVersion) + ")");
+        if (j.contains("version")) {
+            const nlohmann::json& version = j["version"];
+            if (!version.is_number_integer() || version.get<long long>() < 1)
+                throw LoadError(source, "version", version.dump() + ", expected a whole number >= 1");
+            if (version.get<long long>() > kTransferFunctionVersion)
+                throw LoadError(source, "version",
+                                version.dump() + " is newer than this SplatLab reads (" +
+                                    std::to_string(kTransferFunctionVersion) + ")");
+        }
         if (j.contains("name")) tf.name = j.at("name").get<std::string>();
         if (!j.contains("points") || !j["points"].is_array())
             throw LoadError(source, "points", "missing, expected an array of control points");
