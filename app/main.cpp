@@ -429,7 +429,9 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
             else
                 std::printf("  %llu fragments passed (all passes)\n", (unsigned long long)gl.stats().fragments);
         }
-        std::printf("  %s, %.2f GPU bytes per voxel\n", primitiveName(gl.stats()).c_str(), double(gl.sceneBytes()) / double(s.scene.classes.size()));
+        std::printf("  %s, %.2f GPU bytes per voxel (the scene), %.1f MiB more for the frame's passes\n",
+                    primitiveName(gl.stats()).c_str(), double(gl.sceneBytes()) / double(s.scene.classes.size()),
+                    double(gl.workingBytes()) / (1024.0 * 1024.0));
         if (const std::string splits = tileSplitsText(gl.stats()); !splits.empty()) std::printf("  %s\n", splits.c_str());
     }
     writeImage(image, a.out, s.background.data());

@@ -1910,8 +1910,22 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         const bool occlusion = variant & kOcclusion;
         uint32_t chunk = occlusion ? uint32_t(occlusionSlices(settings))
                                    : (g.listChunkSlicesSet ? g.listChunkSlicesSet : g.listChunkSlices);
-        const size_t binBytes =
-            size_t(tileCount) * std::min(occlusion ? uint32_t(maxOcclusionChunk(settings)) : chunk, slices) * 4;
+        const uint32_t maxChunk = std::min(occlusion ? uint32_t(maxOcclusionChunk(settings)) : chunk, slices);
+        const size_t binBytes = size_t(tileCount) * maxChunk * 4;
+        // Records are numbered afresh in each part of a chunk, so they need room for the most splats any
+        // maxChunk adjacent slices submit, not the frame's (a 512 x 512 x 400 scan: 120 MB, not 1.9 GB).
+        uint64_t chunkSplats = 0;
+        {
+            std::vector<uint64_t> inSlice(slices, 0);
+            for (uint32_t slice = 0; slice < slices; ++slice)
+                for (uint32_t r = axis.sliceRuns[slice]; r < axis.sliceRuns[slice + 1]; ++r)
+                    inSlice[slice] += active[axis.buckets[r]] ? axis.voxels[r] : 0;
+            uint64_t window = 0;
+            for (uint32_t slice = 0; slice < slices; ++slice) {
+                window += inSlice[slice] - (slice >= maxChunk ? inSlice[slice - maxChunk] : 0);
+                chunkSplats = std::max(chunkSplats, window);
+            }
+        }
         bool anyOpaque = false;   // occlusion: whether the map has an opaque tile yet
         GLuint segments = 1;      // workgroups a run is dealt to in the record pass (more where a loop limit cut one)
         const uint32_t partSlices = earlyTermination ? uint32_t(refresh) : 1;
@@ -1919,7 +1933,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
             k0 += chunk;
             if (occlusion) chunk = uint32_t(nextOcclusionChunk(settings, int(k0), int(chunk), anyOpaque));
         };
-        Gl::ensureBuffer(g.tileSplats, g.tileSplatBytes, std::max<uint64_t>(submitted, 1) * recordBytes);
+        Gl::ensureBuffer(g.tileSplats, g.tileSplatBytes, std::max<uint64_t>(chunkSplats, 1) * recordBytes);
         Gl::ensureBuffer(g.tileBins, g.tileBinBytes, binBytes);
         Gl::ensureBuffer(g.tileState, g.tileStateBytes, (4 + size_t(tileCount)) * 4);
         Gl::ensureBuffer(g.tileBusy, g.tileBusyBytes, (4 + size_t(tileCount)) * 4);
@@ -2363,6 +2377,11 @@ unsigned SplatRenderer::displayTexture(const float background[3], bool heatmap) 
 }
 
 uint64_t SplatRenderer::sceneBytes() const { return m_gl->sceneBytes; }
+uint64_t SplatRenderer::workingBytes() const {
+    const Gl& g = *m_gl;
+    return g.tileSplatBytes + g.tileBinBytes + g.tileStateBytes + g.tileListBytes + g.tileBusyBytes +
+           g.chunkStartMapBytes + g.savedCounterBytes;
+}
 
 void SplatRenderer::setMemoryLimit(uint64_t bytes) { m_gl->memoryLimit = bytes; }
 void SplatRenderer::setTexelBufferLimit(uint64_t texels) { m_gl->texelLimit = texels; }

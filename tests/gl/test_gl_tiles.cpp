@@ -451,6 +451,23 @@ TEST_F(GlTest, ListChunksOfAnySizeGiveTheCpuOraclesImage) {
     }
 }
 
+TEST_F(GlTest, TiledFramesHoldRecordsForAChunkNotForTheWholeFrame) {
+    // Records are numbered afresh in each chunk: in chunks of 4 of 40 slices, the frame's working buffers
+    // (records, lists, bins) take far less than records for every splat would (48 bytes each), and the
+    // image is the oracle's. Sized for the frame, the records alone took 1.25 times that.
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(40), ramp());
+    const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 35, .elevationDeg = 25}, scene.centre, scene.radius, 64, 56);
+    SplatRenderer r;
+    r.setScene(scene);
+    r.setListChunkSlices(4);
+    const SplatSettings s = tiled(Compositing::XRay);
+    r.render(plane, s);
+    const uint64_t allRecords = r.stats().splatsDrawn * 48;
+    ASSERT_GT(allRecords, 1000000u);
+    EXPECT_LT(r.workingBytes(), allRecords / 2);
+    EXPECT_IMAGES_CLOSE(r.readback(), renderReference(scene, plane, s), kGlVsCpu, "gl_tiles_chunk_records");
+}
+
 TEST_F(GlTest, ChunksWhoseRecordsDoNotFitGoInPartsToo) {
     // The scatter reads the records through a texel buffer too, 3 texels a splat against 2 an entry.
     // Footprints of 0.06 px (reconstruction only, far away) touch one tile each, so the records need more

@@ -96,6 +96,9 @@ public:
     const FrameStats& stats() const { return m_stats; }
     // Bytes of GPU memory the scene holds (textures and buffers), for the bytes-per-voxel budget.
     uint64_t sceneBytes() const;
+    // Bytes of GPU memory tiled frames hold beyond the scene: records, lists, bins and tile state, sized
+    // for the largest chunk so far (they grow, never shrink).
+    uint64_t workingBytes() const;
     // Caps the GPU memory setScene() may use, in bytes (0: no cap beyond what the driver reports). Keeps
     // room for other applications, and lets tests take the out-of-memory path without exhausting a GPU.
     void setMemoryLimit(uint64_t bytes);
