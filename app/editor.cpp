@@ -512,6 +512,9 @@ int runEditor(const EditorOptions& options) {
                                           : splats ? splats->stats() : renderer::FrameStats{},
                                  .volume = doc.volume ? &*doc.volume : nullptr,
                                  .visibleSplats = (preview ? doc.preview->scene : doc.scene).visibleCount(),
+                                 .sceneBytes = preview ? doc.preview->splats.sceneBytes() : splats ? splats->sceneBytes() : 0,
+                                 .workingBytes = preview ? doc.preview->splats.workingBytes()
+                                                 : splats ? splats->workingBytes() : 0,
                                  .glRenderer = glRenderer});
          }},
         {"Performance", "bottom", [&] { ui::drawPerformancePanel(state, perfHistory, perfContext); }},

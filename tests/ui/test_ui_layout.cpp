@@ -604,6 +604,8 @@ TEST_F(ImGuiNull, PanelTextFitsInSmallAndLargeWindows) {
     stats.glRenderer = "llvmpipe (LLVM 15.0.6, 256 bits)";
     stats.frame.splatsDrawn = 32327;
     stats.frame.gpuMs = 47.1;
+    stats.sceneBytes = 1284310;
+    stats.workingBytes = 29465100;
     ui::PerfHistory history;
     for (uint64_t k = 1; k <= 12; ++k) {   // renders with times, so the chart and the summary are drawn
         renderer::FrameStats f;
@@ -635,6 +637,30 @@ TEST_F(ImGuiNull, PanelTextFitsInSmallAndLargeWindows) {
 }
 
 // == Stats
+
+// The Stats panel gives the GPU memory of the scene (bytes a voxel) and of the tiled passes' buffers.
+TEST_F(ImGuiNull, StatsPanelGivesTheGpuMemoryOfTheSceneAndThePasses) {
+    renderer::Volume volume;
+    volume.name = "headsq";
+    volume.dims = {64, 64, 93};
+    ui::StatsView stats;
+    stats.volume = &volume;
+    windowWidth = 955;
+    auto text = [&] {
+        std::string captured;
+        frame([&] {
+            ImGui::LogToBuffer();
+            ui::drawStatsPanel(stats);
+            captured = ImGui::GetCurrentContext()->LogBuffer.c_str();
+            ImGui::LogFinish();
+        });
+        return captured;
+    };
+    EXPECT_THAT(text(), testing::Not(testing::HasSubstr("memory"))) << "nothing rendered yet";
+    stats.sceneBytes = 921846;      // 2.42 bytes for each of the 380,928 voxels
+    stats.workingBytes = 29465100;
+    EXPECT_THAT(text(), testing::HasSubstr("memory  scene 2.42 bytes a voxel (0.9 MiB)\n        passes 28.1 MiB"));
+}
 
 // The Stats panel says how the file's axes are drawn: nothing for the world's own axes, the angle the
 // view turns by for oblique ones, and that sheared ones are resampled (or not applied, unaligned).

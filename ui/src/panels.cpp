@@ -366,6 +366,14 @@ void drawStatsPanel(const StatsView& stats) {
     textWrapped("upload  %.1f KiB", double(f.frameUploadBytes) / 1024.0);
     hint("Bytes this frame cost to upload, since the render before it: a TF edit, the 64 KiB table;\n"
          "a turn past a diagonal, that axis's lists; a new scene, all of it; otherwise nothing");
+    if (stats.sceneBytes > 0 && stats.volume && stats.volume->voxelCount() > 0) {
+        constexpr double kMiB = 1024.0 * 1024.0;
+        textWrapped("memory  scene %.2f bytes a voxel (%.1f MiB)",
+                    double(stats.sceneBytes) / double(stats.volume->voxelCount()), double(stats.sceneBytes) / kMiB);
+        textWrapped("        passes %.1f MiB", double(stats.workingBytes) / kMiB);
+        hint("GPU memory: the scene (classes, the view axis's lists, gradients) and the buffers tiled\n"
+             "frames work in (records and lists of the largest chunk of slices so far)");
+    }
     textWrapped("drawn as  %s", renderer::primitiveName(f).c_str());
     hint("Rasterised, each slice takes point sprites where its footprints fit the driver's point size\n"
          "and are round enough, else two-triangle quads (close up, the near slices)");

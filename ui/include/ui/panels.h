@@ -143,6 +143,8 @@ struct StatsView {
     renderer::FrameStats frame;               // of the last render
     const renderer::Volume* volume = nullptr; // null when no volume is loaded
     size_t visibleSplats = 0;                 // voxels the TF leaves visible
+    uint64_t sceneBytes = 0;                  // GPU memory of the scene (SplatRenderer::sceneBytes)...
+    uint64_t workingBytes = 0;                // ...and of the tiled passes' buffers (workingBytes)
     std::string glRenderer;                   // GL_RENDERER of the editor's context
 };
 void drawStatsPanel(const StatsView& stats);
