@@ -124,6 +124,7 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
     state.counters["point_slices"] = pointSlices;   // rasterised: slices drawn as points, as quads
     state.counters["quad_slices"] = quadSlices;
     state.counters["bytes_per_voxel"] = double(r.sceneBytes()) / double(scene.classes.size());
+    state.counters["working_MiB"] = double(r.workingBytes()) / (1024.0 * 1024.0);   // the tiled passes' buffers
     state.counters["fragments"] = double(r.stats().fragments);
     state.counters["occluded"] = double(c.culledOccluded);
     state.counters["tiles"] = r.stats().tiles;
