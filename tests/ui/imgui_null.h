@@ -34,6 +34,17 @@ class ImGuiNull : public testing::Test {
         ImGui::End();
         ImGui::Render();
     }
+    // The text `body` draws in one frame, as ImGui's log writes it (lines, table columns between " | ").
+    std::string loggedText(const std::function<void()>& body) {
+        std::string captured;
+        frame([&] {
+            ImGui::LogToBuffer();
+            body();
+            captured = ImGui::GetCurrentContext()->LogBuffer.c_str();
+            ImGui::LogFinish();
+        });
+        return captured;
+    }
     // After a frame: the first glyph drawn past the right edge of its clip rectangle (text a column or
     // window cuts off), as "x at y past clip edge", or "" when all text fits. Widgets that clip text on
     // purpose (a combo's preview) clip it on the CPU, so their glyphs never cross the edge.

@@ -646,16 +646,7 @@ TEST_F(ImGuiNull, StatsPanelGivesTheGpuMemoryOfTheSceneAndThePasses) {
     ui::StatsView stats;
     stats.volume = &volume;
     windowWidth = 955;
-    auto text = [&] {
-        std::string captured;
-        frame([&] {
-            ImGui::LogToBuffer();
-            ui::drawStatsPanel(stats);
-            captured = ImGui::GetCurrentContext()->LogBuffer.c_str();
-            ImGui::LogFinish();
-        });
-        return captured;
-    };
+    auto text = [&] { return loggedText([&] { ui::drawStatsPanel(stats); }); };
     EXPECT_THAT(text(), testing::Not(testing::HasSubstr("memory"))) << "nothing rendered yet";
     stats.sceneBytes = 921846;      // 2.42 bytes for each of the 380,928 voxels
     stats.workingBytes = 29465100;
@@ -671,16 +662,7 @@ TEST_F(ImGuiNull, StatsPanelSaysHowTheFilesAxesAreDrawn) {
     ui::StatsView stats;
     stats.volume = &volume;
     windowWidth = 955;   // the bottom strip of a 1280x800 window: the lines unwrapped
-    auto text = [&] {
-        std::string captured;
-        frame([&] {
-            ImGui::LogToBuffer();
-            ui::drawStatsPanel(stats);
-            captured = ImGui::GetCurrentContext()->LogBuffer.c_str();
-            ImGui::LogFinish();
-        });
-        return captured;
-    };
+    auto text = [&] { return loggedText([&] { ui::drawStatsPanel(stats); }); };
     EXPECT_THAT(text(), testing::Not(testing::HasSubstr("axes ")));
     volume.directions = glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(30.0), glm::dvec3(1, 2, 3)));
     EXPECT_THAT(text(), testing::HasSubstr("axes    oblique, turned 30 degrees"));
