@@ -638,15 +638,23 @@ TEST_F(ImGuiNull, PanelTextFitsInSmallAndLargeWindows) {
 
 // == Stats
 
-// The Stats panel gives the GPU memory of the scene (bytes a voxel) and of the tiled passes' buffers.
-TEST_F(ImGuiNull, StatsPanelGivesTheGpuMemoryOfTheSceneAndThePasses) {
+// The Stats panel of a volume in the bottom strip of a 1280x800 window (955 px: the lines unwrapped).
+class StatsPanel : public ImGuiNull {
+  protected:
     renderer::Volume volume;
+    ui::StatsView stats;
+    void SetUp() override {
+        ImGuiNull::SetUp();
+        stats.volume = &volume;
+        windowWidth = 955;
+    }
+    std::string text() { return loggedText([&] { ui::drawStatsPanel(stats); }); }
+};
+
+// The Stats panel gives the GPU memory of the scene (bytes a voxel) and of the tiled passes' buffers.
+TEST_F(StatsPanel, GivesTheGpuMemoryOfTheSceneAndThePasses) {
     volume.name = "headsq";
     volume.dims = {64, 64, 93};
-    ui::StatsView stats;
-    stats.volume = &volume;
-    windowWidth = 955;
-    auto text = [&] { return loggedText([&] { ui::drawStatsPanel(stats); }); };
     EXPECT_THAT(text(), testing::Not(testing::HasSubstr("memory"))) << "nothing rendered yet";
     stats.sceneBytes = 921846;      // 2.42 bytes for each of the 380,928 voxels
     stats.workingBytes = 29465100;
@@ -655,14 +663,9 @@ TEST_F(ImGuiNull, StatsPanelGivesTheGpuMemoryOfTheSceneAndThePasses) {
 
 // The Stats panel says how the file's axes are drawn: nothing for the world's own axes, the angle the
 // view turns by for oblique ones, and that sheared ones are resampled (or not applied, unaligned).
-TEST_F(ImGuiNull, StatsPanelSaysHowTheFilesAxesAreDrawn) {
-    renderer::Volume volume;
+TEST_F(StatsPanel, SaysHowTheFilesAxesAreDrawn) {
     volume.name = "axes";
     volume.dims = {2, 2, 2};
-    ui::StatsView stats;
-    stats.volume = &volume;
-    windowWidth = 955;   // the bottom strip of a 1280x800 window: the lines unwrapped
-    auto text = [&] { return loggedText([&] { ui::drawStatsPanel(stats); }); };
     EXPECT_THAT(text(), testing::Not(testing::HasSubstr("axes ")));
     volume.directions = glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(30.0), glm::dvec3(1, 2, 3)));
     EXPECT_THAT(text(), testing::HasSubstr("axes    oblique, turned 30 degrees"));
