@@ -167,7 +167,8 @@ def save_vtk(win, path):
 def time_splatlab(args, out_path):
     cmd = [args.splatlab, "render", args.volume, "--tf", args.tf, "--size", f"{args.size}x{args.size}",
            "--camera", ",".join(str(v) for v in args.camera), "--up", args.up_name, "--density", str(args.density),
-           "--compositing", "sheet-front-to-back", "--filter", args.filter, "--frames", str(args.frames), "--out", out_path]
+           "--compositing", "sheet-front-to-back", "--filter", args.filter, "--opaque-alpha", str(args.opaque_alpha),
+           "--frames", str(args.frames), "--out", out_path]
     result = subprocess.run(cmd, capture_output=True, text=True)
     found = re.search(r"([0-9.]+) ms/frame \(median", result.stdout)
     if result.returncode != 0 or not found:
@@ -187,6 +188,8 @@ def main():
     parser.add_argument("--up", default="z", help="x, y, z, -x, -y or -z (a minus sign needs --up=-z)")
     parser.add_argument("--density", type=float, default=1.0)
     parser.add_argument("--filter", default="ewa", help="SplatLab's filter: ewa, adaptive, reconstruction, low-pass")
+    parser.add_argument("--opaque-alpha", type=float, default=0.998,
+                        help="SplatLab's early termination (its default 0.998); VTK's CPU ray caster ends a ray at 1 - 255/32767 = 0.9922")
     parser.add_argument("--sample-distance", type=float, default=1.0, help="VTK's ray step in voxels (of the smallest spacing)")
     parser.add_argument("--frames", type=int, default=5)
     parser.add_argument("--rounds", type=int, default=3)
@@ -218,7 +221,8 @@ def main():
     windows = {kind: vtk_renderer(kind, image, dims, spacing, args) for kind in ("gl", "cpu")}
     print(f"{os.path.basename(args.volume)} {dims[0]}x{dims[1]}x{dims[2]}, {args.size}x{args.size}, camera "
           f"{','.join(f'{v:g}' for v in args.camera)}, VTK {vtk.vtkVersion.GetVTKVersion()} (ray step "
-          f"{args.sample_distance:g} voxel), SplatLab {args.filter} sheets front to back; median of {args.frames} frames")
+          f"{args.sample_distance:g} voxel), SplatLab {args.filter} sheets front to back (opaque at "
+          f"{args.opaque_alpha:g}); median of {args.frames} frames")
     print("| round | VTK GL ray caster | SplatLab | VTK CPU ray caster | SplatLab vs GL | CPU vs SplatLab |")
     print("|---|---|---|---|---|---|")
     for r in range(args.rounds):
