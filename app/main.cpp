@@ -416,7 +416,8 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
         for (int i = 0; i < kGpuPasses; ++i)
             if (const double passMs = gl.stats().passMs[size_t(i)]; passMs > 0.0)
                 passes += (passes.empty() ? "" : ", ") + std::string(gpuPassName(GpuPass(i))) + " " + formatMs(passMs);
-        std::printf("  GPU %s ms in the last frame: %s\n", formatMs(gl.stats().gpuMs).c_str(), passes.c_str());
+        std::printf("  GPU %s ms in the last frame: %s\n", formatMs(gl.stats().gpuMs).c_str(),
+                    passes.empty() ? "no pass ran" : passes.c_str());
         image = gl.readback();
         if (s.settings.heatmap) heatmap = gl.readbackHeatmap();
         if (ra.counters) {   // one more frame with the GPU's counters on (they wait for the frame)

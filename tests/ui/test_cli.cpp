@@ -431,6 +431,13 @@ TEST(Cli, RenderTakesAWindowInDataUnits) {
         splatlab("render \"" + headsq() + "\" --out \"" + out.string() + "\" --window 3000,500");
     EXPECT_NE(bad.status, 0);
     EXPECT_THAT(bad.output, HasSubstr("LO must be below HI"));
+    // A window above every voxel makes each one class 0, which the TF leaves clear: the frame says it
+    // drew nothing rather than list no passes.
+    const CliRun clear = splatlab("render \"" + headsq() + "\" --out \"" + out.string() +
+                                  "\" --size 32x32 --frames 1 --window 100000,200000");
+    EXPECT_EQ(clear.status, 0) << clear.output;
+    EXPECT_THAT(clear.output, HasSubstr("in the last frame: no pass ran"));
+    EXPECT_THAT(clear.output, HasSubstr(" 0 splats"));
 }
 
 TEST(Cli, AccuracyWritesTheReportWithItsTablesAndThumbnails) {
