@@ -517,6 +517,19 @@ int runCompare(const std::string& a, const std::string& b, const std::string& di
     return 0;
 }
 
+// `splatlab tf`: the built-in presets' names, or one TF (a preset or a JSON file) as the JSON file the
+// editor loads, so a preset can be the start of a user's own.
+int runTf(const std::string& spec, const std::string& out) {
+    if (spec.empty()) {
+        for (const std::string& name : builtinPresetNames()) std::printf("%s\n", name.c_str());
+        return 0;
+    }
+    const TransferFunction tf = transferFunctionFromSpec(spec);
+    if (out.empty()) std::fputs(transferFunctionText(tf).c_str(), stdout);
+    else saveTransferFunction(tf, out);
+    return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -587,6 +600,12 @@ int main(int argc, char** argv) {
                    "Also compute the gradients (progress bar on stderr) and print their stats");
     addRawFlags(info, infoRaw);
 
+    std::string tfSpec, tfOut;
+    auto* tfCommand = app.add_subcommand("tf", "List the built-in transfer functions, or print one as the JSON file "
+                                               "the editor and --tf load");
+    tfCommand->add_option("name", tfSpec, "A preset name or a JSON file (none: list the presets)");
+    tfCommand->add_option("--out", tfOut, "Write it to this file instead of printing it");
+
     AccuracyArgs acc;
     auto* accuracy = addAccuracyCommand(app, acc);
 
@@ -639,6 +658,7 @@ int main(int argc, char** argv) {
         if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);
         if (*info) return runInfo(infoPath, infoRaw, infoGradients);
         if (*accuracy) return runAccuracy(acc);
+        if (*tfCommand) return runTf(tfSpec, tfOut);
         // The bundled headsq stores its slices from the crown down, so it is shown with -z up.
         e.upAxis = editorVolume.empty() ? "-z" : "z";
         if (editorVolume.empty()) e.camera = parseCamera("60,15,2.5,30");   // a three-quarter view of the face

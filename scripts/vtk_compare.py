@@ -95,9 +95,15 @@ def orbit_camera(azimuth, elevation, distance, dims, spacing, up):
     return eye, centre, scale(down, -1.0)   # VTK's image y grows upwards
 
 
-def tf_functions(tf_path, lo, hi, density):
-    with open(tf_path) as f:
-        points = json.load(f)["points"]
+def tf_points(args):
+    """The TF's control points: `splatlab tf` reads a preset name or a JSON file as --tf does."""
+    result = subprocess.run([args.splatlab, "tf", args.tf], capture_output=True, text=True)
+    if result.returncode != 0:
+        sys.exit(f"vtk_compare: --tf {args.tf}: {result.stderr.strip()}")
+    return json.loads(result.stdout)["points"]
+
+
+def tf_functions(points, lo, hi, density):
     colour, opacity = vtk.vtkColorTransferFunction(), vtk.vtkPiecewiseFunction()
     for p in points:
         value = lo + p["value"] * (hi - lo)
@@ -108,7 +114,7 @@ def tf_functions(tf_path, lo, hi, density):
 
 def vtk_renderer(kind, image, dims, spacing, args):
     lo, hi = image.GetScalarRange()
-    colour, opacity = tf_functions(args.tf, lo, hi, args.density)
+    colour, opacity = tf_functions(args.tf_points, lo, hi, args.density)
     prop = vtk.vtkVolumeProperty()
     prop.SetColor(colour)
     prop.SetScalarOpacity(opacity)
@@ -181,7 +187,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("volume", nargs="?", help="a .nhdr volume (default: bonsai.nhdr in --data)")
     parser.add_argument("--data", default=os.environ.get("SPLATLAB_DATA_DIR"), help="folder of the shared volumes (default: $SPLATLAB_DATA_DIR)")
-    parser.add_argument("--tf", default=os.path.join(ROOT, "assets", "presets", "bonsai.json"))
+    parser.add_argument("--tf", default=os.path.join(ROOT, "assets", "presets", "bonsai.json"),
+                        help="a preset name (`splatlab tf` lists them) or a JSON file")
     parser.add_argument("--splatlab", default=os.path.join(ROOT, "build", "release", "app", "splatlab"))
     parser.add_argument("--size", type=int, default=512, help="square image side in pixels")
     parser.add_argument("--camera", default="30,20,2.5,30", help="azimuth,elevation,distance,fov as `splatlab render` takes it")
@@ -200,9 +207,10 @@ def main():
         if not args.data:
             sys.exit("vtk_compare: no volume: give a .nhdr, or --data / SPLATLAB_DATA_DIR with bonsai.nhdr")
         args.volume = os.path.join(args.data, "bonsai.nhdr")
-    for path, what in ((args.volume, "volume"), (args.tf, "transfer function"), (args.splatlab, "splatlab binary (build first)")):
+    for path, what in ((args.volume, "volume"), (args.splatlab, "splatlab binary (build first)")):
         if not os.path.isfile(path):
             sys.exit(f"vtk_compare: {path}: no such file, expected the {what}")
+    args.tf_points = tf_points(args)
     try:
         camera = [float(v) for v in args.camera.split(",")]
     except ValueError:

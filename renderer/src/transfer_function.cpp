@@ -153,8 +153,10 @@ TransferFunction loadTransferFunction(const std::filesystem::path& path) {
     return transferFunctionFromJson(j, path.string(), path.stem().string());
 }
 
+std::string transferFunctionText(const TransferFunction& tf) { return toJson(tf).dump(2) + "\n"; }
+
 void saveTransferFunction(const TransferFunction& tf, const std::filesystem::path& path) {
-    writeFileAtomically(path, toJson(tf).dump(2) + "\n");
+    writeFileAtomically(path, transferFunctionText(tf));
 }
 
 TransferFunction transferFunctionFromSpec(const std::string& spec) {

@@ -3,12 +3,14 @@
 #include "image_compare.h"
 #include "renderer/image.h"
 #include "renderer/metrics.h"
+#include "renderer/transfer_function.h"
 #include "renderer/volume_io.h"
 #include "test_paths.h"
 #include "ui/session.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -438,6 +440,36 @@ TEST(Cli, RenderTakesAWindowInDataUnits) {
     EXPECT_EQ(clear.status, 0) << clear.output;
     EXPECT_THAT(clear.output, HasSubstr("in the last frame: no pass ran"));
     EXPECT_THAT(clear.output, HasSubstr(" 0 splats"));
+}
+
+TEST(Cli, TfListsThePresetsAndWritesOneAsAFileTheEditorLoads) {
+    const CliRun list = splatlab("tf");
+    ASSERT_EQ(list.status, 0) << list.output;
+    std::string names;
+    for (const std::string& name : renderer::builtinPresetNames()) names += name + "\n";
+    EXPECT_EQ(list.output, names);
+
+    // Printed, it parses back to the preset itself; written with --out, it loads as the preset.
+    const CliRun printed = splatlab("tf fire");
+    ASSERT_EQ(printed.status, 0) << printed.output;
+    EXPECT_EQ(renderer::transferFunctionFromJson(nlohmann::json::parse(printed.output), "stdout", "?"),
+              renderer::builtinPreset("fire"));
+    const auto file = testing_support::testOutputDir() / "cli_tf_ct-bone.json";
+    std::filesystem::remove(file);
+    const CliRun written = splatlab("tf ct-bone --out \"" + file.string() + "\"");
+    ASSERT_EQ(written.status, 0) << written.output;
+    EXPECT_EQ(renderer::loadTransferFunction(file), renderer::builtinPreset("ct-bone"));
+    // A JSON file goes through as it loads: the editor's own round trip.
+    const CliRun again = splatlab("tf \"" + file.string() + "\"");
+    ASSERT_EQ(again.status, 0) << again.output;
+    EXPECT_EQ(again.output, renderer::transferFunctionText(renderer::builtinPreset("ct-bone")));
+
+    const CliRun unknown = splatlab("tf fyre");
+    EXPECT_NE(unknown.status, 0);
+    EXPECT_THAT(unknown.output, HasSubstr("unknown transfer-function preset 'fyre' (known: ct-skin-bone,"));
+    const CliRun notJson = splatlab("tf \"" + headsq() + "\"");
+    EXPECT_NE(notJson.status, 0);
+    EXPECT_THAT(notJson.output, HasSubstr("headsq.nhdr: not valid JSON"));
 }
 
 TEST(Cli, AccuracyWritesTheReportWithItsTablesAndThumbnails) {

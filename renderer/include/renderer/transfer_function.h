@@ -42,6 +42,7 @@ std::vector<std::string> builtinPresetNames();
 TransferFunction builtinPreset(const std::string& name);          // throws RenderError if unknown
 TransferFunction loadTransferFunction(const std::filesystem::path& path);   // throws LoadError
 void saveTransferFunction(const TransferFunction& tf, const std::filesystem::path& path);  // atomic
+std::string transferFunctionText(const TransferFunction& tf);   // what saveTransferFunction writes
 // The JSON of a TF file, and back (sessions embed it): `source` names the file in errors, and
 // `defaultName` is the name when the JSON gives none. Throws LoadError naming the field.
 nlohmann::json toJson(const TransferFunction& tf);
