@@ -16,6 +16,7 @@
 #include <cmath>
 #include <csignal>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <numeric>
 #include <random>
@@ -428,6 +429,64 @@ TEST(SplatScene, BucketsOverAnEighthOfATileAreWalkedNotListed) {
         std::vector<uint32_t> all(v.voxelCount());
         std::iota(all.begin(), all.end(), 0u);
         EXPECT_EQ(order, all) << axis;
+    }
+}
+
+TEST(SplatScene, EveryRunHoldsItsTilesVoxelsOfItsBucketOnEveryAxisOfAnUnevenVolume) {
+    // 20 x 300 x 230: slices across x hold 69,000 positions (two tiles of kTileVoxels), and no axis has
+    // a number of slices that the scene's blocks of slices divide. Most voxels share one value (walked
+    // runs), the rest are spread over the buckets (listed runs).
+    Volume v;
+    v.dims = {20, 300, 230};
+    v.values.resize(v.voxelCount());
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> any(0.0f, 1.0f);
+    for (float& value : v.values) value = any(rng) < 0.8f ? 0.5f : any(rng);
+    v.range = {0.0f, 1.0f};
+    const SplatScene s = buildSplatScene(v, builtinPreset("grey-ramp"));
+    struct Bucket {
+        uint32_t voxels = 0;
+        glm::u16vec2 lo{UINT16_MAX}, hi{0};
+        std::vector<uint16_t> positions;
+    };
+    for (int axis = 0; axis < 3; ++axis) {
+        const AxisLists& lists = s.lists[size_t(axis)];
+        const uint32_t rowLength = uint32_t(v.dims[(axis + 1) % 3]);
+        const uint32_t sliceSize = rowLength * uint32_t(v.dims[(axis + 2) % 3]);
+        ASSERT_EQ(lists.sliceRuns.size(), size_t(v.dims[axis]) + 1);
+        for (uint32_t slice = 0; slice < uint32_t(v.dims[axis]); ++slice) {
+            uint32_t r = lists.sliceRuns[slice];
+            for (uint32_t tileBase = 0; tileBase < sliceSize; tileBase += kTileVoxels) {
+                // The tile's buckets counted again, voxel by voxel through voxelAt.
+                const uint32_t tileSize = std::min(kTileVoxels, sliceSize - tileBase);
+                std::map<uint16_t, Bucket> buckets;
+                for (uint32_t p = 0; p < tileSize; ++p) {
+                    Bucket& b = buckets[uint16_t(s.classes[s.voxelAt(axis, slice, tileBase + p)] >> kBucketShift)];
+                    ++b.voxels;
+                    const glm::u16vec2 ab((tileBase + p) % rowLength, (tileBase + p) / rowLength);
+                    b.lo = glm::min(b.lo, ab), b.hi = glm::max(b.hi, ab);
+                    b.positions.push_back(uint16_t(p));
+                }
+                for (const auto& [bucket, b] : buckets) {   // a run each, in bucket order
+                    ASSERT_LT(r, lists.sliceRuns[slice + 1]) << axis << " " << slice;
+                    const SliceRun& run = lists.runs[r++];
+                    ASSERT_EQ(run.slice, slice);
+                    ASSERT_EQ(run.tileBase, tileBase);
+                    ASSERT_EQ(run.bucket, bucket);
+                    ASSERT_EQ(run.voxels, b.voxels) << axis << " " << slice;
+                    ASSERT_EQ(run.lo, b.lo) << axis << " " << slice;
+                    ASSERT_EQ(run.hi, b.hi) << axis << " " << slice;
+                    ASSERT_EQ(run.dense, kDenseShare * b.voxels > tileSize);
+                    if (run.dense) {
+                        ASSERT_EQ(run.count, tileSize);
+                    } else {
+                        ASSERT_EQ(run.count, b.voxels);
+                        ASSERT_TRUE(std::equal(b.positions.begin(), b.positions.end(), lists.entries.begin() + run.first));
+                    }
+                }
+            }
+            ASSERT_EQ(r, lists.sliceRuns[slice + 1]) << axis << " " << slice;
+        }
     }
 }
 
