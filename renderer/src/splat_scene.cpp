@@ -62,13 +62,18 @@ void buildSliceLists(const uint16_t* classes, uint32_t sliceSize, uint32_t rowLe
         std::array<glm::u16vec2, kBuckets> lo, hi;
         lo.fill(glm::u16vec2(UINT16_MAX));
         hi.fill(glm::u16vec2(0));
-        glm::u16vec2 ab(uint16_t(tileBase % rowLength), uint16_t(tileBase / rowLength));   // in-slice position
-        for (uint32_t p = 0; p < tileSize; ++p) {
-            const int b = classes[tileBase + p] >> kBucketShift;
-            ++count[size_t(b)];
-            lo[size_t(b)] = glm::min(lo[size_t(b)], ab);
-            hi[size_t(b)] = glm::max(hi[size_t(b)], ab);
-            if (++ab.x == rowLength) ab = glm::u16vec2(0, ab.y + 1);
+        // By stretches of one bucket within a row: most of a scan is air, long stretches of one class.
+        const uint16_t* tile = classes + tileBase;
+        for (uint32_t p = 0; p < tileSize;) {
+            const uint32_t x = (tileBase + p) % rowLength, y = (tileBase + p) / rowLength;
+            const uint32_t rowEnd = std::min(tileSize, p + (rowLength - x));
+            const int b = tile[p] >> kBucketShift;
+            uint32_t q = p + 1;
+            while (q < rowEnd && tile[q] >> kBucketShift == b) ++q;
+            count[size_t(b)] += q - p;
+            lo[size_t(b)] = glm::min(lo[size_t(b)], glm::u16vec2(x, y));
+            hi[size_t(b)] = glm::max(hi[size_t(b)], glm::u16vec2(x + (q - p) - 1, y));
+            p = q;
         }
         std::array<uint32_t, kBuckets> offset{};
         const uint32_t base = uint32_t(out.entries.size());
