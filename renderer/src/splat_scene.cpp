@@ -108,8 +108,9 @@ AxisLists buildAxisLists(const SplatScene& s, int axis) {
     const glm::ivec3 d = s.dims;
     const uint32_t slices = uint32_t(d[axis]);
     const uint32_t sliceSize = uint32_t(d[(axis + 1) % 3]) * uint32_t(d[(axis + 2) % 3]);
-    // Slices are independent: build blocks of them in parallel, then concatenate. A block's classes
-    // (at most 8 MB) are gathered at once, 16 slices of bonsai: a cache line of x holds 32 voxels.
+    // Slices are independent: build blocks of them in parallel, then concatenate. A block gathers its
+    // classes at once (up to 16 slices, at most 8 MB): across x, each row then gives 16 slices 32 bytes
+    // of one cache line, where a slice alone would read a line for each of its voxels.
     const uint32_t block = std::clamp<uint32_t>((uint32_t(1) << 22) / std::max<uint32_t>(sliceSize, 1), 1, 16);
     std::vector<AxisLists> perSlice(slices);
     tbb::parallel_for(uint32_t(0), (slices + block - 1) / block, [&](uint32_t b) {
