@@ -418,6 +418,39 @@ TEST(GroundTruth, OneKernelMatchesABruteForceLineIntegral) {
     EXPECT_LT(worst, 2e-6);   // float image (6e-8) + brute force at the cutoff jump (h x 1.1 % of peak)
 }
 
+TEST(GroundTruth, ARaySeeingARowEndOnTakesEveryKernelOfIt) {
+    // A row of 30 voxels along each axis, seen end on from both sides (orthographic; the centre pixel's
+    // ray runs through every centre): its optical depth is 30 times one voxel's, so alpha_30 = 1 -
+    // (1 - alpha_1)^30. Each ray gathers the kernels of boxes around its samples, each box only what the
+    // one before it lacked, on whichever side the ray moves to; a kernel it misses lowers alpha_30.
+    SplatSettings s;
+    s.density = 0.2;   // alpha_30 about 0.86: far from saturated
+    GroundTruthOptions o;
+    o.supersample = 0;
+    o.tolerance = 1e-9;
+    const auto centreAlpha = [&](const Volume& v, glm::dvec3 up, double azimuth) {
+        const SplatScene scene = buildSplatScene(v, flat(0.8));
+        const Camera camera{.azimuthDeg = azimuth, .elevationDeg = 0.0, .up = up, .orthographic = true};
+        return double(renderGroundTruth(scene, makeImagePlane(camera, scene.centre, scene.radius, 3, 3), s, o).pixel(1, 1)[3]);
+    };
+    const double one = centreAlpha(oneVoxel(), {0, 0, 1}, 0.0);
+    ASSERT_GT(one, 0.01);
+    const double expected = 1.0 - std::pow(1.0 - one, 30.0);
+    // Up and the azimuths that look along x, y and z (azimuth 0 looks along -x with z up, along -y with x up).
+    const std::array<std::tuple<glm::ivec3, glm::dvec3, double>, 3> rows{
+        std::tuple{glm::ivec3(30, 1, 1), glm::dvec3(0, 0, 1), 0.0},
+        std::tuple{glm::ivec3(1, 30, 1), glm::dvec3(0, 0, 1), 90.0},
+        std::tuple{glm::ivec3(1, 1, 30), glm::dvec3(1, 0, 0), 90.0}};
+    for (const auto& [dims, up, azimuth] : rows) {
+        Volume row = oneVoxel();
+        row.dims = dims;
+        row.values.assign(row.voxelCount(), 1.0f);
+        for (double turn : {0.0, 180.0})
+            EXPECT_NEAR(centreAlpha(row, up, azimuth + turn), expected, 1e-5)
+                << "row along " << dims.x << "x" << dims.y << "x" << dims.z << ", azimuth " << azimuth + turn;
+    }
+}
+
 TEST(GroundTruth, ConvergesWhenTheToleranceTightens) {
     const SplatScene scene = buildSplatScene(makeSphereShells(10, 4.0, 1.5), ramp());
     const ImagePlane plane = makeImagePlane({40, 25, 2.5, 30.0}, scene.centre, scene.radius, 24, 24);
