@@ -5,6 +5,7 @@
 #include "renderer/shading.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -157,8 +158,15 @@ SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, Val
     s.axes = volume.drawnAxes();
     s.window = (window.hi > window.lo) ? window : volume.range;
     s.classes.resize(volume.voxelCount());
+    tbb::combinable<std::vector<uint32_t>> histograms([] { return std::vector<uint32_t>(kLutSize, 0); });
     tbb::parallel_for(tbb::blocked_range<size_t>(0, s.classes.size()), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t i = r.begin(); i < r.end(); ++i) s.classes[i] = classOf(volume.values[i], s.window.lo, s.window.hi);
+        std::vector<uint32_t>& histogram = histograms.local();
+        for (size_t i = r.begin(); i < r.end(); ++i)
+            ++histogram[s.classes[i] = classOf(volume.values[i], s.window.lo, s.window.hi)];
+    });
+    s.classVoxels.assign(kLutSize, 0);
+    histograms.combine_each([&](const std::vector<uint32_t>& h) {
+        for (int c = 0; c < kLutSize; ++c) s.classVoxels[size_t(c)] += h[size_t(c)];
     });
     for (int axis = 0; axis < 3; ++axis) s.lists[size_t(axis)] = buildAxisLists(s, axis);
     setTransferFunction(s, tf);
@@ -174,8 +182,8 @@ void addGradients(SplatScene& s, const GradientField& field) {
 
 void setTransferFunction(SplatScene& s, const TransferFunction& tf) {
     s.lut = bakeLut(tf);
-    s.visibleVoxels = size_t(std::count_if(s.classes.begin(), s.classes.end(),
-                                           [&](uint16_t c) { return s.lut[c].a > 0.0f; }));
+    s.visibleVoxels = 0;
+    for (size_t c = 0; c < s.classVoxels.size(); ++c) s.visibleVoxels += s.lut[c].a > 0.0f ? s.classVoxels[c] : 0;
 }
 
 std::array<bool, kBuckets> activeBuckets(const Lut& lut) {

@@ -341,6 +341,19 @@ TEST(TransferFunction, EvaluateInterpolatesAndHoldsTheEndsOutsideThePoints) {
     EXPECT_EQ(evaluate(step, 0.51).a, 1.0);
 }
 
+TEST(SplatScene, ATfEditCountsTheVisibleVoxelsAsEveryVoxelWould) {
+    // The count comes from the voxels per class, kept from the build; each TF must give what a pass
+    // over every voxel gives.
+    SplatScene s = buildSplatScene(makeSphereShells(12, 4.0, 1.5), builtinPreset("grey-ramp"));
+    ASSERT_EQ(s.classVoxels.size(), size_t(kLutSize));
+    for (const std::string& name : builtinPresetNames()) {
+        setTransferFunction(s, builtinPreset(name));
+        const auto visible = size_t(std::count_if(s.classes.begin(), s.classes.end(),
+                                                  [&](uint16_t c) { return s.lut[c].a > 0.0f; }));
+        EXPECT_EQ(s.visibleCount(), visible) << name;
+    }
+}
+
 TEST(SplatScene, DrawOrderListsEachVoxelOfTheActiveBucketsOnceInSliceOrder) {
     Volume v = makeSphereShells(12, 4.0, 1.5);
     const TransferFunction tf{"t", {{0.0, {1, 1, 1}, 0.0}, {0.4, {1, 1, 1}, 0.0}, {0.6, {1, 1, 1}, 1.0}}};

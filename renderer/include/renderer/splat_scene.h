@@ -69,6 +69,8 @@ struct SplatScene {
     Lut lut;
     std::array<AxisLists, 3> lists;      // per axis (0 = x, 1 = y, 2 = z)
     size_t visibleVoxels = 0;            // voxels whose class has opacity > 0 under lut
+    std::vector<uint32_t> classVoxels;   // per LUT class, its voxels: a TF edit counts the visible ones
+                                         // from these kLutSize figures, not from every voxel
     std::vector<uint32_t> gradients;     // packed per voxel (shading.h), empty until addGradients
 
     size_t visibleCount() const { return visibleVoxels; }
