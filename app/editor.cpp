@@ -204,7 +204,7 @@ struct VolumeJob : WorkerJob<LoadedVolume> {
 // disk), then, one filter a UI frame, each filter timed on the whole view and compared on the crop.
 // It works on a copy of the scene: a TF edit changes the document's while the worker reads.
 struct FilterComparisonJob {
-    static constexpr int kCropPx = 96;   // ground truth of 96 x 96 px: 13-14 s for headsq's default view on 2 cores
+    static constexpr int kCropPx = 96;   // ground truth of 96 x 96 px: 11-12 s for headsq's default view on 2 cores
     static constexpr std::array<renderer::FilterMode, 4> kFilters{
         renderer::FilterMode::Reconstruction, renderer::FilterMode::LowPass, renderer::FilterMode::Ewa,
         renderer::FilterMode::Adaptive};

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <mutex>
 #include <numbers>
 
@@ -29,13 +30,19 @@ struct RayKernel {
     glm::dvec3 colour;
 };
 
-// Closed-form integral of a RayKernel over [s0, s1].
-double integrate(const RayKernel& k, double s0, double s1) {
+// Closed-form integral of a RayKernel over [s0, s1]. `last` holds the erf this kernel's previous step
+// took at its end, where this step starts: a march takes each erf once, not twice (erf was a third of
+// a reference's time).
+struct ErfAt {
+    double at = std::numeric_limits<double>::quiet_NaN(), value = 0.0;
+};
+double integrate(const RayKernel& k, double s0, double s1, ErfAt& last) {
     const double a = std::max(s0, k.mid - k.halfLength), b = std::min(s1, k.mid + k.halfLength);
     if (b <= a) return 0.0;
     const double scale = 1.0 / (std::numbers::sqrt2 * k.width);
-    return k.peak * k.width * std::sqrt(std::numbers::pi / 2.0) *
-           (std::erf((b - k.mid) * scale) - std::erf((a - k.mid) * scale));
+    const double erfA = a == last.at ? last.value : std::erf((a - k.mid) * scale);
+    last = {b, std::erf((b - k.mid) * scale)};
+    return k.peak * k.width * std::sqrt(std::numbers::pi / 2.0) * (last.value - erfA);
 }
 
 struct Ray {
@@ -137,6 +144,7 @@ public:
         glm::dvec3 colour(0.0);
         double transmittance = 1.0;
         size_t first = 0;   // kernels before it ended before the current step
+        std::vector<ErfAt> erfs(kernels.size());
         while (s < end && transmittance > 1e-12) {
             const double s1 = s + h;
             double depth = 0.0;
@@ -144,7 +152,7 @@ public:
             for (size_t j = first; j < kernels.size(); ++j) {
                 const RayKernel& k = kernels[j];
                 if (k.mid - k.halfLength >= s1) break;   // sorted by start: none further overlaps
-                const double tau = k.extinction * integrate(k, s, s1);
+                const double tau = k.extinction * integrate(k, s, s1, erfs[j]);
                 depth += tau;
                 emission += k.colour * tau;
             }
