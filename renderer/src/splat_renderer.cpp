@@ -20,6 +20,7 @@
 #include <initializer_list>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <set>
 
@@ -1682,8 +1683,12 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     const AxisBuffers& axis = g.axes[size_t(trav.axis)];
     std::array<bool, kBuckets> active = activeBuckets(g.lut);
     if (settings.drawAllBuckets) active.fill(true);
-    uint64_t submitted = 0;
-    for (uint32_t r = 0; r < axis.runCount; ++r) submitted += active[axis.buckets[r]] ? axis.voxels[r] : 0;
+    // Splats each slice submits (its active runs' voxels), and the frame's.
+    std::vector<uint64_t> sliceSubmitted(axis.sliceRuns.size() - 1, 0);
+    for (size_t slice = 0; slice + 1 < axis.sliceRuns.size(); ++slice)
+        for (uint32_t r = axis.sliceRuns[slice]; r < axis.sliceRuns[slice + 1]; ++r)
+            sliceSubmitted[slice] += active[axis.buckets[r]] ? axis.voxels[r] : 0;
+    const uint64_t submitted = std::accumulate(sliceSubmitted.begin(), sliceSubmitted.end(), uint64_t(0));
     const bool ftb = frontToBack(settings);
     const bool earlyTermination = ftb && settings.opaqueAlpha < 1.0;
     using Shading = SplatSettings::Shading;
@@ -1914,17 +1919,10 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         const size_t binBytes = size_t(tileCount) * maxChunk * 4;
         // Records are numbered afresh in each part of a chunk, so they need room for the most splats any
         // maxChunk adjacent slices submit, not the frame's (a 512 x 512 x 400 scan: 120 MB, not 1.9 GB).
-        uint64_t chunkSplats = 0;
-        {
-            std::vector<uint64_t> inSlice(slices, 0);
-            for (uint32_t slice = 0; slice < slices; ++slice)
-                for (uint32_t r = axis.sliceRuns[slice]; r < axis.sliceRuns[slice + 1]; ++r)
-                    inSlice[slice] += active[axis.buckets[r]] ? axis.voxels[r] : 0;
-            uint64_t window = 0;
-            for (uint32_t slice = 0; slice < slices; ++slice) {
-                window += inSlice[slice] - (slice >= maxChunk ? inSlice[slice - maxChunk] : 0);
-                chunkSplats = std::max(chunkSplats, window);
-            }
+        uint64_t chunkSplats = 0, window = 0;
+        for (uint32_t slice = 0; slice < slices; ++slice) {
+            window += sliceSubmitted[slice] - (slice >= maxChunk ? sliceSubmitted[slice - maxChunk] : 0);
+            chunkSplats = std::max(chunkSplats, window);
         }
         bool anyOpaque = false;   // occlusion: whether the map has an opaque tile yet
         GLuint segments = 1;      // workgroups a run is dealt to in the record pass (more where a loop limit cut one)
