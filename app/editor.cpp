@@ -178,13 +178,13 @@ struct LoadedVolume {
 struct VolumeJob : WorkerJob<LoadedVolume> {
     std::filesystem::path path;
     renderer::TransferFunction tf;
-    VolumeJob(const std::filesystem::path& file, const renderer::TransferFunction& classify,
-              const renderer::WindowSettings& window)
+    VolumeJob(const std::filesystem::path& file, const std::optional<renderer::RawOptions>& raw,
+              const renderer::TransferFunction& classify, const renderer::WindowSettings& window)
         : path(file), tf(classify) {
-        start([file, classify, window](const renderer::ProgressCallback& progress) -> std::optional<LoadedVolume> {
+        start([file, raw, classify, window](const renderer::ProgressCallback& progress) -> std::optional<LoadedVolume> {
             LoadedVolume out;
             try {
-                out.volume = renderer::loadVolumeInWorldFrame(file, std::nullopt,
+                out.volume = renderer::loadVolumeInWorldFrame(file, raw,
                                                               [&](double f) { return progress(0.6 * f); });
             } catch (const renderer::Cancelled&) {
                 return std::nullopt;
@@ -346,8 +346,8 @@ int runEditor(const EditorOptions& options) {
     std::unique_ptr<VolumeJob> volumeJob;
     // Starts reading `path`, to be classified with state.tf over state.window, on the worker (a scripted
     // run waits for it: deterministic frames); the frame loop shows it once read (showVolume).
-    auto openVolume = [&](const std::filesystem::path& path) {
-        volumeJob = std::make_unique<VolumeJob>(path, state.tf, state.window);
+    auto openVolume = [&](const std::filesystem::path& path, const std::optional<renderer::RawOptions>& raw = {}) {
+        volumeJob = std::make_unique<VolumeJob>(path, raw, state.tf, state.window);
         if (scripted) volumeJob->thread.join();
     };
     // A volume read by a VolumeJob, on screen: a new document and the renderer's scene (and the preview's,
@@ -388,13 +388,9 @@ int runEditor(const EditorOptions& options) {
     guarded([&] {
         state.camera = options.camera;
         state.camera.up = renderer::axisFromName(options.upAxis);
-        state.settings.filter = renderer::filterModeFromName(options.filter);
-        state.settings.compositing = renderer::compositingFromName(options.compositing);
-        state.settings.primitive = options.primitive;
-        if (options.primitive == renderer::SplatSettings::Primitive::Tiles &&
-            state.settings.compositing == renderer::Compositing::SplatEverySample)
-            throw renderer::RenderError("--primitive tiles needs sheet or X-ray compositing (--compositing)");
-        state.showHeatmap = state.settings.heatmap = options.heatmap;
+        state.settings = options.settings;
+        state.showHeatmap = options.settings.heatmap;
+        state.window = options.window;
         state.perf.renderContinuously = options.continuous || options.spinDegPerS != 0.0;
         if (!(std::abs(options.spinDegPerS) <= 90.0))
             throw renderer::RenderError("--spin takes -90 to 90 degrees a second, got " +
@@ -407,7 +403,7 @@ int runEditor(const EditorOptions& options) {
         state.sessionFile = options.sessionPath.string();
         if (volumePath.empty()) volumePath = sessionVolume;
     });
-    if (exitCode == 0 && !volumePath.empty()) openVolume(volumePath);
+    if (exitCode == 0 && !volumePath.empty()) openVolume(volumePath, options.raw);
     if (exitCode != 0) return exitCode;
 
     // 5. Frame loop. Edits made in frame N are rendered at the top of frame N+1, at the viewport size

@@ -3,8 +3,11 @@
 #pragma once
 #include "renderer/camera.h"
 #include "renderer/splat_settings.h"
+#include "renderer/volume_io.h"
+#include "renderer/window.h"
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,13 +22,9 @@ struct EditorOptions {
     std::filesystem::path saveImagePath;  // non-empty: after `frames` frames, save the view (Save image)
     int frames = 0;                       // > 0: exit after this many frames (0: until the window closes)
     int width = 1280, height = 800;       // window size in screen coordinates
-    std::string filter = "ewa";           // starting filter mode (ewa.h names)
-    bool heatmap = false;                 // start showing the filter-mode heatmap
-    // Starting compositing (splat_settings.h names), also `render`'s default: tiled sheets front to
-    // back, the fastest mode on every machine measured and as close to the ground truth as
-    // splat-every-sample.
-    std::string compositing = "sheet-front-to-back";
-    renderer::SplatSettings::Primitive primitive = renderer::SplatSettings::Primitive::Auto;   // --primitive
+    renderer::SplatSettings settings;     // the starting settings, heatmap included (the command line's)
+    renderer::WindowSettings window;      // the starting window (--window)
+    std::optional<renderer::RawOptions> raw;   // how to read the volume argument if it is headerless raw
     std::vector<std::string> tabs;        // panels brought to the front of their regions (--tab)
     bool continuous = false;              // render every frame (Performance panel)
     double spinDegPerS = 0.0;             // and turn the camera this fast (implies continuous)

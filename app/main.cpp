@@ -98,10 +98,6 @@ auto flagValue(const char* flag, Parse parse) {
     }
 }
 
-FilterMode parseFilter(const std::string& s) {
-    return flagValue("--filter", [&] { return filterModeFromName(s); });
-}
-
 struct RawFlags {
     std::string dims, type, endian = "little";
 };
@@ -213,17 +209,119 @@ int runInfo(const std::string& path, const RawFlags& raw, bool gradients) {
     return 0;
 }
 
-// What `render` and `reference` share: the volume, the view and the splatting settings.
-struct SceneArgs {
-    std::string volume, out, size = "512x512", camera = "30,20,2.5,30", tf = "ct-skin-bone";
-    // The editor's starting mode, so a view from the command line matches the editor's.
-    std::string compositing = EditorOptions{}.compositing, filter = "ewa", up = "z";
-    std::string window = "data";
-    std::string session;   // render --session: a saved editor session instead of the flags above
-    double kernelScale = SplatSettings{}.kernelScale, density = 1.0;
-    bool orthographic = false, fit = false;
-    std::string shading = "none";
+// A flag's number, checked against the range a session accepts for its setting (splat_settings.h).
+double inRange(double value, const char* flag, SettingRange range, const char* unit = "") {
+    if (!range.holds(value)) throw CLI::ValidationError(flag, "must be " + formatRange(range.lo, range.hi) + unit);
+    return value;
+}
+
+// How the volume looks: the flags `render`, `reference` and the editor share.
+struct LookFlags {
+    std::string window = "data", shading = "none";
+    double kernelScale = SplatSettings{}.kernelScale, cutoff = SplatSettings{}.cutoffSigmas, density = 1.0;
     double surfaceFlatten = 1.0, surfaceGradient = SplatSettings{}.surfaceGradient;
+    bool orthographic = false;
+};
+
+void addLookFlags(CLI::App* cmd, LookFlags& f) {
+    cmd->add_flag("--ortho", f.orthographic, "Parallel projection (framed like the perspective view)");
+    cmd->add_option("--window", f.window, "Values mapped onto the TF: data (min..max), p1-99, or LO,HI in data units")
+        ->capture_default_str();
+    cmd->add_option("--kernel-scale", f.kernelScale, "Reconstruction sigma in voxel spacings")->capture_default_str();
+    cmd->add_option("--cutoff", f.cutoff, "Footprints are evaluated out to this many sigmas")->capture_default_str();
+    cmd->add_option("--density", f.density, "Extinction per voxel length at TF opacity 1")->capture_default_str();
+    cmd->add_option("--shading", f.shading, "Headlight Phong: none, per-splat, per-fragment")->capture_default_str();
+    cmd->add_option("--surface", f.surfaceFlatten,
+                    "Surface splats: flatten kernels by this factor along strong gradients (1: off)")
+        ->capture_default_str();
+    cmd->add_option("--surface-gradient", f.surfaceGradient,
+                    "Gradient magnitude (fraction of the largest) from which a voxel is a surface splat")
+        ->capture_default_str();
+}
+
+void applyLookFlags(const LookFlags& f, SplatSettings& s) {
+    s.kernelScale = inRange(f.kernelScale, "--kernel-scale", kKernelScaleRange, " voxel spacings");
+    s.cutoffSigmas = inRange(f.cutoff, "--cutoff", kCutoffRange, " sigmas");
+    s.density = inRange(f.density, "--density", kDensityRange);
+    s.shading = flagValue("--shading", [&] { return shadingFromName(f.shading); });
+    s.surfaceFlatten = inRange(f.surfaceFlatten, "--surface", kSurfaceFlattenRange, " (1: volume kernels)");
+    s.surfaceGradient = inRange(f.surfaceGradient, "--surface-gradient", kSurfaceGradientRange);
+}
+
+const char* kPrimitiveHelp = "How splats reach pixels: auto (tiles for sheets and X-ray, else raster), raster "
+                             "(per slice: points where they fit, else quads), points, quads, or tiles (compute passes; sheets "
+                             "and X-ray only)";
+
+// How splats are filtered, composited and culled: the flags `render` and the editor share.
+struct SplatFlags {
+    // Both start with tiled sheets front to back: the fastest mode on every machine measured, and as close
+    // to the ground truth as splat-every-sample.
+    std::string compositing = "sheet-front-to-back", filter = "ewa", primitive = "auto";
+    double cMin = SplatSettings{}.cMin, cMax = SplatSettings{}.cMax, hysteresis = SplatSettings{}.hysteresis;
+    double opaqueAlpha = SplatSettings{}.opaqueAlpha;
+    int patchSize = SplatSettings{}.patchSize, opaqueRefresh = SplatSettings{}.opaqueRefreshSlices;
+    bool noOcclusionCulling = false;
+};
+
+void addSplatFlags(CLI::App* cmd, SplatFlags& f) {
+    cmd->add_option("--compositing", f.compositing, "splat-every-sample, sheet-back-to-front, sheet-front-to-back, xray")
+        ->capture_default_str();
+    cmd->add_option("--filter", f.filter, "reconstruction, low-pass, ewa or adaptive")->capture_default_str();
+    cmd->add_option("--c-min", f.cMin, "Adaptive: reconstruction only where R_k > 1 px / c_min")->capture_default_str();
+    cmd->add_option("--c-max", f.cMax, "Adaptive: low-pass only where R_k < 1 px / c_max (0: the paper's "
+                                       "2 (1 + 2 tan^2(fov/2)))")->capture_default_str();
+    cmd->add_option("--patch-size", f.patchSize, "Adaptive: slice voxels per patch side")->capture_default_str();
+    cmd->add_option("--hysteresis", f.hysteresis,
+                    "Adaptive: a patch changes filter only when a threshold is crossed by this factor")
+        ->capture_default_str();
+    cmd->add_option("--opaque-alpha", f.opaqueAlpha,
+                    "Front to back, pixels this opaque take no more splats (1: never; splat-every-sample "
+                    "then runs back to front)")->capture_default_str();
+    cmd->add_option("--opaque-refresh", f.opaqueRefresh,
+                    "Slices between refreshes of the opaque pixels (occlusion culling; 0: auto, every slice "
+                    "with tiles, every 8 rasterised)")->capture_default_str();
+    cmd->add_flag("--no-occlusion-culling", f.noOcclusionCulling,
+                  "Front to back, keep splats whose tiles or pixels are already opaque (early termination still "
+                  "skips those pixels): the baseline culling is measured against");
+    cmd->add_option("--primitive", f.primitive, kPrimitiveHelp)->capture_default_str();
+}
+
+void applySplatFlags(const SplatFlags& f, SplatSettings& s) {
+    s.compositing = flagValue("--compositing", [&] { return compositingFromName(f.compositing); });
+    s.filter = flagValue("--filter", [&] { return filterModeFromName(f.filter); });
+    s.primitive = flagValue("--primitive", [&] { return primitiveFromName(f.primitive); });
+    if (s.primitive == SplatSettings::Primitive::Tiles && s.compositing == Compositing::SplatEverySample)
+        throw CLI::ValidationError("--primitive", "tiles sum sheets: splat-every-sample needs points or quads "
+                                                  "(or --compositing sheet-front-to-back, sheet-back-to-front, xray)");
+    s.cMin = inRange(f.cMin, "--c-min", kCMinRange);
+    s.cMax = inRange(f.cMax, "--c-max", kCMaxRange, " (0: 2 (1 + 2 tan^2(fov/2)))");
+    s.patchSize = int(inRange(f.patchSize, "--patch-size", kPatchSizeRange, " voxels"));
+    s.hysteresis = inRange(f.hysteresis, "--hysteresis", kHysteresisRange);
+    s.opaqueAlpha = inRange(f.opaqueAlpha, "--opaque-alpha", kOpaqueAlphaRange);
+    s.opaqueRefreshSlices = int(inRange(f.opaqueRefresh, "--opaque-refresh", kOpaqueRefreshRange, " slices (0: auto)"));
+    s.occlusionCulling = !f.noOcclusionCulling;
+}
+
+// The flags a session sets (`render --session`, `editor --session`): one of them beside it is an error,
+// not silently overridden by the session or overriding it.
+void rejectFlagsBesideSession(const CLI::App* cmd, std::vector<const char*> also = {}) {
+    std::vector<const char*> flags = {
+        "--camera",    "--up",       "--fit",     "--tf",           "--window",      "--ortho",
+        "--kernel-scale", "--cutoff", "--density", "--shading",      "--surface",     "--surface-gradient",
+        "--compositing", "--filter",  "--c-min",   "--c-max",        "--patch-size",  "--hysteresis",
+        "--opaque-alpha", "--opaque-refresh", "--no-occlusion-culling", "--primitive"};
+    flags.insert(flags.end(), also.begin(), also.end());
+    for (const char* flag : flags)
+        if (const CLI::Option* o = cmd->get_option_no_throw(flag); o && o->count() > 0)
+            throw CLI::ValidationError(flag, "not with --session: the session sets it");
+}
+
+// What `render` and `reference` share: the volume, the view and how it looks.
+struct SceneArgs {
+    std::string volume, out, size = "512x512", camera = "30,20,2.5,30", tf = "ct-skin-bone", up = "z";
+    std::string session;   // render --session: a saved editor session instead of the flags above
+    bool fit = false;
+    LookFlags look;
     RawFlags raw;
 };
 
@@ -234,22 +332,10 @@ void addSceneOptions(CLI::App* cmd, SceneArgs& a) {
     cmd->add_option("--camera", a.camera, "azimuth,elevation,distance,fov (deg, bounding radii, deg)")
         ->capture_default_str();
     cmd->add_option("--up", a.up, "Axis of the file's world frame shown upwards: x, y, z, -x, -y, -z (headsq: -z)")->capture_default_str();
-    cmd->add_flag("--ortho", a.orthographic, "Parallel projection (framed like the perspective view)");
     cmd->add_flag("--fit", a.fit, "Move the camera along its line of sight, and pan, until everything the TF shows "
                                   "fills the image");
     cmd->add_option("--tf", a.tf, "Transfer function: a preset name or a JSON file")->capture_default_str();
-    cmd->add_option("--window", a.window,
-                    "Values mapped onto the TF: data (min..max), p1-99, or LO,HI in data units")
-        ->capture_default_str();
-    cmd->add_option("--kernel-scale", a.kernelScale, "Reconstruction sigma in voxel spacings")->capture_default_str();
-    cmd->add_option("--density", a.density, "Extinction per voxel length at TF opacity 1")->capture_default_str();
-    cmd->add_option("--shading", a.shading, "Headlight Phong: none, per-splat, per-fragment")->capture_default_str();
-    cmd->add_option("--surface", a.surfaceFlatten,
-                    "Surface splats: flatten kernels by this factor along strong gradients (1: off)")
-        ->capture_default_str();
-    cmd->add_option("--surface-gradient", a.surfaceGradient,
-                    "Gradient magnitude (fraction of the largest) from which a voxel is a surface splat")
-        ->capture_default_str();
+    addLookFlags(cmd, a.look);
     addRawFlags(cmd, a.raw);
 }
 
@@ -294,30 +380,17 @@ Scene buildSessionScene(const SceneArgs& a) {
     return s;
 }
 
-Scene buildScene(const SceneArgs& a) {
+Scene buildScene(const SceneArgs& a, const SplatFlags& splat) {
     if (!a.session.empty()) return buildSessionScene(a);
     if (a.volume.empty()) throw CLI::ValidationError("volume", "a volume file is required (or --session FILE)");
     const glm::ivec2 size = parseSize(a.size, "--size");
     Camera camera = parseCamera(a.camera);
     camera.up = axisFromName(a.up);
-    camera.orthographic = a.orthographic;
+    camera.orthographic = a.look.orthographic;
     Scene s;
-    s.settings.compositing = flagValue("--compositing", [&] { return compositingFromName(a.compositing); });
-    s.settings.filter = parseFilter(a.filter);
-    if (!(a.kernelScale > 0.05 && a.kernelScale <= 10))
-        throw CLI::ValidationError("--kernel-scale", "must be in (0.05, 10] voxel spacings");
-    if (!(a.density >= kMinDensity && a.density <= kMaxDensity))
-        throw CLI::ValidationError("--density", "must be " + formatRange(kMinDensity, kMaxDensity));
-    s.settings.kernelScale = a.kernelScale;
-    s.settings.density = a.density;
-    s.settings.shading = flagValue("--shading", [&] { return shadingFromName(a.shading); });
-    if (!(a.surfaceFlatten >= 1.0 && a.surfaceFlatten <= 1e6))
-        throw CLI::ValidationError("--surface", "must be in [1, 1e6] (1: volume kernels)");
-    if (!(a.surfaceGradient >= 0.0 && a.surfaceGradient <= 1.0))
-        throw CLI::ValidationError("--surface-gradient", "must be in [0, 1]");
-    s.settings.surfaceFlatten = a.surfaceFlatten;
-    s.settings.surfaceGradient = a.surfaceGradient;
-    finishScene(s, a.volume, a.raw, transferFunctionFromSpec(a.tf), parseWindow(a.window), camera, size, a.fit);
+    applyLookFlags(a.look, s.settings);
+    applySplatFlags(splat, s.settings);
+    finishScene(s, a.volume, a.raw, transferFunctionFromSpec(a.tf), parseWindow(a.look.window), camera, size, a.fit);
     return s;
 }
 
@@ -325,22 +398,12 @@ double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// What only `render` sets: GL options and extra outputs.
-const char* kPrimitiveHelp = "How splats reach pixels: auto (tiles for sheets and X-ray, else raster), raster "
-                             "(per slice: points where they fit, else quads), points, quads, or tiles (compute passes; sheets "
-                             "and X-ray only)";
-
-SplatSettings::Primitive parsePrimitive(const std::string& name) {
-    return flagValue("--primitive", [&] { return primitiveFromName(name); });
-}
-
+// What only `render` sets: its outputs and how it runs.
 struct RenderArgs {
     int frames = 5;
-    bool cpu = false, counters = false, noOcclusionCulling = false;
-    std::string heatmap, primitive = "auto";
-    double opaqueAlpha = SplatSettings{}.opaqueAlpha, cMin = SplatSettings{}.cMin, cMax = SplatSettings{}.cMax;
-    int patchSize = SplatSettings{}.patchSize;
-    int opaqueRefresh = SplatSettings{}.opaqueRefreshSlices;
+    bool cpu = false, counters = false;
+    std::string heatmap;
+    SplatFlags splat;
 };
 
 void printCounters(const SplatCounters& c) {
@@ -364,22 +427,7 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     const bool cpu = ra.cpu;
     if (frames < 1) throw CLI::ValidationError("--frames", "must be >= 1");
     checkImageWritable(a.out);   // before the volume loads and the frames render
-    if (!(ra.opaqueAlpha > 0.0 && ra.opaqueAlpha <= 1.0)) throw CLI::ValidationError("--opaque-alpha", "must be in (0, 1]");
-    if (!(ra.cMin > 0.0)) throw CLI::ValidationError("--c-min", "must be > 0");
-    if (!(ra.cMax >= 0.0)) throw CLI::ValidationError("--c-max", "must be >= 0 (0: 2 (1 + 2 tan^2(fov/2)))");
-    if (ra.patchSize < 1 || ra.patchSize > 256) throw CLI::ValidationError("--patch-size", "must be 1..256");
-    if (ra.opaqueRefresh < 0 || ra.opaqueRefresh > 65535)
-        throw CLI::ValidationError("--opaque-refresh", "must be 0 (auto) or 1..65535 slices");
-    Scene s = buildScene(a);
-    if (a.session.empty()) {   // a session has its own
-        s.settings.opaqueAlpha = ra.opaqueAlpha;
-        s.settings.opaqueRefreshSlices = ra.opaqueRefresh;
-        s.settings.occlusionCulling = !ra.noOcclusionCulling;
-        s.settings.cMin = ra.cMin;
-        s.settings.cMax = ra.cMax;
-        s.settings.patchSize = ra.patchSize;
-        s.settings.primitive = parsePrimitive(ra.primitive);
-    }
+    Scene s = buildScene(a, ra.splat);
     s.settings.heatmap = !ra.heatmap.empty();
     if (s.settings.heatmap && std::filesystem::path(ra.heatmap).lexically_normal() ==
                                   std::filesystem::path(a.out).lexically_normal())
@@ -460,7 +508,7 @@ bool printProgress(double fraction) {
 
 int runReference(const SceneArgs& a, const GroundTruthOptions& options, const std::string& cacheDir, bool noCache) {
     checkImageWritable(a.out);   // before the rays are traced
-    const Scene s = buildScene(a);
+    const Scene s = buildScene(a, SplatFlags{});   // the ground truth depends on how it looks only
     GroundTruthStats stats;
     const Image image = noCache ? renderGroundTruth(s.scene, s.plane, s.settings, options, printProgress, &stats)
                                 : cachedGroundTruth(s.scene, s.plane, s.settings, options,
@@ -540,24 +588,7 @@ int main(int argc, char** argv) {
     RenderArgs ra;
     auto* render = app.add_subcommand("render", "Render a volume headless to an image (PNG, EXR, ...)");
     addSceneOptions(render, r);
-    render->add_option("--compositing", r.compositing,
-                       "splat-every-sample, sheet-back-to-front, sheet-front-to-back, xray")
-        ->capture_default_str();
-    render->add_option("--filter", r.filter, "reconstruction, low-pass, ewa or adaptive")->capture_default_str();
-    render->add_option("--c-min", ra.cMin, "Adaptive: reconstruction only where R_k > 1 px / c_min")->capture_default_str();
-    render->add_option("--c-max", ra.cMax, "Adaptive: low-pass only where R_k < 1 px / c_max (0: the paper's "
-                                           "2 (1 + 2 tan^2(fov/2)))")->capture_default_str();
-    render->add_option("--patch-size", ra.patchSize, "Adaptive: slice voxels per patch side")->capture_default_str();
-    render->add_option("--opaque-alpha", ra.opaqueAlpha,
-                       "Front to back, pixels this opaque take no more splats (1: never; splat-every-sample "
-                       "then runs back to front)")->capture_default_str();
-    render->add_option("--opaque-refresh", ra.opaqueRefresh,
-                       "Slices between refreshes of the opaque pixels (occlusion culling; 0: auto, every slice "
-                       "with tiles, every 8 rasterised)")->capture_default_str();
-    render->add_flag("--no-occlusion-culling", ra.noOcclusionCulling,
-                     "Front to back, keep splats whose tiles or pixels are already opaque (early termination still "
-                     "skips those pixels): the baseline culling is measured against");
-    render->add_option("--primitive", ra.primitive, kPrimitiveHelp)->capture_default_str();
+    addSplatFlags(render, ra.splat);
     render->add_option("--heatmap", ra.heatmap, "Also write the filter-mode heatmap (red reconstruction, green "
                                                 "low-pass, blue EWA, weighted by opacity)");
     render->add_flag("--counters", ra.counters, "Print splats per filter and per cull (GL: counted on the GPU)");
@@ -611,14 +642,16 @@ int main(int argc, char** argv) {
 
     EditorOptions e;
     e.volumePath = std::filesystem::path(SPLATLAB_ASSET_DIR) / "volumes" / "headsq.nhdr";
-    std::string editorSize = "1280x800", editorVolume, screenshot, editorUp, editorCamera, editorPrimitive = "auto",
-                editorSession;
+    std::string editorSize = "1280x800", editorVolume, screenshot, editorUp, editorCamera, editorSession;
+    LookFlags editorLook;
+    SplatFlags editorSplat;
+    RawFlags editorRaw;
     auto* editor = app.add_subcommand("editor", "Open the editor window (default: the bundled headsq)");
     editor->add_option("volume", editorVolume, "Volume file");
     editor->add_option("--tf", e.tfSpec, "Transfer function: a preset name or a JSON file")->capture_default_str();
     editor->add_option("--session", editorSession,
-                       "Open a saved session (JSON): its settings replace the other flags'; a volume argument "
-                       "replaces its volume");
+                       "Open a saved session (JSON): its volume, TF, window, camera and settings (a volume argument "
+                       "replaces its volume)");
     editor->add_option("--screenshot", screenshot, "Write a PNG of the window after --frames frames, then exit");
     editor->add_option("--frames", e.frames, "Exit after this many frames (0: run until closed)")
         ->check(CLI::NonNegativeNumber);
@@ -626,15 +659,12 @@ int main(int argc, char** argv) {
     editor->add_option("--camera", editorCamera, "Starting view: azimuth,elevation,distance,fov");
     editor->add_flag("--fit", e.fit, "Start framed: everything the TF shows fills the viewport, centred "
                                      "(Settings > Camera > Frame)");
-    editor->add_option("--filter", e.filter, "Starting filter: reconstruction, low-pass, ewa or adaptive")
-        ->capture_default_str();
-    editor->add_flag("--heatmap", e.heatmap, "Start with the filter-mode heatmap in the viewport");
-    editor->add_option("--compositing", e.compositing,
-                       "Starting compositing: splat-every-sample, sheet-back-to-front, sheet-front-to-back, xray")
-        ->capture_default_str();
-    editor->add_option("--primitive", editorPrimitive, kPrimitiveHelp)->capture_default_str();
+    editor->add_flag("--heatmap", e.settings.heatmap, "Start with the filter-mode heatmap in the viewport");
     editor->add_option("--up", editorUp, "Axis of the file's world frame shown upwards: x, y, z, -x, -y, -z (default: z; "
                                          "-z for the bundled headsq)");
+    addLookFlags(editor, editorLook);
+    addSplatFlags(editor, editorSplat);
+    addRawFlags(editor, editorRaw);
     editor->add_option("--tab", e.tabs, "Bring a panel's tab to the front, e.g. Performance (repeatable)");
     editor->add_flag("--continuous", e.continuous, "Render every frame (the Performance panel's steady load)");
     editor->add_option("--save-image", e.saveImagePath,
@@ -646,13 +676,8 @@ int main(int argc, char** argv) {
 
     try {
         app.parse(argc, argv);
-        if (*render && !r.session.empty())   // what the session sets cannot also come from a flag
-            for (const char* flag : {"--camera", "--up", "--ortho", "--fit", "--tf", "--window", "--kernel-scale", "--density",
-                                     "--shading", "--surface", "--surface-gradient", "--compositing", "--filter",
-                                     "--c-min", "--c-max", "--patch-size", "--opaque-alpha", "--opaque-refresh",
-                                     "--no-occlusion-culling", "--primitive"})
-                if (render->get_option(flag)->count() > 0)
-                    throw CLI::ValidationError(flag, "not with --session: the session sets it");
+        if (*render && !r.session.empty()) rejectFlagsBesideSession(render);
+        if (*editor && !editorSession.empty()) rejectFlagsBesideSession(editor, {"--heatmap"});
         if (*render) return runRender(r, ra);
         if (*reference) return runReference(ref, gt, cacheDir, noCache);
         if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);
@@ -663,7 +688,11 @@ int main(int argc, char** argv) {
         e.upAxis = editorVolume.empty() ? "-z" : "z";
         if (editorVolume.empty()) e.camera = parseCamera("60,15,2.5,30");   // a three-quarter view of the face
         if (!editorCamera.empty()) e.camera = parseCamera(editorCamera);
-        e.primitive = parsePrimitive(editorPrimitive);
+        applyLookFlags(editorLook, e.settings);
+        applySplatFlags(editorSplat, e.settings);
+        e.camera.orthographic = editorLook.orthographic;
+        e.window = parseWindow(editorLook.window);
+        e.raw = rawOptions(editorRaw);
         if (!editorUp.empty()) e.upAxis = (axisFromName(editorUp), editorUp);
         if (!editorVolume.empty()) e.volumePath = editorVolume;
         else if (!editorSession.empty()) e.volumePath.clear();   // the session's volume

@@ -1,8 +1,10 @@
 // The command line as a user meets it: `render` writes a picture without an X server, `info` reports
 // the volume, `accuracy` writes its report, and mistakes get one clear line on stderr and a non-zero exit.
 #include "image_compare.h"
+#include "renderer/errors.h"
 #include "renderer/image.h"
 #include "renderer/metrics.h"
+#include "renderer/splat_settings.h"
 #include "renderer/transfer_function.h"
 #include "renderer/volume_io.h"
 #include "test_paths.h"
@@ -325,7 +327,7 @@ TEST(Cli, MistakesGetOneClearLineAndAFailingExit) {
         {render + "--out no_such_folder/x.png", "x.png: cannot write: the folder 'no_such_folder' does not exist"},
         {render + "--out " + out + " --window 0,1e-300", "LO must be below HI (as 32-bit floats the two are equal)"},
         {render + "--out " + out + " --window 0,1e300", "LO and HI must be finite 32-bit floats"},
-        {render + "--out " + out + " --opaque-refresh -1", "must be 0 (auto) or 1..65535 slices"},
+        {render + "--out " + out + " --opaque-refresh -1", "--opaque-refresh: must be in [0, 4096] slices (0: auto)"},
         {"reference \"" + headsq() + "\" --size 8x8 --out " + out + " --cache \"" + raw + "\"",
          "unnamed.raw: cannot be the ground-truth cache folder"},
         {"reference \"" + headsq() + "\" --size 8x8 --out " + out + " --supersample 0", "--supersample: Value 0 not in range 1 to 8"},
@@ -535,6 +537,106 @@ TEST(Cli, EditorSavesTheViewAsRenderDrawsItAndNamesAFileItCannotWrite) {
     const CliRun bad = run(editor + "--save-image \"" + missing + "\" 2>&1");
     EXPECT_NE(bad.status, 0);
     EXPECT_THAT(bad.output, HasSubstr(missing));
+}
+
+TEST(Cli, TheEditorTakesRendersLookAndSplattingFlagsAndSavesWhatRenderDraws) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    const std::filesystem::path dir = testing_support::testOutputDir();
+    // headsq's voxels without their header, read through --raw-*: unit spacing, so a taller head.
+    const std::filesystem::path raw = dir / "headerless_head.raw";
+    std::filesystem::copy_file(testing_support::assetDir() / "volumes" / "headsq_64x64x93_int16.raw", raw,
+                               std::filesystem::copy_options::overwrite_existing);
+    const std::string volume = "\"" + raw.string() + "\" --raw-dims 64x64x93 --raw-type int16 --up -z ";
+    // Every flag here differs from its default, and each changes the picture.
+    const std::string flags = "--camera 60,15,2.5,30 --ortho --window 300,2600 --kernel-scale 0.9 --cutoff 2.5 "
+                              "--density 2 --shading per-splat --filter adaptive --c-min 0.6 --patch-size 4 "
+                              "--compositing sheet-back-to-front --tf ct-bone ";
+    const std::filesystem::path saved = dir / "editor_flags.exr", drawn = dir / "render_flags.exr",
+                                plain = dir / "render_plain.exr";
+    std::filesystem::remove(saved);
+    const CliRun e = run("LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE
+                         "\" editor " + volume + flags + "--size 1280x800 --frames 4 --save-image \"" +
+                         saved.string() + "\" 2>&1");
+    ASSERT_EQ(e.status, 0) << e.output;
+    const renderer::Image fromEditor = renderer::readImage(saved);
+    const std::string size = "--size " + std::to_string(fromEditor.width) + "x" + std::to_string(fromEditor.height);
+    const CliRun r = splatlab("render " + volume + flags + size + " --frames 1 -o \"" + drawn.string() + "\"");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const renderer::Image fromCli = renderer::readImage(drawn);
+    ASSERT_EQ(fromCli.rgba.size(), fromEditor.rgba.size());
+    EXPECT_GT(renderer::imageStats(fromEditor).coveredFraction, 0.1);
+    const auto d = testing_support::renderDifference(fromCli, fromEditor);
+    EXPECT_LE(d.elsewhere, 1e-5f);
+    EXPECT_LE(d.atOpaque, 2e-3f);
+    // And the flags took effect: the same view with the defaults is another picture.
+    const CliRun p = splatlab("render " + volume + "--camera 60,15,2.5,30 --tf ct-bone " + size + " --frames 1 -o \"" +
+                              plain.string() + "\"");
+    ASSERT_EQ(p.status, 0) << p.output;
+    EXPECT_GT(renderer::compareImages(renderer::readImage(plain), fromCli).rmse, 0.02);
+}
+
+// One range per setting (splat_settings.h): a flag of `render` or the editor takes what a session takes.
+TEST(Cli, FlagsAndSessionsAcceptTheSameValuesOfEachSetting) {
+    const std::filesystem::path dir = testing_support::testOutputDir();
+    const std::string out = (dir / "range.png").string();
+    struct Setting {
+        const char *flag, *key;
+        renderer::SettingRange range;
+        double outside;   // how far past each end a value is refused
+    };
+    const Setting settings[] = {{"--kernel-scale", "kernel_scale", renderer::kKernelScaleRange, 0.01},
+                                {"--cutoff", "cutoff", renderer::kCutoffRange, 0.1},
+                                {"--density", "density", renderer::kDensityRange, 1e-7},
+                                {"--c-min", "c_min", renderer::kCMinRange, 0.005},
+                                {"--c-max", "c_max", renderer::kCMaxRange, 0.5},
+                                {"--patch-size", "patch_size", renderer::kPatchSizeRange, 1},
+                                {"--hysteresis", "hysteresis", renderer::kHysteresisRange, 0.5},
+                                {"--opaque-alpha", "opaque_alpha", renderer::kOpaqueAlphaRange, 0.005},
+                                {"--opaque-refresh", "opaque_refresh_slices", renderer::kOpaqueRefreshRange, 1},
+                                {"--surface", "surface_flatten", renderer::kSurfaceFlattenRange, 0.5},
+                                {"--surface-gradient", "surface_gradient", renderer::kSurfaceGradientRange, 0.5}};
+    for (const Setting& s : settings) {
+        const bool whole = std::string(s.key) == "patch_size" || std::string(s.key) == "opaque_refresh_slices";
+        for (const double value : {s.range.lo - s.outside, s.range.lo, s.range.hi, s.range.hi + std::max(s.outside, s.range.hi * 1e-3)}) {
+            const bool inside = value >= s.range.lo && value <= s.range.hi;
+            char text[32];
+            std::snprintf(text, sizeof text, whole ? "%.0f" : "%.9g", value);
+            const std::string label = std::string(s.flag) + " " + text;
+            // A session with just this value.
+            const std::filesystem::path session = dir / "range_session.json";
+            std::ofstream(session) << "{\"splatlab_session\": " << ui::kSessionVersion << ", \"splatting\": {\""
+                                   << s.key << "\": " << text << "}}";
+            ui::EditorState state;
+            bool loaded = true;
+            try {
+                ui::loadSession(session, state);
+            } catch (const renderer::LoadError& e) {
+                loaded = false;
+                EXPECT_THAT(e.what(), HasSubstr(std::string("splatting.") + s.key)) << label;
+            }
+            EXPECT_EQ(loaded, inside) << label << " in a session";
+            const CliRun r = splatlab("render \"" + headsq() + "\" --size 8x8 --frames 1 --out \"" + out + "\" " + label);
+            EXPECT_EQ(r.status == 0, inside) << label << "\n" << r.output;
+            if (inside) continue;
+            EXPECT_THAT(r.output, HasSubstr(std::string(s.flag) + ": must be in [")) << label;
+            // The editor refuses it before it opens a window.
+            const CliRun e = splatlab("editor " + label);
+            EXPECT_NE(e.status, 0) << label;
+            EXPECT_THAT(e.output, HasSubstr(std::string(s.flag) + ": must be in [")) << label;
+        }
+    }
+}
+
+TEST(Cli, TheEditorRefusesAFlagBesideASessionThatSetsIt) {
+    const std::filesystem::path session = testing_support::testOutputDir() / "refuse_session.json";
+    ui::saveSession(ui::EditorState{}, {}, session);
+    for (const char* flag : {"--shading per-splat", "--heatmap", "--tf fire", "--camera 1,2,3,30", "--window p1-99"}) {
+        const CliRun e = splatlab("editor --session \"" + session.string() + "\" " + flag);
+        EXPECT_NE(e.status, 0) << flag;
+        const std::string name = std::string(flag).substr(0, std::string(flag).find(' '));
+        EXPECT_THAT(e.output, HasSubstr(name + ": not with --session: the session sets it")) << flag;
+    }
 }
 
 // The rows and columns holding pixels with alpha over 1/255, as fractions of the image's size.

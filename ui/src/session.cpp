@@ -5,6 +5,7 @@
 #include "renderer/atomic_file.h"
 #include "renderer/errors.h"
 #include "renderer/json_file.h"
+#include "renderer/splat_settings.h"
 
 #include <nlohmann/json.hpp>
 
@@ -26,6 +27,10 @@ class Section {
         m_json = &root[name];
     }
 
+    void number(const char* key, double& out, renderer::SettingRange range) const { number(key, out, range.lo, range.hi); }
+    void integer(const char* key, int& out, renderer::SettingRange range) const {
+        integer(key, out, int(range.lo), int(range.hi));
+    }
     void number(const char* key, double& out, double lo, double hi) const {
         if (const json* v = find(key)) {
             if (!v->is_number() || !std::isfinite(v->get<double>()) || v->get<double>() < lo || v->get<double>() > hi)
@@ -189,28 +194,28 @@ std::filesystem::path loadSession(const std::filesystem::path& file, EditorState
 
     const Section splatting(j, "splatting", name);
     renderer::SplatSettings& s = next.settings;
-    splatting.number("kernel_scale", s.kernelScale, 0.05, 10.0);
-    splatting.number("cutoff", s.cutoffSigmas, 0.5, 10.0);
-    splatting.number("density", s.density, renderer::kMinDensity, renderer::kMaxDensity);
+    splatting.number("kernel_scale", s.kernelScale, renderer::kKernelScaleRange);
+    splatting.number("cutoff", s.cutoffSigmas, renderer::kCutoffRange);
+    splatting.number("density", s.density, renderer::kDensityRange);
     splatting.name("filter", s.filter, &renderer::filterModeFromName);
-    splatting.number("c_min", s.cMin, 0.01, 10.0);
-    splatting.number("c_max", s.cMax, 0.0, 100.0);
-    splatting.integer("patch_size", s.patchSize, 1, 256);
-    splatting.number("hysteresis", s.hysteresis, 0.0, 10.0);
+    splatting.number("c_min", s.cMin, renderer::kCMinRange);
+    splatting.number("c_max", s.cMax, renderer::kCMaxRange);
+    splatting.integer("patch_size", s.patchSize, renderer::kPatchSizeRange);
+    splatting.number("hysteresis", s.hysteresis, renderer::kHysteresisRange);
     splatting.name("compositing", s.compositing, &renderer::compositingFromName);
     splatting.name("primitive", s.primitive, &renderer::primitiveFromName);
     if (s.compositing == renderer::Compositing::SplatEverySample && s.primitive == renderer::SplatSettings::Primitive::Tiles)
         splatting.fail("primitive", "tiles need sheet or X-ray compositing");
-    splatting.number("opaque_alpha", s.opaqueAlpha, 0.5, 1.0);
-    splatting.integer("opaque_refresh_slices", s.opaqueRefreshSlices, 0, 4096);
+    splatting.number("opaque_alpha", s.opaqueAlpha, renderer::kOpaqueAlphaRange);
+    splatting.integer("opaque_refresh_slices", s.opaqueRefreshSlices, renderer::kOpaqueRefreshRange);
     splatting.boolean("occlusion_culling", s.occlusionCulling);
     splatting.name("shading", s.shading, &renderer::shadingFromName);
     splatting.number("ambient", s.shadingParams.ambient, 0.0, 10.0);
     splatting.number("diffuse", s.shadingParams.diffuse, 0.0, 10.0);
     splatting.number("specular", s.shadingParams.specular, 0.0, 10.0);
     splatting.number("shininess", s.shadingParams.shininess, 0.0, 1e4);
-    splatting.number("surface_flatten", s.surfaceFlatten, 1.0, 1e6);
-    splatting.number("surface_gradient", s.surfaceGradient, 0.0, 1.0);
+    splatting.number("surface_flatten", s.surfaceFlatten, renderer::kSurfaceFlattenRange);
+    splatting.number("surface_gradient", s.surfaceGradient, renderer::kSurfaceGradientRange);
     splatting.boolean("counters", s.counters);
 
     const Section view(j, "view", name);

@@ -81,9 +81,24 @@ const char* primitiveName(SplatSettings::Primitive p);
 SplatSettings::Primitive primitiveFromName(const std::string& name);
 
 constexpr int kOpaqueTilePx = 8;
-// The densities a session or the command line accepts (SplatSettings::density): beyond them a frame
-// is all clear or all opaque, and infinity would make every footprint NaN.
-constexpr double kMinDensity = 1e-6, kMaxDensity = 1e6;
+// The values of each numeric setting that a session or the command line accepts, one place for both
+// (the Settings panel's sliders span narrower, everyday ranges). Beyond them a frame is all clear or
+// all opaque, a footprint NaN, or a kernel too thin or too wide to mean anything.
+struct SettingRange {
+    double lo, hi;
+    bool holds(double x) const { return x >= lo && x <= hi; }   // false for NaN
+};
+constexpr SettingRange kKernelScaleRange{0.05, 10.0};   // voxel spacings
+constexpr SettingRange kCutoffRange{0.5, 10.0};         // sigmas
+constexpr SettingRange kDensityRange{1e-6, 1e6};
+constexpr SettingRange kCMinRange{0.01, 10.0};
+constexpr SettingRange kCMaxRange{0.0, 100.0};          // 0: the paper's 2 (1 + 2 tan^2(fov/2))
+constexpr SettingRange kPatchSizeRange{1, 256};         // voxels; whole numbers
+constexpr SettingRange kHysteresisRange{0.0, 10.0};
+constexpr SettingRange kOpaqueAlphaRange{0.01, 1.0};    // 1: never opaque
+constexpr SettingRange kOpaqueRefreshRange{0, 4096};    // slices; 0: auto; whole numbers
+constexpr SettingRange kSurfaceFlattenRange{1.0, 1e6};  // 1: volume kernels
+constexpr SettingRange kSurfaceGradientRange{0.0, 1.0}; // fraction of the largest gradient
 // Side of the square screen tiles of tiled splatting (one compute workgroup each).
 constexpr int kSplatTilePx = 8;
 
