@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace renderer {
@@ -84,15 +85,35 @@ uint16_t classOf(float value, float lo, float hi) {
     return uint16_t(std::clamp(int(std::floor(t * kLutSize)), 0, kLutSize - 1));
 }
 
+// The bundled preset files, NAME.json in the assets' presets folder, by name, sorted; a file named like
+// a preset in code is left out (the code's wins). Read at each call: the folder is small, and a file a
+// user adds there is a preset at once.
+std::vector<std::pair<std::string, std::filesystem::path>> bundledPresetFiles() {
+    std::vector<std::pair<std::string, std::filesystem::path>> files;
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(SPLATLAB_ASSET_DIR "/presets", ec)) {
+        const std::filesystem::path& path = entry.path();
+        if (path.extension() != ".json" || !entry.is_regular_file(ec)) continue;
+        const std::string name = path.stem().string();
+        if (std::none_of(presets().begin(), presets().end(), [&](const Preset& p) { return name == p.name; }))
+            files.emplace_back(name, path);
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
 std::vector<std::string> builtinPresetNames() {
     std::vector<std::string> names;
     for (const auto& p : presets()) names.push_back(p.name);
+    for (const auto& [name, path] : bundledPresetFiles()) names.push_back(name);
     return names;
 }
 
 TransferFunction builtinPreset(const std::string& name) {
     for (const auto& p : presets())
         if (name == p.name) return {p.name, p.points};
+    for (const auto& [fileName, path] : bundledPresetFiles())
+        if (name == fileName) return loadTransferFunction(path);
     std::string known;
     for (const auto& n : builtinPresetNames()) known += (known.empty() ? "" : ", ") + n;
     throw RenderError("unknown transfer-function preset '" + name + "' (known: " + known + ")");

@@ -171,6 +171,27 @@ class TfPanel : public ImGuiNull {
     std::function<void()> body() {
         return [this] { draw(); };
     }
+    // Opens the Preset combo and clicks `name` in it; false (after a failed assertion) if either is missing.
+    bool pickPreset(const char* name) {
+        ImGuiID comboId = 0;
+        auto withCombo = [&] {
+            comboId = ImGui::GetID("Preset");
+            draw();
+        };
+        frame(withCombo);
+        const float comboY = findItem(comboId, 40.0f, 0.0f, 700.0f, withCombo);
+        EXPECT_GE(comboY, 0.0f) << "no Preset combo";
+        if (comboY < 0.0f) return false;
+        click(40.0f, comboY, withCombo);
+        const ImGuiWindow* popup = ImGui::FindWindowByName("##Combo_00");
+        EXPECT_NE(popup, nullptr);
+        if (!popup) return false;
+        const float itemY = findItem(ImHashStr(name, 0, popup->ID), 40.0f, comboY, comboY + 300.0f, withCombo);
+        EXPECT_GE(itemY, 0.0f) << "the preset " << name << " was never hovered";
+        if (itemY < 0.0f) return false;
+        click(40.0f, itemY, withCombo);
+        return true;
+    }
     // The canvas's rectangle, found by hovering: its first and last hovered pixels across and down.
     Rect findCanvas() {
         frame(body());
@@ -311,24 +332,17 @@ TEST_F(TfPanel, SaveWritesAFileThatLoadsBackAndBadFilesNameThemselves) {
 
 TEST_F(TfPanel, PickingAPresetReplacesTheCurveAndClearsTheSelection) {
     state.tfSelected = 2;
-    ImGuiID comboId = 0;
-    auto withCombo = [&] {
-        comboId = ImGui::GetID("Preset");
-        draw();
-    };
-    frame(withCombo);
-    const float comboY = findItem(comboId, 40.0f, 0.0f, 700.0f, withCombo);
-    ASSERT_GE(comboY, 0.0f);
-    click(40.0f, comboY, withCombo);
-    const ImGuiWindow* popup = ImGui::FindWindowByName("##Combo_00");
-    ASSERT_NE(popup, nullptr);
-    const float itemY = findItem(ImHashStr("fire", 0, popup->ID), 40.0f, comboY, comboY + 300.0f, withCombo);
-    ASSERT_GE(itemY, 0.0f) << "the fire preset was never hovered";
-    click(40.0f, itemY, withCombo);
+    ASSERT_TRUE(pickPreset("fire"));
     EXPECT_TRUE(changed);
     EXPECT_EQ(state.tf.name, "fire");
     EXPECT_EQ(state.tf.points.size(), renderer::builtinPreset("fire").points.size());
     EXPECT_EQ(state.tfSelected, -1);
+}
+
+TEST_F(TfPanel, ThePresetListOffersTheBundledPresetFilesToo) {
+    ASSERT_TRUE(pickPreset("bonsai")) << "assets/presets/bonsai.json is not in the list";
+    EXPECT_TRUE(changed);
+    EXPECT_EQ(state.tf, renderer::loadTransferFunction(testing_support::assetDir() / "presets" / "bonsai.json"));
 }
 
 TEST_F(TfPanel, ADragIsOneUndoStepAndCtrlZCtrlYWalkTheHistory) {

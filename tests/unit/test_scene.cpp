@@ -341,6 +341,25 @@ TEST(TransferFunction, EvaluateInterpolatesAndHoldsTheEndsOutsideThePoints) {
     EXPECT_EQ(evaluate(step, 0.51).a, 1.0);
 }
 
+TEST(TransferFunction, EachBundledPresetFileIsAPresetByItsName) {
+    // assets/presets/bonsai.json: `--tf bonsai`, the editor's Preset list and `splatlab tf` name it.
+    const std::vector<std::string> names = builtinPresetNames();
+    ASSERT_GE(names.size(), 6u);
+    EXPECT_EQ(std::vector<std::string>(names.begin(), names.begin() + 5),
+              (std::vector<std::string>{"ct-skin-bone", "ct-bone", "grey-ramp", "soft", "fire"}));
+    EXPECT_NE(std::find(names.begin(), names.end(), "bonsai"), names.end());
+    const TransferFunction file = loadTransferFunction(testing_support::assetDir() / "presets" / "bonsai.json");
+    EXPECT_EQ(builtinPreset("bonsai"), file);
+    EXPECT_EQ(transferFunctionFromSpec("bonsai"), file);
+    EXPECT_EQ(file.name, "bonsai");
+    try {
+        builtinPreset("no-such-preset");
+        ADD_FAILURE() << "an unknown name loaded";
+    } catch (const RenderError& e) {
+        EXPECT_THAT(e.what(), ::testing::HasSubstr("fire, bonsai"));   // the known names, the files' last
+    }
+}
+
 TEST(SplatScene, ATfEditCountsTheVisibleVoxelsAsEveryVoxelWould) {
     // The count comes from the voxels per class, kept from the build; each TF must give what a pass
     // over every voxel gives.

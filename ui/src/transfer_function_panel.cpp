@@ -88,11 +88,15 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     const std::string shown = tf.name + (state.tfEdited ? " (edited)" : "");
     if (ImGui::BeginCombo("Preset", shown.c_str())) {
         for (const std::string& name : renderer::builtinPresetNames())
-            if (ImGui::Selectable(name.c_str(), name == tf.name && !state.tfEdited))
-                replace(renderer::builtinPreset(name));
+            if (ImGui::Selectable(name.c_str(), name == tf.name && !state.tfEdited)) try {
+                    replace(renderer::builtinPreset(name));
+                } catch (const renderer::LoadError& e) {   // a bundled file that is not a TF
+                    state.errorMessage = e.what();
+                }
         ImGui::EndCombo();
     }
-    hint("Built-in transfer functions: value -> colour and extinction. Picking one replaces the curve below");
+    hint("Transfer functions: value -> colour and extinction; the built-in ones, then each NAME.json in\n"
+         "assets/presets. Picking one replaces the curve below");
 
     // 2. The curve. One button over the canvas takes left presses (pick or add, then drag) and right
     //    clicks (remove).

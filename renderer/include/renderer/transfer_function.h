@@ -37,9 +37,11 @@ Lut bakeLut(const TransferFunction& tf);
 // Class of a value: which LUT entry it reads. Normalises over [lo, hi] and clamps; NaN gets class 0.
 uint16_t classOf(float value, float lo, float hi);
 
-// Presets: built-in names ("ct-skin-bone", "ct-bone", "grey-ramp", "soft", "fire") or a JSON file.
+// Presets by name: those in code ("ct-skin-bone", "ct-bone", "grey-ramp", "soft", "fire"), then each
+// NAME.json of the bundled assets/presets ("bonsai"), sorted.
 std::vector<std::string> builtinPresetNames();
-TransferFunction builtinPreset(const std::string& name);          // throws RenderError if unknown
+// Throws RenderError listing the names if unknown, LoadError naming the file if a bundled one is bad.
+TransferFunction builtinPreset(const std::string& name);
 TransferFunction loadTransferFunction(const std::filesystem::path& path);   // throws LoadError
 void saveTransferFunction(const TransferFunction& tf, const std::filesystem::path& path);  // atomic
 std::string transferFunctionText(const TransferFunction& tf);   // what saveTransferFunction writes
