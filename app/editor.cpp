@@ -10,6 +10,7 @@
 #include "renderer/gl_context.h"
 #include "renderer/gradients.h"
 #include "renderer/image.h"
+#include "renderer/probe.h"
 #include "renderer/splat_renderer.h"
 #include "renderer/splat_scene.h"
 #include "renderer/transfer_function.h"
@@ -726,6 +727,12 @@ int runEditor(const EditorOptions& options) {
                                   gradientJob ? gradientJob->fraction.load() : 1.0, gradientJob && !volumeJob))
             gradientJob->cancel = true;
         ImGui::Render();
+        // The voxel under the mouse, for the next frame's tooltip and TF marker: the last full render's
+        // view, so not while a drag shows the preview or a window edit left the full scene behind.
+        state.probe.reset();
+        if (viewport.hoverPx && lastPlane && doc.volume && !fullWindowStale && !state.preview.shown)
+            if (const auto hit = renderer::probePixel(doc.scene, state.settings, *lastPlane, *viewport.hoverPx))
+                state.probe = ui::EditorState::ProbedVoxel{hit->voxel, doc.volume->at(hit->voxel.x, hit->voxel.y, hit->voxel.z)};
         tfPending |= tfChanged;
         // Any edit of the view ends a measurement under way and dates the last one.
         const bool viewEdited = settingsChanges.any() || tfChanged || windowChanged || filtersChanges.settingsChanged ||

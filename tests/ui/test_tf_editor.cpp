@@ -345,6 +345,31 @@ TEST_F(TfPanel, ThePresetListOffersTheBundledPresetFilesToo) {
     EXPECT_EQ(state.tf, renderer::loadTransferFunction(testing_support::assetDir() / "presets" / "bonsai.json"));
 }
 
+TEST_F(TfPanel, TheValueProbedInTheViewportIsMarkedOnTheAxis) {
+    const Rect canvas = findCanvas();
+    // The x of every vertex drawn in the marker's colour in the last frame.
+    auto markerXs = [] {
+        std::vector<float> xs;
+        const ImDrawData* data = ImGui::GetDrawData();
+        for (int l = 0; l < data->CmdListsCount; ++l)
+            for (const ImDrawVert& v : data->CmdLists[l]->VtxBuffer)
+                if (v.col == ui::kProbeMarkerColour) xs.push_back(v.pos.x);
+        return xs;
+    };
+    mouse(1000, 1000, false);
+    frame(body());
+    EXPECT_TRUE(markerXs().empty()) << "nothing probed";
+    state.probe = ui::EditorState::ProbedVoxel{{1, 2, 3}, 1400.0f};   // 0.6 of the window -1000 .. 3000
+    frame(body());
+    const std::vector<float> xs = markerXs();
+    ASSERT_FALSE(xs.empty());
+    const float expected = ui::tfToCanvas(canvas, 0.6, 0.0).x;
+    for (float x : xs) EXPECT_NEAR(x, expected, 1.5f);
+    state.probe->value = 5000.0f;   // beyond the window: off the axis, no mark
+    frame(body());
+    EXPECT_TRUE(markerXs().empty());
+}
+
 TEST_F(TfPanel, ADragIsOneUndoStepAndCtrlZCtrlYWalkTheHistory) {
     const Rect canvas = findCanvas();
     const TransferFunction before = state.tf;

@@ -381,6 +381,38 @@ TEST_F(ImGuiNull, LeftDragInViewportOrbitsByTheStatedGain) {
     EXPECT_GT(result.heightPx, 600);
 }
 
+TEST_F(ImGuiNull, HoveringTheViewportGivesThePixelToProbeAndTheProbedValueInATooltip) {
+    ui::EditorState state;
+    ui::ViewportResult result;
+    ImVec2 origin;
+    auto body = [&] {
+        origin = ImGui::GetCursorScreenPos();
+        result = ui::drawViewportPanel(state, 1);   // a texture: something is shown
+    };
+    auto tooltipShown = [] {
+        const ImGuiWindow* tip = ImGui::FindWindowByName("##Tooltip_00");
+        return tip && tip->Active;
+    };
+    mouse(200, 300, false);
+    frame(body);
+    frame(body);
+    ASSERT_TRUE(result.hoverPx.has_value());
+    EXPECT_EQ(*result.hoverPx, glm::dvec2(200.0 - origin.x, 300.0 - origin.y));   // render pixels, y down
+    EXPECT_FALSE(tooltipShown()) << "nothing probed yet";
+    state.probe = ui::EditorState::ProbedVoxel{{3, 4, 5}, 1234.0f};
+    frame(body);
+    EXPECT_TRUE(tooltipShown());
+    mouse(200, 300, true);   // a drag orbits: no probe
+    frame(body);
+    EXPECT_FALSE(result.hoverPx.has_value());
+    EXPECT_FALSE(tooltipShown());
+    mouse(200, 300, false);
+    frame(body);
+    mouse(1000, 300, false);   // outside the panel
+    frame(body);
+    EXPECT_FALSE(result.hoverPx.has_value());
+}
+
 TEST_F(ImGuiNull, DockSpaceDrawsFrontTabsAndDraggingTheColumnSplitterMovesIt) {
     DockLayout layout = ui::makeEditorLayout();
     std::map<std::string, int> drawn;

@@ -289,6 +289,13 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
     result.frame = ImGui::IsItemHovered() && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left);
     result.widthPx = std::max(1, int(std::lround(extent.x * io.DisplayFramebufferScale.x)));
     result.heightPx = std::max(1, int(std::lround(extent.y * io.DisplayFramebufferScale.y)));
+    if (ImGui::IsItemHovered() && !ImGui::IsAnyMouseDown()) {
+        result.hoverPx = glm::dvec2((io.MousePos.x - origin.x) * io.DisplayFramebufferScale.x,
+                                    (io.MousePos.y - origin.y) * io.DisplayFramebufferScale.y);
+        if (state.probe && texture != 0)
+            ImGui::SetTooltip("value %.5g at voxel (%d, %d, %d)", double(state.probe->value), state.probe->voxel.x,
+                              state.probe->voxel.y, state.probe->voxel.z);
+    }
 
     // 2. The image, or a note saying why there is none. The renderer's texture has row 0 at the top
     //    of the image, so it maps straight onto ImGui's y-down rectangle.
@@ -439,6 +446,7 @@ void drawHelpPanel() {
     bulletWrapped("Right or middle drag: pan");
     bulletWrapped("Wheel: zoom (distance %.2f to %.0f bounding radii)", kMinDistance, kMaxDistance);
     bulletWrapped("Double-click: frame everything visible (Settings > Camera > Frame)");
+    bulletWrapped("Hover the view: the value of the voxel under the mouse, marked on the transfer function");
     bulletWrapped("Drag the bars between regions to resize them");
     bulletWrapped("Transfer function curve: drag a point, click empty space to add one, right-click to remove");
     bulletWrapped("3D mouse: twist to orbit, tilt to look from above or below, push or pull to zoom, slide to pan");

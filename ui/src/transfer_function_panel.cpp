@@ -139,6 +139,12 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
                         ImGui::GetColorU32(ImGuiCol_FrameBg));
     if (view.histogram) drawHistogram(draw, canvas, *view.histogram, view.window);
     drawCurve(draw, canvas, tf, state.tfSelected);
+    // The value of the voxel the mouse points at in the viewport, where it falls on this axis; none
+    // outside the window (fromDataUnits would clamp it to an end).
+    if (state.probe && state.probe->value >= view.window.lo && state.probe->value <= view.window.hi) {
+        const float x = tfToCanvas(canvas, fromDataUnits(state.probe->value, view.window), 0.0).x;
+        draw->AddLine(ImVec2(x, canvas.y), ImVec2(x, canvas.bottom()), kProbeMarkerColour, 2.0f);
+    }
     if (ImGui::IsItemHovered()) {
         const int over = pickControlPoint(tf, canvas, mouse, kPickRadiusPx);
         double value = 0, opacity = 0;

@@ -58,6 +58,14 @@ struct EditorState {
     std::optional<renderer::TransferFunction> tfGestureStart;   // the TF before the gesture under way
     std::array<float, 3> background{0.055f, 0.060f, 0.075f}; // linear RGB behind the volume
     std::string errorMessage; // shown in a modal until dismissed; empty when none
+    // The voxel the mouse points at in the viewport (renderer::probePixel) and its value in data units:
+    // the viewport's tooltip shows it and the Transfer function panel marks the value on its axis. Empty
+    // while the mouse is elsewhere, a button is down, or the pixel sees only air.
+    struct ProbedVoxel {
+        glm::ivec3 voxel{0};
+        float value = 0.0f;
+    };
+    std::optional<ProbedVoxel> probe;
     renderer::WindowSettings window; // which data values map onto the TF (custom: data units)
     bool histogramLog = true;        // the Window section's histogram: log-scale counts
     bool gradientsReady = false;     // the scene has gradients: shading and surface splats can be on

@@ -57,6 +57,8 @@ struct TransferFunctionView {
 // or save sets state.errorMessage. Returns whether state.tf changed: the app then re-bakes the LUT,
 // which is all a TF edit uploads.
 bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& view);
+// The colour (ImGui's packed ABGR) of the line the panel draws at EditorState::probe's value.
+constexpr unsigned kProbeMarkerColour = 0xFF33D6FFu;
 
 // == Window and histogram
 
@@ -101,6 +103,9 @@ struct ViewportResult {
     int widthPx = 0, heightPx = 0; // framebuffer pixels the panel shows: render at this size
     bool cameraChanged = false;
     bool frame = false;            // a left double-click: frame the view, as Settings > Camera > Frame
+    // The mouse over the panel with no button down, in those pixels (x right, y down, as ImagePlane): where
+    // the app probes for the voxel shown (EditorState::probe).
+    std::optional<glm::dvec2> hoverPx;
 };
 
 // Shows `texture` (a GL texture name, 0 for none) stretched over the panel's whole content region;
