@@ -300,6 +300,10 @@ struct Fnv1a {
 
 } // namespace
 
+bool hasGroundTruth(const SplatSettings& settings) {
+    return settings.compositing != Compositing::XRay && !needsGradients(settings);
+}
+
 std::string groundTruthKey(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                            const GroundTruthOptions& options) {
     Fnv1a f;

@@ -591,13 +591,24 @@ TEST_F(ImGuiNull, FiltersPanelAsksToMeasureAndToCancelAndShowsEachFiltersRow) {
     EXPECT_TRUE(seen.cancel) << "no Cancel button while measuring";
     EXPECT_FALSE(seen.measure) << "Measure offered while a measurement runs";
 
-    // With shading there is no ground truth: nothing to ask for.
+    // With shading, or in X-ray, there is no ground truth: nothing to ask for.
     view.measuring = false;
     state.settings.shading = renderer::SplatSettings::Shading::PerSplat;
     seen = {};
     frame(body);
     clickInCostColumn(&ui::FiltersChanges::measure);
     EXPECT_FALSE(seen.measure);
+    state.settings.shading = renderer::SplatSettings::Shading::None;
+    state.settings.compositing = renderer::Compositing::XRay;
+    seen = {};
+    frame(body);
+    clickInCostColumn(&ui::FiltersChanges::measure);
+    EXPECT_FALSE(seen.measure) << "X-ray offered a comparison with the absorption-emission ground truth";
+    state.settings.compositing = renderer::Compositing::SheetFrontToBack;
+    seen = {};
+    frame(body);
+    clickInCostColumn(&ui::FiltersChanges::measure);
+    EXPECT_TRUE(seen.measure) << "sheets front to back have a ground truth";
 }
 
 // At the widths the editor gives the Filters tab (800x600 and 1280x800 windows), no text is cut off

@@ -1,6 +1,7 @@
 // The Filters panel: which filter each part of the view takes, how much of it, and why (the depths
 // where a kernel's size on screen crosses the adaptive thresholds, beside the volume's own depths).
 #include "renderer/classifier.h"
+#include "renderer/ground_truth.h"
 #include "ui/panels.h"
 #include "widgets.h"
 
@@ -101,8 +102,8 @@ void drawDepthBar(const renderer::FilterDepths& d, glm::dvec2 volume, double rad
 // Cost beside error: the Measure button (or the progress of a measurement) and a row per filter measured.
 void drawCostColumn(const EditorState& state, const FiltersView& view, FiltersChanges& changes) {
     textWrapped("cost and error in this view");
-    if (renderer::needsGradients(state.settings)) {
-        textDisabledWrapped("no ground truth with shading or surface splats");
+    if (!renderer::hasGroundTruth(state.settings)) {
+        textDisabledWrapped("no ground truth for X-ray, shading or surface splats");
         return;
     }
     if (view.measuring) {

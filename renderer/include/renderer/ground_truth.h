@@ -38,6 +38,10 @@ struct GroundTruthStats {
     bool fromCache = false;
 };
 
+// Whether frames drawn with `settings` have a ground truth to be compared with: the absorption-emission
+// integral above models neither X-ray's additive sum nor shading or surface splats (EWA_NOTES).
+bool hasGroundTruth(const SplatSettings& settings);
+
 // The progress callback of gradients.h; here it is called from worker threads (serialised) as rows
 // finish, and returning false cancels: the call then throws RenderError("ground truth: cancelled").
 using Progress = ProgressCallback;
