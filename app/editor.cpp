@@ -205,7 +205,6 @@ struct VolumeJob : WorkerJob<LoadedVolume> {
 // disk), then, one filter a UI frame, each filter timed on the whole view and compared on the crop.
 // It works on a copy of the scene: a TF edit changes the document's while the worker reads.
 struct FilterComparisonJob {
-    static constexpr int kCropPx = 96;   // ground truth of 96 x 96 px: 11-12 s for headsq's default view on 2 cores
     static constexpr std::array<renderer::FilterMode, 4> kFilters{
         renderer::FilterMode::Reconstruction, renderer::FilterMode::LowPass, renderer::FilterMode::Ewa,
         renderer::FilterMode::Adaptive};
@@ -216,7 +215,7 @@ struct FilterComparisonJob {
     WorkerJob<renderer::Image> truth;      // last: destroyed (joined) before the scene it reads
 
     FilterComparisonJob(const renderer::SplatScene& s, const renderer::ImagePlane& v, const renderer::SplatSettings& set)
-        : scene(s), view(v), crop(renderer::centreCrop(v, kCropPx)), settings(set) {
+        : scene(s), view(v), crop(renderer::centreCrop(v, renderer::kComparisonCropPx)), settings(set) {
         truth.start([this](const renderer::ProgressCallback& progress) {
             return renderer::cachedGroundTruth(scene, crop, settings, {}, renderer::defaultGroundTruthCacheDir(),
                                                progress);
@@ -527,7 +526,7 @@ int runEditor(const EditorOptions& options) {
                                               .frame = splats ? splats->stats() : renderer::FrameStats{},
                                               .patches = patchCounts,
                                               .measurements = measurements,
-                                              .cropPx = FilterComparisonJob::kCropPx,
+                                              .cropPx = renderer::kComparisonCropPx,
                                               .measuring = comparison != nullptr,
                                               .measurementsStale = measurementsStale,
                                               .truthProgress = comparison ? comparison->truth.fraction.load() : 0.0});

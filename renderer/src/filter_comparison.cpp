@@ -32,9 +32,13 @@ FilterMeasurement measureFilter(SplatRenderer& gl, const ImagePlane& view, const
         ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     std::nth_element(ms.begin(), ms.begin() + ptrdiff_t(ms.size() / 2), ms.end());
-    gl.render(crop, settings);
-    const ImageError e = compareImages(gl.readback(), cropTruth);
+    const ImageError e = cropError(gl, crop, cropTruth, settings);
     return {filter, ms[ms.size() / 2], e.rmse, e.psnrDb};
+}
+
+ImageError cropError(SplatRenderer& gl, const ImagePlane& crop, const Image& cropTruth, const SplatSettings& settings) {
+    gl.render(crop, settings);
+    return compareImages(gl.readback(), cropTruth);
 }
 
 } // namespace renderer

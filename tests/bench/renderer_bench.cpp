@@ -2,11 +2,13 @@
 // compositing mode, the gain of each culling step and of point sprites, and TF-edit latency against a
 // scene rebuild.
 // Datasets: the bundled headsq always; bonsai and engine from SPLATLAB_DATA_DIR when it is set.
-// Each benchmark times whole frames (render + glFinish) and reports splats/s; the context line names
-// GL_RENDERER. On llvmpipe compare modes only as ratios measured in one run.
+// Each benchmark times whole frames (render + glFinish) and reports splats/s, and beside them the error
+// of the view's centre crop against its ground truth (psnr_db, rmse); the context line names GL_RENDERER. On llvmpipe compare modes only as ratios measured in one run.
 #include "renderer/camera.h"
+#include "renderer/filter_comparison.h"
 #include "renderer/gl_context.h"
 #include "renderer/gradients.h"
+#include "renderer/ground_truth.h"
 #include "renderer/metrics.h"
 #include "renderer/reference_renderer.h"
 #include "renderer/splat_renderer.h"
@@ -51,6 +53,8 @@ std::vector<Dataset> datasets() {
 
 // Image size of every benchmark; --resolution WxH changes it (e.g. 1920x1080 on a GPU).
 int gWidth = 512, gHeight = 512;
+// Each frame's error against the ground truth (psnr_db, rmse counters); --no-errors skips it.
+bool gErrors = true;
 
 std::map<std::string, SplatScene>& scenes() {
     static std::map<std::string, SplatScene> cache;
@@ -130,6 +134,16 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
     state.counters["occluded"] = double(c.culledOccluded);
     state.counters["tiles"] = r.stats().tiles;
     state.counters["tile_entries"] = double(r.stats().tileEntries);
+    // The error beside the speed, as the editor's Measure takes it: the view's centre crop against its
+    // ground truth (cached on disk by view and kernels: the first run computes each view's once).
+    if (gErrors && !half && hasGroundTruth(s)) {
+        s.counters = false;
+        const ImagePlane crop = centreCrop(plane, kComparisonCropPx);
+        const Image truth = cachedGroundTruth(full, crop, s, {}, defaultGroundTruthCacheDir());
+        const ImageError e = cropError(r, crop, truth, s);
+        state.counters["psnr_db"] = e.psnrDb;
+        state.counters["rmse"] = e.rmse;
+    }
 }
 
 // TF edit to finished frame: bucket selection (upload the LUT, render) against rebuilding the scene
@@ -234,8 +248,20 @@ bool parseResolution(int& argc, char** argv) {
     return true;
 }
 
+// Takes --no-errors out of argv, if there.
+void parseNoErrors(int& argc, char** argv) {
+    for (int i = 1; i < argc; ++i)
+        if (std::string(argv[i]) == "--no-errors") {
+            gErrors = false;
+            for (int j = i; j + 1 < argc; ++j) argv[j] = argv[j + 1];
+            --argc;
+            return;
+        }
+}
+
 int main(int argc, char** argv) {
     if (!parseResolution(argc, argv)) return 2;
+    parseNoErrors(argc, argv);
     auto gl = HeadlessGl::create();
     benchmark::AddCustomContext("resolution", std::to_string(gWidth) + "x" + std::to_string(gHeight));
     benchmark::AddCustomContext("GL_RENDERER", glRendererName());

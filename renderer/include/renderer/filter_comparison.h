@@ -4,6 +4,7 @@
 #pragma once
 #include "renderer/camera.h"
 #include "renderer/image.h"
+#include "renderer/metrics.h"
 #include "renderer/splat_renderer.h"
 
 namespace renderer {
@@ -18,6 +19,12 @@ struct FilterMeasurement {
 // The centre square of `view`, `side` pixels a side or the whole of a smaller view, as an image
 // plane of its own (cropPlane: the same pixels as in the view).
 ImagePlane centreCrop(const ImagePlane& view, int side);
+// The side of the crop the editor's Measure and renderer_bench take errors over: a ground truth of
+// seconds to a minute on two cores, where the whole view's would take many minutes.
+constexpr int kComparisonCropPx = 96;
+
+// `crop` rendered once with `settings`, against `cropTruth`, its ground truth for these settings.
+ImageError cropError(SplatRenderer& gl, const ImagePlane& crop, const Image& cropTruth, const SplatSettings& settings);
 
 // Renders `view` `frames` times with `settings` under `filter` (one untimed frame first), then
 // `crop` once, and compares it with `cropTruth`, the ground truth of `crop` for these settings.
