@@ -103,7 +103,7 @@ void drawDepthBar(const renderer::FilterDepths& d, glm::dvec2 volume, double rad
 void drawCostColumn(const EditorState& state, const FiltersView& view, FiltersChanges& changes) {
     textWrapped("cost and error in this view");
     if (!renderer::hasGroundTruth(state.settings)) {
-        textDisabledWrapped("no ground truth for X-ray, shading or surface splats");
+        textDisabledWrapped("no ground truth with shading or surface splats");
         return;
     }
     if (view.measuring) {

@@ -38,8 +38,11 @@ struct GroundTruthStats {
     bool fromCache = false;
 };
 
-// Whether frames drawn with `settings` have a ground truth to be compared with: the absorption-emission
-// integral above models neither X-ray's additive sum nor shading or surface splats (EWA_NOTES).
+// With X-ray compositing the integral is taken without attenuation and shown as the renderer resolves
+// X-ray's sum: 1 - exp(-x) of the emission and the optical depth, channel by channel; then filtered alike.
+//
+// Whether frames drawn with `settings` have a ground truth to be compared with: not with shading or
+// surface splats, which the integral does not model (EWA_NOTES).
 bool hasGroundTruth(const SplatSettings& settings);
 
 // The progress callback of gradients.h; here it is called from worker threads (serialised) as rows
@@ -51,7 +54,7 @@ Image renderGroundTruth(const SplatScene& scene, const ImagePlane& plane, const 
                         GroundTruthStats* stats = nullptr);
 
 // Key of everything the reference depends on: voxel classes, LUT, spacing, camera, size, kernel
-// scale, cutoff, density and the options (16 hex digits).
+// scale, cutoff, density, X-ray or not, and the options (16 hex digits).
 std::string groundTruthKey(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                            const GroundTruthOptions& options);
 // $SPLATLAB_CACHE_DIR, else $XDG_CACHE_HOME/splatlab/reference, else ~/.cache/splatlab/reference.
