@@ -209,6 +209,16 @@ int runInfo(const std::string& path, const RawFlags& raw, bool gradients) {
     return 0;
 }
 
+// The help group of every flag for something a saved session also sets (the camera, the TF, how the
+// volume looks and is splatted): beside `--session` each is refused, found by this group.
+const char* kSessionSetGroup = "What a session sets";
+
+// Puts the options `cmd` gained since it had `before` of them in kSessionSetGroup.
+void sessionSets(CLI::App* cmd, size_t before) {
+    const std::vector<CLI::Option*> options = cmd->get_options(std::function<bool(CLI::Option*)>{});
+    for (size_t i = before; i < options.size(); ++i) options[i]->group(kSessionSetGroup);
+}
+
 // A flag's number, checked against the range a session accepts for its setting (splat_settings.h).
 double inRange(double value, const char* flag, SettingRange range, const char* unit = "") {
     if (!range.holds(value)) throw CLI::ValidationError(flag, "must be " + formatRange(range.lo, range.hi) + unit);
@@ -224,6 +234,7 @@ struct LookFlags {
 };
 
 void addLookFlags(CLI::App* cmd, LookFlags& f) {
+    const size_t before = cmd->get_options().size();
     cmd->add_flag("--ortho", f.orthographic, "Parallel projection (framed like the perspective view)");
     cmd->add_option("--window", f.window, "Values mapped onto the TF: data (min..max), p1-99, or LO,HI in data units")
         ->capture_default_str();
@@ -237,6 +248,7 @@ void addLookFlags(CLI::App* cmd, LookFlags& f) {
     cmd->add_option("--surface-gradient", f.surfaceGradient,
                     "Gradient magnitude (fraction of the largest) from which a voxel is a surface splat")
         ->capture_default_str();
+    sessionSets(cmd, before);
 }
 
 void applyLookFlags(const LookFlags& f, SplatSettings& s) {
@@ -264,6 +276,7 @@ struct SplatFlags {
 };
 
 void addSplatFlags(CLI::App* cmd, SplatFlags& f) {
+    const size_t before = cmd->get_options().size();
     cmd->add_option("--compositing", f.compositing, "splat-every-sample, sheet-back-to-front, sheet-front-to-back, xray")
         ->capture_default_str();
     cmd->add_option("--filter", f.filter, "reconstruction, low-pass, ewa or adaptive")->capture_default_str();
@@ -284,6 +297,7 @@ void addSplatFlags(CLI::App* cmd, SplatFlags& f) {
                   "Front to back, keep splats whose tiles or pixels are already opaque (early termination still "
                   "skips those pixels): the baseline culling is measured against");
     cmd->add_option("--primitive", f.primitive, kPrimitiveHelp)->capture_default_str();
+    sessionSets(cmd, before);
 }
 
 void applySplatFlags(const SplatFlags& f, SplatSettings& s) {
@@ -302,18 +316,12 @@ void applySplatFlags(const SplatFlags& f, SplatSettings& s) {
     s.occlusionCulling = !f.noOcclusionCulling;
 }
 
-// The flags a session sets (`render --session`, `editor --session`): one of them beside it is an error,
-// not silently overridden by the session or overriding it.
-void rejectFlagsBesideSession(const CLI::App* cmd, std::vector<const char*> also = {}) {
-    std::vector<const char*> flags = {
-        "--camera",    "--up",       "--fit",     "--tf",           "--window",      "--ortho",
-        "--kernel-scale", "--cutoff", "--density", "--shading",      "--surface",     "--surface-gradient",
-        "--compositing", "--filter",  "--c-min",   "--c-max",        "--patch-size",  "--hysteresis",
-        "--opaque-alpha", "--opaque-refresh", "--no-occlusion-culling", "--primitive"};
-    flags.insert(flags.end(), also.begin(), also.end());
-    for (const char* flag : flags)
-        if (const CLI::Option* o = cmd->get_option_no_throw(flag); o && o->count() > 0)
-            throw CLI::ValidationError(flag, "not with --session: the session sets it");
+// `render --session`, `editor --session`: a flag for what the session sets is an error beside it, not
+// silently overridden by the session or overriding it.
+void rejectFlagsBesideSession(const CLI::App* cmd) {
+    for (const CLI::Option* o : cmd->get_options())
+        if (o->get_group() == kSessionSetGroup && o->count() > 0)
+            throw CLI::ValidationError(o->get_name(), "not with --session: the session sets it");
 }
 
 // What `render` and `reference` share: the volume, the view and how it looks.
@@ -329,12 +337,14 @@ void addSceneOptions(CLI::App* cmd, SceneArgs& a) {
     cmd->add_option("volume", a.volume, std::string("Volume: ") + supportedVolumeTypes())->required();
     cmd->add_option("--out,-o", a.out, "Output image; .png for people, .exr for float data")->required();
     cmd->add_option("--size", a.size, "Image size WxH")->capture_default_str();
+    const size_t before = cmd->get_options().size();
     cmd->add_option("--camera", a.camera, "azimuth,elevation,distance,fov (deg, bounding radii, deg)")
         ->capture_default_str();
     cmd->add_option("--up", a.up, "Axis of the file's world frame shown upwards: x, y, z, -x, -y, -z (headsq: -z)")->capture_default_str();
     cmd->add_flag("--fit", a.fit, "Move the camera along its line of sight, and pan, until everything the TF shows "
                                   "fills the image");
     cmd->add_option("--tf", a.tf, "Transfer function: a preset name or a JSON file")->capture_default_str();
+    sessionSets(cmd, before);
     addLookFlags(cmd, a.look);
     addRawFlags(cmd, a.raw);
 }
@@ -648,7 +658,9 @@ int main(int argc, char** argv) {
     RawFlags editorRaw;
     auto* editor = app.add_subcommand("editor", "Open the editor window (default: the bundled headsq)");
     editor->add_option("volume", editorVolume, "Volume file");
-    editor->add_option("--tf", e.tfSpec, "Transfer function: a preset name or a JSON file")->capture_default_str();
+    editor->add_option("--tf", e.tfSpec, "Transfer function: a preset name or a JSON file")
+        ->capture_default_str()
+        ->group(kSessionSetGroup);
     editor->add_option("--session", editorSession,
                        "Open a saved session (JSON): its volume, TF, window, camera and settings (a volume argument "
                        "replaces its volume)");
@@ -656,12 +668,14 @@ int main(int argc, char** argv) {
     editor->add_option("--frames", e.frames, "Exit after this many frames (0: run until closed)")
         ->check(CLI::NonNegativeNumber);
     editor->add_option("--size", editorSize, "Window size WxH")->capture_default_str();
+    const size_t viewFlags = editor->get_options().size();
     editor->add_option("--camera", editorCamera, "Starting view: azimuth,elevation,distance,fov");
     editor->add_flag("--fit", e.fit, "Start framed: everything the TF shows fills the viewport, centred "
                                      "(Settings > Camera > Frame)");
     editor->add_flag("--heatmap", e.settings.heatmap, "Start with the filter-mode heatmap in the viewport");
     editor->add_option("--up", editorUp, "Axis of the file's world frame shown upwards: x, y, z, -x, -y, -z (default: z; "
                                          "-z for the bundled headsq)");
+    sessionSets(editor, viewFlags);
     addLookFlags(editor, editorLook);
     addSplatFlags(editor, editorSplat);
     addRawFlags(editor, editorRaw);
@@ -677,7 +691,7 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
         if (*render && !r.session.empty()) rejectFlagsBesideSession(render);
-        if (*editor && !editorSession.empty()) rejectFlagsBesideSession(editor, {"--heatmap"});
+        if (*editor && !editorSession.empty()) rejectFlagsBesideSession(editor);
         if (*render) return runRender(r, ra);
         if (*reference) return runReference(ref, gt, cacheDir, noCache);
         if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);

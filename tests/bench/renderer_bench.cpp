@@ -226,7 +226,13 @@ void add(const std::string& name, std::function<void(benchmark::State&)> fn, int
 
 } // namespace
 
-// Takes --resolution WxH out of argv (Google Benchmark rejects flags it does not know).
+// Removes argv[i] .. argv[i + n - 1]: Google Benchmark rejects flags it does not know.
+void dropArgs(int& argc, char** argv, int i, int n) {
+    for (int j = i; j + n < argc; ++j) argv[j] = argv[j + n];
+    argc -= n;
+}
+
+// Takes --resolution WxH out of argv.
 bool parseResolution(int& argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
@@ -240,9 +246,7 @@ bool parseResolution(int& argc, char** argv) {
                          value.c_str());
             return false;
         }
-        const int used = a == "--resolution" ? 2 : 1;
-        for (int j = i; j + used < argc; ++j) argv[j] = argv[j + used];
-        argc -= used;
+        dropArgs(argc, argv, i, a == "--resolution" ? 2 : 1);
         return true;
     }
     return true;
@@ -253,8 +257,7 @@ void parseNoErrors(int& argc, char** argv) {
     for (int i = 1; i < argc; ++i)
         if (std::string(argv[i]) == "--no-errors") {
             gErrors = false;
-            for (int j = i; j + 1 < argc; ++j) argv[j] = argv[j + 1];
-            --argc;
+            dropArgs(argc, argv, i, 1);
             return;
         }
 }
