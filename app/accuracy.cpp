@@ -5,13 +5,13 @@
 // Ground truths come from the cache and are computed once.
 #include "accuracy.h"
 
-#include "renderer/accuracy.h"
-#include "renderer/atomic_file.h"
-#include "renderer/ground_truth.h"
-#include "renderer/hard_cases.h"
-#include "renderer/metrics.h"
-#include "renderer/procedural.h"
-#include "renderer/reference_renderer.h"
+#include "renderer/oracle/accuracy.h"
+#include "renderer/io/atomic_file.h"
+#include "renderer/oracle/ground_truth.h"
+#include "renderer/oracle/hard_cases.h"
+#include "renderer/math/metrics.h"
+#include "renderer/model/procedural.h"
+#include "renderer/oracle/reference_renderer.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,10 +1,10 @@
 // The editor window: GLFW + a GL 4.5 core context, ImGui's GLFW and OpenGL3 backends, the ui panels
 // and the splat renderer. The command line (main.cpp) parses flags into EditorOptions.
 #pragma once
-#include "renderer/camera.h"
-#include "renderer/splat_settings.h"
-#include "renderer/volume_io.h"
-#include "renderer/window.h"
+#include "renderer/math/camera.h"
+#include "renderer/model/splat_settings.h"
+#include "renderer/io/volume_io.h"
+#include "renderer/model/window.h"
 
 #include <filesystem>
 #include <optional>

@@ -79,7 +79,7 @@ def normalize(a): return scale(a, 1.0 / math.sqrt(dot(a, a)))
 
 
 def orbit_camera(azimuth, elevation, distance, dims, spacing, up):
-    """Eye, centre and view-up of SplatLab's orbit camera (renderer/src/camera.cpp, makeImagePlane)."""
+    """Eye, centre and view-up of SplatLab's orbit camera (renderer/src/math/camera.cpp, makeImagePlane)."""
     centre = [0.5 * s * (d - 1) for s, d in zip(spacing, dims)]
     radius = 0.5 * max(math.sqrt(sum((s * (d - 1)) ** 2 for s, d in zip(spacing, dims))), math.sqrt(dot(spacing, spacing)))
     up = normalize(up)

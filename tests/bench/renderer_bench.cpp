@@ -4,17 +4,17 @@
 // Datasets: the bundled headsq always; bonsai and engine from SPLATLAB_DATA_DIR when it is set.
 // Each benchmark times whole frames (render + glFinish) and reports splats/s, and beside them the error
 // of the view's centre crop against its ground truth (psnr_db, rmse); the context line names GL_RENDERER. On llvmpipe compare modes only as ratios measured in one run.
-#include "renderer/camera.h"
-#include "renderer/filter_comparison.h"
-#include "renderer/gl_context.h"
-#include "renderer/gradients.h"
-#include "renderer/ground_truth.h"
-#include "renderer/metrics.h"
-#include "renderer/reference_renderer.h"
-#include "renderer/splat_renderer.h"
-#include "renderer/transfer_function.h"
-#include "renderer/volume_io.h"
-#include "renderer/window.h"
+#include "renderer/math/camera.h"
+#include "renderer/oracle/filter_comparison.h"
+#include "renderer/gl/gl_context.h"
+#include "renderer/model/gradients.h"
+#include "renderer/oracle/ground_truth.h"
+#include "renderer/math/metrics.h"
+#include "renderer/oracle/reference_renderer.h"
+#include "renderer/gl/splat_renderer.h"
+#include "renderer/model/transfer_function.h"
+#include "renderer/io/volume_io.h"
+#include "renderer/model/window.h"
 
 #include <benchmark/benchmark.h>
 #include <epoxy/gl.h>

@@ -3,8 +3,8 @@
 // the expected answer to a bad file; any other exception, a crash or a sanitizer report is a bug.
 #pragma once
 #include "renderer/errors.h"
-#include "renderer/volume.h"
-#include "renderer/volume_io.h"
+#include "renderer/model/volume.h"
+#include "renderer/io/volume_io.h"
 
 #include <algorithm>
 #include <cstdint>

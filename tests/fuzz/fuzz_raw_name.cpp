@@ -1,7 +1,7 @@
 // libFuzzer target: the raw path. The input's first line is a file name, parsed by
 // rawOptionsFromFileName(); the rest is the file's content, loaded with loadRaw() when the name parses.
 #include "fuzz_common.h"
-#include "renderer/volume_io.h"
+#include "renderer/io/volume_io.h"
 
 #include <algorithm>
 #include <string>

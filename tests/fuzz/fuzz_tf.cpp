@@ -1,7 +1,7 @@
 // libFuzzer target: renderer::loadTransferFunction on the input written as "fuzz_tf.json". A
 // LoadError is the expected answer to a bad file; a TF that loads must bake to a finite table.
 #include "fuzz_common.h"
-#include "renderer/transfer_function.h"
+#include "renderer/model/transfer_function.h"
 
 #include <cmath>
 

@@ -2,8 +2,8 @@
 // REQUIRE_GL=1 (CI), where a skipped GL suite would be a silent failure.
 #pragma once
 #include "image_compare.h"
-#include "renderer/gl_context.h"
-#include "renderer/reference_renderer.h"
+#include "renderer/gl/gl_context.h"
+#include "renderer/oracle/reference_renderer.h"
 
 #include <gtest/gtest.h>
 

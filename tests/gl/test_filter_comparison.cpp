@@ -4,10 +4,10 @@
 #include "gl_fixture.h"
 #include "image_compare.h"
 
-#include "renderer/filter_comparison.h"
-#include "renderer/ground_truth.h"
-#include "renderer/metrics.h"
-#include "renderer/procedural.h"
+#include "renderer/oracle/filter_comparison.h"
+#include "renderer/oracle/ground_truth.h"
+#include "renderer/math/metrics.h"
+#include "renderer/model/procedural.h"
 
 #include <cstdio>
 

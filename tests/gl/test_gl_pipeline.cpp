@@ -5,12 +5,12 @@
 #include "test_paths.h"
 
 #include "renderer/errors.h"
-#include "renderer/gradients.h"
-#include "renderer/metrics.h"
-#include "renderer/procedural.h"
-#include "renderer/reference_renderer.h"
-#include "renderer/splat_renderer.h"
-#include "renderer/volume_io.h"
+#include "renderer/model/gradients.h"
+#include "renderer/math/metrics.h"
+#include "renderer/model/procedural.h"
+#include "renderer/oracle/reference_renderer.h"
+#include "renderer/gl/splat_renderer.h"
+#include "renderer/io/volume_io.h"
 
 using namespace renderer;
 

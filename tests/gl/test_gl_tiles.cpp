@@ -3,13 +3,13 @@
 // and early termination against the CPU oracle (tolerance: gl_fixture.h), counters included.
 #include "gl_fixture.h"
 
-#include "renderer/classifier.h"
+#include "renderer/math/classifier.h"
 #include "renderer/errors.h"
-#include "renderer/gradients.h"
-#include "renderer/metrics.h"
-#include "renderer/procedural.h"
-#include "renderer/reference_renderer.h"
-#include "renderer/splat_renderer.h"
+#include "renderer/model/gradients.h"
+#include "renderer/math/metrics.h"
+#include "renderer/model/procedural.h"
+#include "renderer/oracle/reference_renderer.h"
+#include "renderer/gl/splat_renderer.h"
 
 #include <algorithm>
 

@@ -4,11 +4,11 @@
 #include "test_paths.h"
 
 #include "renderer/errors.h"
-#include "renderer/hard_cases.h"
-#include "renderer/procedural.h"
-#include "renderer/reference_renderer.h"
-#include "renderer/splat_renderer.h"
-#include "renderer/volume_io.h"
+#include "renderer/oracle/hard_cases.h"
+#include "renderer/model/procedural.h"
+#include "renderer/oracle/reference_renderer.h"
+#include "renderer/gl/splat_renderer.h"
+#include "renderer/io/volume_io.h"
 
 using namespace renderer;
 

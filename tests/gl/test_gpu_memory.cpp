@@ -2,9 +2,9 @@
 // is free, never a driver crash. The limit stands in for a full GPU (llvmpipe reports no free memory).
 #include "gl_fixture.h"
 #include "renderer/errors.h"
-#include "renderer/procedural.h"
-#include "renderer/splat_renderer.h"
-#include "renderer/transfer_function.h"
+#include "renderer/model/procedural.h"
+#include "renderer/gl/splat_renderer.h"
+#include "renderer/model/transfer_function.h"
 
 #include <gtest/gtest.h>
 

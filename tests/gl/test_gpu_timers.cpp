@@ -3,9 +3,9 @@
 // around it.
 #include "gl_fixture.h"
 
-#include "renderer/procedural.h"
-#include "renderer/splat_renderer.h"
-#include "renderer/transfer_function.h"
+#include "renderer/model/procedural.h"
+#include "renderer/gl/splat_renderer.h"
+#include "renderer/model/transfer_function.h"
 
 #include <epoxy/gl.h>
 

@@ -3,8 +3,8 @@
 // disagree on which pixel centres fall inside a cutoff ellipse); the mean absolute error is bounded
 // too, so slow drift is caught. On failure it writes actual, expected and an amplified diff.
 #pragma once
-#include "renderer/image.h"
-#include "renderer/splat_settings.h"
+#include "renderer/io/image.h"
+#include "renderer/model/splat_settings.h"
 
 #include <gtest/gtest.h>
 

@@ -2,11 +2,11 @@
 // the volume, `accuracy` writes its report, and mistakes get one clear line on stderr and a non-zero exit.
 #include "image_compare.h"
 #include "renderer/errors.h"
-#include "renderer/image.h"
-#include "renderer/metrics.h"
-#include "renderer/splat_settings.h"
-#include "renderer/transfer_function.h"
-#include "renderer/volume_io.h"
+#include "renderer/io/image.h"
+#include "renderer/math/metrics.h"
+#include "renderer/model/splat_settings.h"
+#include "renderer/model/transfer_function.h"
+#include "renderer/io/volume_io.h"
 #include "test_paths.h"
 #include "ui/session.h"
 

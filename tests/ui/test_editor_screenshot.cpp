@@ -2,8 +2,8 @@
 // test checks that the viewport shows the volume and that the panels look unlike the viewport. It
 // compares regions with each other, never with a stored image.
 #include "image_compare.h"
-#include "renderer/image.h"
-#include "renderer/procedural.h"
+#include "renderer/io/image.h"
+#include "renderer/model/procedural.h"
 #include "test_paths.h"
 #include "ui/dock_layout.h"
 #include "ui/session.h"

@@ -1,11 +1,11 @@
 // Ground truth, metrics, the adaptive classifier and sheet compositing: the pieces that make "error"
 // a trustworthy number.
-#include "renderer/classifier.h"
+#include "renderer/math/classifier.h"
 #include "renderer/errors.h"
-#include "renderer/ground_truth.h"
-#include "renderer/metrics.h"
-#include "renderer/procedural.h"
-#include "renderer/reference_renderer.h"
+#include "renderer/oracle/ground_truth.h"
+#include "renderer/math/metrics.h"
+#include "renderer/model/procedural.h"
+#include "renderer/oracle/reference_renderer.h"
 #include "test_paths.h"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // The footprint math against independent numbers: EWA_NOTES' test vectors, finite differences, and
 // the exact line integral of the 3D Gaussian along the ray through its centre.
-#include "renderer/ewa.h"
+#include "renderer/math/ewa.h"
 
 #include <gtest/gtest.h>
 

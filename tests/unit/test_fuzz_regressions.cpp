@@ -1,7 +1,7 @@
 // Replays tests/fuzz/regressions/<parser>/*: inputs that once crashed, hung or blew up a loader under
 // libFuzzer. Each must now load or give a LoadError, quickly; CI runs this without clang.
 #include "renderer/errors.h"
-#include "renderer/volume_io.h"
+#include "renderer/io/volume_io.h"
 #include "test_paths.h"
 
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
 // Gradients (central differences in object units, quantised, parallel, cancellable) and the window
 // choices (data range, percentiles, custom) that map data values onto the transfer function.
 #include "renderer/errors.h"
-#include "renderer/gradients.h"
-#include "renderer/splat_scene.h"
-#include "renderer/window.h"
+#include "renderer/model/gradients.h"
+#include "renderer/model/splat_scene.h"
+#include "renderer/model/window.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

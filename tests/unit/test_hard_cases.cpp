@@ -7,10 +7,10 @@
 // may drop minified voxels between pixel centres. Measured EWA PSNR: 20.7 dB (near-plane, where the
 // affine approximation breaks down next to the eye) and 21.6 dB (grazing, where slice-order
 // compositing errs most) to 52.5 dB (one voxel); the floor is 19 dB.
-#include "renderer/ground_truth.h"
-#include "renderer/hard_cases.h"
-#include "renderer/metrics.h"
-#include "renderer/reference_renderer.h"
+#include "renderer/oracle/ground_truth.h"
+#include "renderer/oracle/hard_cases.h"
+#include "renderer/math/metrics.h"
+#include "renderer/oracle/reference_renderer.h"
 #include "test_paths.h"
 
 #include <gtest/gtest.h>

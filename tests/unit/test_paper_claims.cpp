@@ -4,9 +4,9 @@
 // c_max stays within a small margin of full EWA. docs/accuracy.md shows the whole image; the test keeps
 // to two 32-column crops (the magnified bottom rows, the minified top rows) so its reference takes a
 // few seconds (the left 32 columns; the whole image is in the report).
-#include "renderer/accuracy.h"
-#include "renderer/ground_truth.h"
-#include "renderer/reference_renderer.h"
+#include "renderer/oracle/accuracy.h"
+#include "renderer/oracle/ground_truth.h"
+#include "renderer/oracle/reference_renderer.h"
 #include "test_paths.h"
 
 #include <gtest/gtest.h>

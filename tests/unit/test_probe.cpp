@@ -1,6 +1,6 @@
 // probePixel: the voxel a pixel shows, found by marching its ray through the classified grid.
-#include "renderer/probe.h"
-#include "renderer/transfer_function.h"
+#include "renderer/oracle/probe.h"
+#include "renderer/model/transfer_function.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // Camera, transfer function, pre-classification and the CPU oracle's own invariants.
-#include "renderer/camera.h"
+#include "renderer/math/camera.h"
 #include "renderer/errors.h"
-#include "renderer/image.h"
-#include "renderer/procedural.h"
-#include "renderer/reference_renderer.h"
-#include "renderer/splat_scene.h"
+#include "renderer/io/image.h"
+#include "renderer/model/procedural.h"
+#include "renderer/oracle/reference_renderer.h"
+#include "renderer/model/splat_scene.h"
 #include "test_paths.h"
 
 #include <gmock/gmock.h>

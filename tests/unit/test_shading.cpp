@@ -1,10 +1,10 @@
 // Shading math (shading.h) against independent numbers: quantisation bounds derived from the byte
 // layout, GL's fixed-point conversion rule, Phong's closed form for a headlight, the eigenstructure
 // of a flattened Gaussian, and Poisson summation for the footprint floor.
-#include "renderer/shading.h"
+#include "renderer/math/shading.h"
 
 #include "renderer/errors.h"
-#include "renderer/ewa.h"
+#include "renderer/math/ewa.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // copies (skipped when ../shared is absent); malformed files must each give a LoadError naming the file,
 // the field and what was expected.
 #include "renderer/errors.h"
-#include "renderer/volume_io.h"
+#include "renderer/io/volume_io.h"
 #include "test_paths.h"
 
 #include <OpenImageIO/imageio.h>

@@ -1,8 +1,8 @@
 // Volume loading (raw, NRRD attached/detached, gzip), range, histogram and the procedural volumes.
 // Malformed files are written by the tests into the test output folder; the shared datasets are optional.
 #include "renderer/errors.h"
-#include "renderer/procedural.h"
-#include "renderer/volume_io.h"
+#include "renderer/model/procedural.h"
+#include "renderer/io/volume_io.h"
 #include "test_paths.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // The Filters panel: which filter each part of the view takes, how much of it, and why (the depths
 // where a kernel's size on screen crosses the adaptive thresholds, beside the volume's own depths).
-#include "renderer/classifier.h"
-#include "renderer/ground_truth.h"
+#include "renderer/math/classifier.h"
+#include "renderer/oracle/ground_truth.h"
 #include "ui/panels.h"
 #include "widgets.h"
 

@@ -3,7 +3,7 @@
 #include "ui/panels.h"
 
 #include "renderer/errors.h"
-#include "renderer/transfer_function.h"
+#include "renderer/model/transfer_function.h"
 #include "ui/session.h"
 #include "widgets.h"
 

@@ -1,6 +1,6 @@
 #include "ui/perf_history.h"
 
-#include "renderer/ewa.h"
+#include "renderer/math/ewa.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,10 +2,10 @@
 // checks every value it finds; the copy replaces the state only once the whole file passed.
 #include "ui/session.h"
 
-#include "renderer/atomic_file.h"
+#include "renderer/io/atomic_file.h"
 #include "renderer/errors.h"
-#include "renderer/json_file.h"
-#include "renderer/splat_settings.h"
+#include "renderer/io/json_file.h"
+#include "renderer/model/splat_settings.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,6 +1,6 @@
 // Small ImGui helpers every panel file shares.
 #pragma once
-#include "renderer/splat_renderer.h"
+#include "renderer/gl/splat_renderer.h"
 #include "ui/editor_state.h"
 #include "ui/text_wrap.h"
 

@@ -1,10 +1,10 @@
 // What the editor's panels edit: plain data, no GL and no ImGui. The app owns one and hands it to the
 // panels each frame; the renderer reads the camera and settings from it.
 #pragma once
-#include "renderer/camera.h"
-#include "renderer/splat_settings.h"
-#include "renderer/transfer_function.h"
-#include "renderer/window.h"
+#include "renderer/math/camera.h"
+#include "renderer/model/splat_settings.h"
+#include "renderer/model/transfer_function.h"
+#include "renderer/model/window.h"
 #include "ui/tf_editor.h"
 
 #include <array>

@@ -1,10 +1,10 @@
 // The editor's panels: each draws into the current ImGui window and edits EditorState; none owns GL
 // objects. applyOrbitInput() is the pure camera rule behind the viewport's mouse handling.
 #pragma once
-#include "renderer/camera.h"
-#include "renderer/filter_comparison.h"
-#include "renderer/splat_renderer.h"
-#include "renderer/volume.h"
+#include "renderer/math/camera.h"
+#include "renderer/oracle/filter_comparison.h"
+#include "renderer/gl/splat_renderer.h"
+#include "renderer/model/volume.h"
 #include "ui/editor_state.h"
 #include "ui/perf_history.h"
 

@@ -2,7 +2,7 @@
 // times arrive a few renders after it (the timer ring never stalls; FrameStats::gpuFrame says which
 // render they are of), so a render waits here until its times come, then joins the history.
 #pragma once
-#include "renderer/splat_renderer.h"
+#include "renderer/gl/splat_renderer.h"
 
 #include <array>
 #include <cstddef>

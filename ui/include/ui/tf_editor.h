@@ -2,8 +2,8 @@
 // ImGui): where a control point sits on the canvas, which one the mouse picks, and the edits. Values
 // are the TF's normalised domain (0..1 over the window), opacity 0..1 upwards; the points stay sorted.
 #pragma once
-#include "renderer/transfer_function.h"
-#include "renderer/volume.h"
+#include "renderer/model/transfer_function.h"
+#include "renderer/model/volume.h"
 #include "ui/dock_layout.h"
 
 #include <vector>

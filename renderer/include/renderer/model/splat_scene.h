@@ -1,0 +1,120 @@
+// The pre-classified scene both renderers consume: per-voxel LUT classes, the LUT, and per traversal
+// axis the voxels of each slice bucketed by quantised class (000 sec. 4.3, list-based classification).
+// A TF edit re-bakes the LUT and only changes which buckets are drawn: the lists never change. One
+// definition of the draw order, so the CPU oracle and the GL path composite the same splats in the
+// same order.
+#pragma once
+#include "renderer/math/camera.h"
+#include "renderer/model/gradients.h"
+#include "renderer/model/splat_settings.h"
+#include "renderer/model/transfer_function.h"
+#include "renderer/model/volume.h"
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace renderer {
+
+// Classes fall into kBuckets buckets of kLutSize / kBuckets consecutive classes each.
+constexpr int kBucketShift = 6;
+constexpr int kBuckets = kLutSize >> kBucketShift;
+// A slice is cut into tiles of at most this many in-slice positions, so a list entry fits 16 bits.
+constexpr uint32_t kTileVoxels = 65536;
+
+// A bucket holding more than 1 / kDenseShare of a tile's positions is drawn by walking the tile, not
+// listed. Eighths, measured against halves: noisy headsq's lists take 4.71 GPU bytes a voxel instead of
+// 8.16, engine's 3.57 instead of 4.72, at the same frame time within the VM's noise (also with every
+// bucket visible), since a walked bucket is mostly air, which a TF leaves transparent.
+constexpr uint32_t kDenseShare = 8;
+
+// The voxels of one bucket in one tile of one slice. Sparse runs list their voxels as 16-bit offsets
+// from the tile's first position; a dense run (the bucket holds more than 1 / kDenseShare of the
+// tile) lists nothing and is drawn by walking the whole tile, keeping the bucket's voxels. Dense runs
+// keep the lists small where a few values dominate (air in a CT scan), which bounds GPU bytes per voxel.
+struct SliceRun {
+    uint32_t first = 0;      // sparse: first entry in AxisLists::entries
+    uint32_t count = 0;      // sparse: entries; dense: positions in the tile
+    uint32_t voxels = 0;     // voxels of the bucket (== count when sparse)
+    uint32_t slice = 0;      // coordinate along the axis
+    uint32_t tileBase = 0;   // in-slice position of the tile's first voxel
+    uint16_t bucket = 0;
+    bool dense = false;
+    // In-slice bounds of the bucket's voxels along the slice's two axes (a1, a2 below), inclusive:
+    // what the slice's sheet must cover when this run is drawn.
+    glm::u16vec2 lo{0}, hi{0};
+};
+
+// In-slice position of voxel v in a slice along `axis`: v[a1] + v[a2] * dims[a1], a1 = (axis+1)%3,
+// a2 = (axis+2)%3 (the same in-plane axes as the classifier's patches).
+struct AxisLists {
+    std::vector<uint16_t> entries;
+    std::vector<SliceRun> runs;          // sorted by (slice, tile, bucket)
+    std::vector<uint32_t> sliceRuns;     // runs of slice s: [sliceRuns[s], sliceRuns[s + 1])
+};
+
+struct SplatScene {
+    std::string name;                    // the volume's name, for messages
+    glm::ivec3 dims{0};
+    glm::dvec3 spacing{1.0};
+    glm::dvec3 origin{0.0};
+    glm::dvec3 centre{0.0};
+    double radius = 0.0;                 // bounding radius of the voxel centres
+    glm::dmat3 axes{1.0};                // the volume's axes in its world frame, turned about centre by
+                                         // the image plane (Volume::drawnAxes): oblique scans
+    ValueRange window;                   // data values mapped to TF domain [0,1]
+    std::vector<uint16_t> classes;       // per voxel, x fastest: index into lut
+    Lut lut;
+    std::array<AxisLists, 3> lists;      // per axis (0 = x, 1 = y, 2 = z)
+    size_t visibleVoxels = 0;            // voxels whose class has opacity > 0 under lut
+    std::vector<uint32_t> classVoxels;   // per LUT class, its voxels: a TF edit counts the visible ones
+                                         // from these kLutSize figures, not from every voxel
+    std::vector<uint32_t> gradients;     // packed per voxel (shading.h), empty until addGradients
+
+    size_t visibleCount() const { return visibleVoxels; }
+    glm::dvec3 positionOf(uint32_t index) const;
+    // Linear voxel index of in-slice position `pos` of `slice` along `axis`.
+    uint32_t voxelAt(int axis, uint32_t slice, uint32_t pos) const;
+};
+
+// Classifies every voxel over `window` (the volume's range when lo == hi) and builds the lists.
+SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, ValueRange window = {});
+// Packs the volume's gradients into the scene, for shading and surface splats (GradientField from
+// computeGradients, which reports progress and can be cancelled).
+void addGradients(SplatScene& scene, const GradientField& field);
+// A TF edit: re-bakes the LUT and recounts visible voxels; the lists stay.
+void setTransferFunction(SplatScene& scene, const TransferFunction& tf);
+
+// Buckets holding at least one class with opacity > 0: the only ones drawn.
+std::array<bool, kBuckets> activeBuckets(const Lut& lut);
+
+// Points whose convex hull holds every voxel centre the LUT can show, grown by `reach` (object units per
+// axis): the corners of each slice along x's box around its active buckets' bounds (SliceRun::lo, hi).
+// Bucket by bucket, so the hull can hold transparent voxels of a bucket with visible classes. The grid's
+// corners when nothing is visible.
+std::vector<glm::dvec3> visibleOutline(const SplatScene& scene, glm::dvec3 reach = glm::dvec3(0.0));
+
+// How much of each half size of the image a framed view leaves free around what it frames.
+constexpr double kFrameMargin = 0.05;
+// frameView() of visibleOutline(), grown by the kernels' cutoff: the view along `camera`'s line of sight
+// that shows everything visible, as large as a width x height image allows.
+Camera framedCamera(const Camera& camera, const SplatScene& scene, const SplatSettings& settings, int width, int height,
+                    double minDistance = 0.0, double maxDistance = std::numeric_limits<double>::infinity());
+
+// Splat-every-sample draws along the object axis most parallel to the view, far slices first.
+struct Traversal {
+    int axis = 2;
+    bool descending = false;   // true: slices from the highest coordinate down
+};
+Traversal chooseTraversal(const ImagePlane& plane);
+
+// The draw order: slices in traversal order (reversed when `reverse`, for front-to-back), within a
+// slice its runs in order, within a run its voxels in order. Lists every voxel of the active buckets
+// (allBuckets: of every bucket), transparent ones included: the renderers cull those per voxel.
+// sliceStarts (optional) gets where each slice begins, plus the end.
+std::vector<uint32_t> drawOrder(const SplatScene& scene, Traversal trav, bool reverse = false,
+                                bool allBuckets = false, std::vector<uint32_t>* sliceStarts = nullptr);
+
+} // namespace renderer

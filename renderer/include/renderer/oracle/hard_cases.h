@@ -1,0 +1,28 @@
+// The named hard cases of EWA_NOTES ("Hard cases for numerical stability"): scenes where projection,
+// filtering or compositing is most likely to break. Tests render each in every filter mode and check
+// it against the ground truth; `splatlab accuracy` renders them larger for docs/accuracy.md.
+#pragma once
+#include "renderer/math/camera.h"
+#include "renderer/model/splat_settings.h"
+#include "renderer/model/transfer_function.h"
+#include "renderer/model/volume.h"
+
+#include <string>
+#include <vector>
+
+namespace renderer {
+
+struct HardCase {
+    std::string name;          // short, file-name safe
+    std::string what;          // one line: what it stresses
+    Volume volume;
+    TransferFunction tf;
+    Camera camera;
+    SplatSettings settings;    // filter and compositing are set by the caller
+    int width = 48, height = 48;
+};
+
+// scale 1: test size (small volumes, 48x48 images); larger scales grow volumes and images for reports.
+std::vector<HardCase> hardCases(int scale = 1);
+
+} // namespace renderer

@@ -1,0 +1,263 @@
+// Pre-classification: voxel classes, the LUT and the per-axis bucketed slice lists (see splat_scene.h).
+#include "renderer/model/splat_scene.h"
+
+#include "renderer/errors.h"
+#include "renderer/math/shading.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace renderer {
+
+glm::dvec3 SplatScene::positionOf(uint32_t index) const {
+    const uint32_t x = index % uint32_t(dims.x);
+    const uint32_t y = (index / uint32_t(dims.x)) % uint32_t(dims.y);
+    const uint32_t z = index / (uint32_t(dims.x) * uint32_t(dims.y));
+    return origin + spacing * glm::dvec3(x, y, z);
+}
+
+uint32_t SplatScene::voxelAt(int axis, uint32_t slice, uint32_t pos) const {
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    glm::uvec3 v;
+    v[axis] = slice;
+    v[a1] = pos % uint32_t(dims[a1]);
+    v[a2] = pos / uint32_t(dims[a1]);
+    return (v.z * uint32_t(dims.y) + v.y) * uint32_t(dims.x) + v.x;
+}
+
+namespace {
+
+// The classes of slices s0 .. s0 + n - 1 across `axis`, slice after slice, each in position order
+// (voxelAt's). Read in memory order: a slice across x or y visited voxel by voxel strides through the
+// volume, a cache line for each voxel (bonsai's scene took twice as long to build, renderer_bench
+// window-edit).
+void gatherSliceClasses(const SplatScene& s, int axis, uint32_t s0, uint32_t n, std::vector<uint16_t>& out) {
+    const glm::ivec3 d = s.dims;
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    const size_t sliceSize = size_t(d[a1]) * size_t(d[a2]);
+    out.resize(n * sliceSize);
+    glm::ivec3 lo(0), hi = d;
+    lo[axis] = int(s0), hi[axis] = int(s0 + n);
+    std::array<size_t, 3> step{};   // where one voxel along x, y, z moves in `out`
+    step[size_t(axis)] = sliceSize, step[size_t(a1)] = 1, step[size_t(a2)] = size_t(d[a1]);
+    for (int z = lo.z; z < hi.z; ++z)
+        for (int y = lo.y; y < hi.y; ++y) {
+            const uint16_t* row = &s.classes[(size_t(z) * size_t(d.y) + size_t(y)) * size_t(d.x)];
+            size_t at = size_t(z - lo.z) * step[2] + size_t(y - lo.y) * step[1];
+            for (int x = lo.x; x < hi.x; ++x, at += step[0]) out[at] = row[x];
+        }
+}
+
+// One slice's runs and entries, from its classes in position order (rowLength positions a row): per
+// tile, count the buckets, mark the dense ones, list the others' voxels.
+void buildSliceLists(const uint16_t* classes, uint32_t sliceSize, uint32_t rowLength, uint32_t slice, AxisLists& out) {
+    for (uint32_t tileBase = 0; tileBase < sliceSize; tileBase += kTileVoxels) {
+        const uint32_t tileSize = std::min(kTileVoxels, sliceSize - tileBase);
+        std::array<uint32_t, kBuckets> count{};
+        std::array<glm::u16vec2, kBuckets> lo, hi;
+        lo.fill(glm::u16vec2(UINT16_MAX));
+        hi.fill(glm::u16vec2(0));
+        // By stretches of one bucket within a row: most of a scan is air, long stretches of one class.
+        const uint16_t* tile = classes + tileBase;
+        for (uint32_t p = 0; p < tileSize;) {
+            const uint32_t x = (tileBase + p) % rowLength, y = (tileBase + p) / rowLength;
+            const uint32_t rowEnd = std::min(tileSize, p + (rowLength - x));
+            const int b = tile[p] >> kBucketShift;
+            uint32_t q = p + 1;
+            while (q < rowEnd && tile[q] >> kBucketShift == b) ++q;
+            count[size_t(b)] += q - p;
+            lo[size_t(b)] = glm::min(lo[size_t(b)], glm::u16vec2(x, y));
+            hi[size_t(b)] = glm::max(hi[size_t(b)], glm::u16vec2(x + (q - p) - 1, y));
+            p = q;
+        }
+        std::array<uint32_t, kBuckets> offset{};
+        const uint32_t base = uint32_t(out.entries.size());
+        uint32_t listed = 0;
+        std::array<bool, kBuckets> dense{};
+        for (int b = 0; b < kBuckets; ++b) {
+            if (count[size_t(b)] == 0) continue;
+            SliceRun r;
+            r.slice = slice;
+            r.tileBase = tileBase;
+            r.bucket = uint16_t(b);
+            r.dense = dense[size_t(b)] = kDenseShare * count[size_t(b)] > tileSize;
+            r.first = r.dense ? 0 : base + listed;
+            r.count = r.dense ? tileSize : count[size_t(b)];
+            r.voxels = count[size_t(b)];
+            r.lo = lo[size_t(b)];
+            r.hi = hi[size_t(b)];
+            offset[size_t(b)] = r.first;
+            if (!r.dense) listed += count[size_t(b)];
+            out.runs.push_back(r);
+        }
+        out.entries.resize(base + listed);
+        for (uint32_t p = 0; p < tileSize; ++p) {
+            const int b = classes[tileBase + p] >> kBucketShift;
+            if (!dense[size_t(b)]) out.entries[offset[size_t(b)]++] = uint16_t(p);
+        }
+    }
+}
+
+// One axis: every slice's lists (buildSliceLists), concatenated.
+AxisLists buildAxisLists(const SplatScene& s, int axis) {
+    const glm::ivec3 d = s.dims;
+    const uint32_t slices = uint32_t(d[axis]);
+    const uint32_t sliceSize = uint32_t(d[(axis + 1) % 3]) * uint32_t(d[(axis + 2) % 3]);
+    // Slices are independent: build blocks of them in parallel, then concatenate. A block gathers its
+    // classes at once (up to 16 slices, at most 8 MB): across x, each row then gives 16 slices 32 bytes
+    // of one cache line, where a slice alone would read a line for each of its voxels.
+    const uint32_t block = std::clamp<uint32_t>((uint32_t(1) << 22) / std::max<uint32_t>(sliceSize, 1), 1, 16);
+    std::vector<AxisLists> perSlice(slices);
+    tbb::parallel_for(uint32_t(0), (slices + block - 1) / block, [&](uint32_t b) {
+        const uint32_t s0 = b * block, n = std::min(block, slices - s0);
+        // Slices across z lie in memory in position order already.
+        std::vector<uint16_t> blockClasses;
+        if (axis != 2) gatherSliceClasses(s, axis, s0, n, blockClasses);
+        const uint16_t* classes = axis == 2 ? &s.classes[size_t(s0) * sliceSize] : blockClasses.data();
+        for (uint32_t slice = s0; slice < s0 + n; ++slice)
+            buildSliceLists(classes + size_t(slice - s0) * sliceSize, sliceSize, uint32_t(d[(axis + 1) % 3]), slice,
+                            perSlice[slice]);
+    });
+    AxisLists lists;
+    lists.sliceRuns.push_back(0);
+    for (uint32_t slice = 0; slice < slices; ++slice) {
+        const uint32_t shift = uint32_t(lists.entries.size());
+        for (SliceRun r : perSlice[slice].runs) {
+            if (!r.dense) r.first += shift;
+            lists.runs.push_back(r);
+        }
+        lists.entries.insert(lists.entries.end(), perSlice[slice].entries.begin(), perSlice[slice].entries.end());
+        lists.sliceRuns.push_back(uint32_t(lists.runs.size()));
+    }
+    return lists;
+}
+
+} // namespace
+
+SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, ValueRange window) {
+    if (volume.voxelCount() == 0 || volume.values.size() != volume.voxelCount())
+        throw RenderError("volume '" + volume.name + "' has no voxels");
+    // The GL path addresses a list entry as gl_VertexID / 6 (a signed int).
+    if (volume.voxelCount() > size_t(INT32_MAX / 6))
+        throw RenderError("volume '" + volume.name + "' has more than " + std::to_string(INT32_MAX / 6) + " voxels");
+    if (std::max({volume.dims.x, volume.dims.y, volume.dims.z}) > 65535)
+        throw RenderError("volume '" + volume.name + "' is longer than 65535 voxels along an axis");
+    SplatScene s;
+    s.name = volume.name;
+    s.dims = volume.dims;
+    s.spacing = volume.spacing;
+    s.origin = volume.origin;
+    s.centre = volume.centre();
+    s.radius = volume.boundingRadius();
+    s.axes = volume.drawnAxes();
+    s.window = (window.hi > window.lo) ? window : volume.range;
+    s.classes.resize(volume.voxelCount());
+    tbb::combinable<std::vector<uint32_t>> histograms([] { return std::vector<uint32_t>(kLutSize, 0); });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, s.classes.size()), [&](const tbb::blocked_range<size_t>& r) {
+        std::vector<uint32_t>& histogram = histograms.local();
+        for (size_t i = r.begin(); i < r.end(); ++i)
+            ++histogram[s.classes[i] = classOf(volume.values[i], s.window.lo, s.window.hi)];
+    });
+    s.classVoxels.assign(kLutSize, 0);
+    histograms.combine_each([&](const std::vector<uint32_t>& h) {
+        for (int c = 0; c < kLutSize; ++c) s.classVoxels[size_t(c)] += h[size_t(c)];
+    });
+    for (int axis = 0; axis < 3; ++axis) s.lists[size_t(axis)] = buildAxisLists(s, axis);
+    setTransferFunction(s, tf);
+    return s;
+}
+
+void addGradients(SplatScene& s, const GradientField& field) {
+    if (field.dims != s.dims)
+        throw RenderError("gradients of a " + std::to_string(field.dims.x) + "x" + std::to_string(field.dims.y) + "x" +
+                          std::to_string(field.dims.z) + " volume do not fit scene '" + s.name + "'");
+    s.gradients = packGradients(field).texels;
+}
+
+void setTransferFunction(SplatScene& s, const TransferFunction& tf) {
+    s.lut = bakeLut(tf);
+    s.visibleVoxels = 0;
+    for (size_t c = 0; c < s.classVoxels.size(); ++c) s.visibleVoxels += s.lut[c].a > 0.0f ? s.classVoxels[c] : 0;
+}
+
+std::array<bool, kBuckets> activeBuckets(const Lut& lut) {
+    std::array<bool, kBuckets> active{};
+    for (size_t c = 0; c < lut.size(); ++c) active[c >> kBucketShift] = active[c >> kBucketShift] || lut[c].a > 0.0f;
+    return active;
+}
+
+std::vector<glm::dvec3> visibleOutline(const SplatScene& scene, glm::dvec3 reach) {
+    const std::array<bool, kBuckets> active = activeBuckets(scene.lut);
+    std::vector<glm::dvec3> points;
+    // The box lo..hi (voxel indices) grown by reach: its eight corners.
+    const auto addBox = [&](glm::ivec3 lo, glm::ivec3 hi) {
+        const glm::dvec3 a = scene.origin + scene.spacing * glm::dvec3(lo) - reach;
+        const glm::dvec3 b = scene.origin + scene.spacing * glm::dvec3(hi) + reach;
+        for (int c = 0; c < 8; ++c) points.emplace_back((c & 1) ? b.x : a.x, (c & 2) ? b.y : a.y, (c & 4) ? b.z : a.z);
+    };
+    const AxisLists& lists = scene.lists[0];   // slices along x; in-slice axes y, z
+    for (int x = 0; x < scene.dims.x; ++x) {       // a box per slice: the union of its active buckets'
+        glm::ivec2 lo(std::numeric_limits<int>::max()), hi(-1);
+        for (uint32_t r = lists.sliceRuns[size_t(x)]; r < lists.sliceRuns[size_t(x) + 1]; ++r) {
+            const SliceRun& run = lists.runs[r];
+            if (!active[run.bucket] || run.voxels == 0) continue;
+            lo = glm::min(lo, glm::ivec2(run.lo)), hi = glm::max(hi, glm::ivec2(run.hi));
+        }
+        if (hi.x >= 0) addBox({x, lo.x, lo.y}, {x, hi.x, hi.y});
+    }
+    if (points.empty()) addBox(glm::ivec3(0), scene.dims - 1);
+    return points;
+}
+
+Camera framedCamera(const Camera& camera, const SplatScene& scene, const SplatSettings& settings, int width, int height,
+                    double minDistance, double maxDistance) {
+    const glm::dvec3 reach = settings.cutoffSigmas * settings.kernelScale * scene.spacing;
+    return frameView(camera, scene.centre, scene.radius, visibleOutline(scene, reach), width, height, kFrameMargin,
+                     minDistance, maxDistance, scene.axes);
+}
+
+Traversal chooseTraversal(const ImagePlane& plane) {
+    const glm::dvec3 v = plane.viewDirObject;
+    Traversal t;
+    t.axis = (std::abs(v.x) >= std::abs(v.y) && std::abs(v.x) >= std::abs(v.z)) ? 0
+             : (std::abs(v.y) >= std::abs(v.z))                                  ? 1
+                                                                                  : 2;
+    // Back to front: when the view points along +axis, the far slices have the highest coordinate.
+    t.descending = v[t.axis] > 0.0;
+    return t;
+}
+
+std::vector<uint32_t> drawOrder(const SplatScene& scene, Traversal trav, bool reverse, bool allBuckets,
+                                std::vector<uint32_t>* sliceStarts) {
+    const AxisLists& lists = scene.lists[size_t(trav.axis)];
+    std::array<bool, kBuckets> active = activeBuckets(scene.lut);
+    if (allBuckets) active.fill(true);
+    const uint32_t slices = uint32_t(scene.dims[trav.axis]);
+    const bool descending = trav.descending != reverse;
+    std::vector<uint32_t> order;
+    if (sliceStarts) sliceStarts->clear();
+    for (uint32_t k = 0; k < slices; ++k) {
+        const uint32_t slice = descending ? slices - 1 - k : k;
+        if (sliceStarts) sliceStarts->push_back(uint32_t(order.size()));
+        for (uint32_t r = lists.sliceRuns[slice]; r < lists.sliceRuns[slice + 1]; ++r) {
+            const SliceRun& run = lists.runs[r];
+            if (!active[run.bucket]) continue;
+            for (uint32_t i = 0; i < run.count; ++i) {
+                const uint32_t pos = run.tileBase + (run.dense ? i : lists.entries[run.first + i]);
+                const uint32_t voxel = scene.voxelAt(trav.axis, slice, pos);
+                if (run.dense && (scene.classes[voxel] >> kBucketShift) != run.bucket) continue;
+                order.push_back(voxel);
+            }
+        }
+    }
+    if (sliceStarts) sliceStarts->push_back(uint32_t(order.size()));
+    return order;
+}
+
+} // namespace renderer
