@@ -108,7 +108,7 @@ void SpaceMouse::scan(double nowSeconds) {
             return;
         }
         refused = name + " found, but " + d.path + " cannot be opened: " + error +
-                  " (see the README for the udev rule that lets users read it)";
+                  " (docs/editor.md gives the udev rule that lets users read it)";
     }
     m_status = refused.empty() ? "no 3D mouse found" : refused;
 }

@@ -54,7 +54,7 @@ struct SplatSettings {
     double opaqueAlpha = 0.998;
     int opaqueRefreshSlices = 0;        // 0: auto, opaqueRefreshSlices() below
     bool occlusionCulling = true;       // false keeps hidden splats (early termination still skips their
-                                        // pixels): a baseline, and faster tiles on a GPU (see the README)
+                                        // pixels): a baseline, and faster tiles on a GPU (docs/speed.md)
     bool drawAllBuckets = false;        // baseline for measurements: every voxel reaches the vertex
                                         // stage, transparent ones are culled there
 
