@@ -136,7 +136,7 @@ void claimsTable(Report& r, const AccuracyArgs& args) {
             "take "
             "reconstruction only at the paper's `c_min` = 0.3, minified (blue) when both take low-pass only "
             "at "
-            "`c_max` = 2 (1 + 2 tan^2(fov/2)), transition (grey) otherwise. A taller image cannot show both "
+            "`c_max` = 2 (1 + tan^2(fovY/2) (1 + (W/H)^2)), transition (grey) otherwise. A taller image cannot show both "
             "ends: "
             "minified depths (0.7 f_px c_max voxels) grow with the image height, and the board must span a "
             "depth "

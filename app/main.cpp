@@ -282,7 +282,7 @@ void addSplatFlags(CLI::App* cmd, SplatFlags& f) {
     cmd->add_option("--filter", f.filter, "reconstruction, low-pass, ewa or adaptive")->capture_default_str();
     cmd->add_option("--c-min", f.cMin, "Adaptive: reconstruction only where R_k > 1 px / c_min")->capture_default_str();
     cmd->add_option("--c-max", f.cMax, "Adaptive: low-pass only where R_k < 1 px / c_max (0: the paper's "
-                                       "2 (1 + 2 tan^2(fov/2)))")->capture_default_str();
+                                       "2 max (u0^2 + u1^2 + u2^2) / u2^2, at the image's corner)")->capture_default_str();
     cmd->add_option("--patch-size", f.patchSize, "Adaptive: slice voxels per patch side")->capture_default_str();
     cmd->add_option("--hysteresis", f.hysteresis,
                     "Adaptive: a patch changes filter only when a threshold is crossed by this factor")
@@ -308,7 +308,7 @@ void applySplatFlags(const SplatFlags& f, SplatSettings& s) {
         throw CLI::ValidationError("--primitive", "tiles sum sheets: splat-every-sample needs points or quads "
                                                   "(or --compositing sheet-front-to-back, sheet-back-to-front, xray)");
     s.cMin = inRange(f.cMin, "--c-min", kCMinRange);
-    s.cMax = inRange(f.cMax, "--c-max", kCMaxRange, " (0: 2 (1 + 2 tan^2(fov/2)))");
+    s.cMax = inRange(f.cMax, "--c-max", kCMaxRange, " (0: 2 (1 + tan^2(fovY/2) (1 + (W/H)^2)), the image corner's spread)");
     s.patchSize = int(inRange(f.patchSize, "--patch-size", kPatchSizeRange, " voxels"));
     s.hysteresis = inRange(f.hysteresis, "--hysteresis", kHysteresisRange);
     s.opaqueAlpha = inRange(f.opaqueAlpha, "--opaque-alpha", kOpaqueAlphaRange);

@@ -125,14 +125,23 @@ TEST(Classifier, EwaVarianceHasTheRadiiOf000Equation6) {
     }
 }
 
-TEST(Classifier, ThresholdsFollowCminAndCmaxInPixels) {
+// A square perspective image of 30 degrees fov at 500 px focal length, principal point at its centre.
+static ImagePlane squarePlane30() {
     ImagePlane plane;
     plane.fPx = 500.0;
     plane.tanHalfFovY = std::tan(std::numbers::pi / 12);   // 30 degrees
+    plane.width = plane.height = int(std::lround(2.0 * plane.fPx * plane.tanHalfFovY));
+    plane.centrePx = glm::dvec2(plane.width, plane.height) / 2.0;
     plane.nearDepth = 0.01;
+    return plane;
+}
+
+TEST(Classifier, ThresholdsFollowCminAndCmaxInPixels) {
+    const ImagePlane plane = squarePlane30();
     SplatSettings s;   // cMin 0.3, cMax from the fov
     const AdaptiveThresholds t = adaptiveThresholds({1, 1, 1}, plane, s);
-    const double cMax = 2.0 * (1.0 + 2.0 * plane.tanHalfFovY * plane.tanHalfFovY);
+    const double halfSide = plane.width / 2.0 / plane.fPx;   // tan(fov/2), as rounded to whole pixels
+    const double cMax = 2.0 * (1.0 + 2.0 * halfSide * halfSide);
     EXPECT_NEAR(t.lowPassBelowPx, 1.0 / cMax, 1e-12);
     EXPECT_NEAR(t.reconstructionAbovePx, 1.0 / 0.3, 1e-12);
     // R_k = 0.7 * 500 / u2: reconstruction below u2 = 105, low-pass beyond u2 = 350 * cMax.
@@ -143,15 +152,33 @@ TEST(Classifier, ThresholdsFollowCminAndCmaxInPixels) {
     EXPECT_EQ(classifyDepth(-5.0, plane, t), FilterMode::Reconstruction);   // behind the eye: never low-pass
 }
 
+// 000 sec. 3.2 takes c_max from the largest (u0^2 + u1^2 + u2^2) / u2^2 over the image: on a wide image
+// that is at its corner, 1 + tan^2(fovY/2) (1 + (W/H)^2), not the vertical half-angle's 1 + 2 tan^2(fovY/2).
+TEST(Classifier, CmaxComesFromTheImagesCornerOnAWideImage) {
+    ImagePlane plane;
+    plane.width = 1920;
+    plane.height = 1080;
+    plane.tanHalfFovY = std::tan(std::numbers::pi / 12);   // 30 degrees vertical
+    plane.fPx = (plane.height / 2.0) / plane.tanHalfFovY;
+    plane.centrePx = glm::dvec2(plane.width, plane.height) / 2.0;
+    plane.nearDepth = 0.01;
+    const AdaptiveThresholds t = adaptiveThresholds({1, 1, 1}, plane, SplatSettings{});
+    const double aspect = 1920.0 / 1080.0, tan2 = plane.tanHalfFovY * plane.tanHalfFovY;
+    EXPECT_NEAR(1.0 + tan2 * (1.0 + aspect * aspect), 1.299, 5e-4);   // the audit's figure
+    EXPECT_NEAR(t.lowPassBelowPx, 1.0 / (2.0 * (1.0 + tan2 * (1.0 + aspect * aspect))), 1e-12);
+    EXPECT_NEAR(1.0 / t.lowPassBelowPx, 2.598, 1e-3);
+    // Parallel rays: no spread, c_max 2.
+    plane.orthographic = true;
+    EXPECT_NEAR(adaptiveThresholds({1, 1, 1}, plane, SplatSettings{}).lowPassBelowPx, 0.5, 1e-12);
+}
+
 TEST(Classifier, HysteresisKeepsLastFramesFilterInsideTheBand) {
     // Thresholds as above: reconstruction below u2 = 105, low-pass beyond u2 = 350 cMax. With h = 0.1
     // a kernel enters a shortcut only 10 % past its threshold and leaves it only 10 % past it back.
-    ImagePlane plane;
-    plane.fPx = 500.0;
-    plane.tanHalfFovY = std::tan(std::numbers::pi / 12);
-    plane.nearDepth = 0.01;
+    const ImagePlane plane = squarePlane30();
     const AdaptiveThresholds t = adaptiveThresholds({1, 1, 1}, plane, SplatSettings{});
-    const double cMax = 2.0 * (1.0 + 2.0 * plane.tanHalfFovY * plane.tanHalfFovY), lowPassFrom = 350.0 * cMax;
+    const double halfSide = plane.width / 2.0 / plane.fPx;
+    const double cMax = 2.0 * (1.0 + 2.0 * halfSide * halfSide), lowPassFrom = 350.0 * cMax;
     using enum FilterMode;
     const double h = 0.1;
     EXPECT_EQ(classifyDepth(110.0, plane, t, Reconstruction, h), Reconstruction);   // stays

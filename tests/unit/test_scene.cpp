@@ -277,15 +277,10 @@ TEST(ImageFiles, WritingReplacesTheFileWholeOrFailsNamingItAndKeepsTheOldOne) {
         EXPECT_EQ(readImage(path).rgba, second.rgba) << name;
         EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp")) << name;
 
-        // A folder has the temporary file's name: the error says so, and neither it nor the old image is touched.
+        // What a killed save of an earlier release left (the fixed name "<out>.tmp", here a folder) blocks nothing.
+        writeImage(first, path);
         std::filesystem::create_directories(path.string() + ".tmp/blocked");
-        try {
-            writeImage(first, path);
-            ADD_FAILURE() << "wrote through a folder: " << name;
-        } catch (const LoadError& e) {
-            EXPECT_THAT(e.what(), HasSubstr(path.string()));
-            EXPECT_THAT(e.what(), HasSubstr("is in the way"));
-        }
+        writeImage(second, path);
         EXPECT_EQ(readImage(path).rgba, second.rgba) << name;
         EXPECT_TRUE(std::filesystem::is_directory(path.string() + ".tmp/blocked")) << name;
         std::filesystem::remove_all(path.string() + ".tmp");

@@ -71,9 +71,12 @@ const char* dropFile(EditorState& state, const std::filesystem::path& file) {
         state.pendingFile = FileAction::OpenVolume;
         return "Settings";
     }
-    // A JSON that does not parse goes to the TF loader, whose error names the file and the fault.
-    std::ifstream in(file);
-    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    // A JSON that does not parse goes to the TF loader, whose error names the file and the fault; so does
+    // anything that is not a regular file (a FIFO would block the window here).
+    std::error_code ec;
+    std::ifstream in;
+    if (std::filesystem::is_regular_file(file, ec)) in.open(file);
+    const nlohmann::json j = in.is_open() ? nlohmann::json::parse(in, nullptr, false) : nlohmann::json();
     if (j.is_object() && j.contains("splatlab_session")) {
         state.sessionFile = file.string();
         state.pendingFile = FileAction::OpenSession;
@@ -140,7 +143,7 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
         changes.settingsChanged |= sliderDouble("c_min", s.cMin, 0.05, 1.0, "%.2f");
         hint("Reconstruction only where a kernel spans more than 1 px / c_min (paper: 0.3)");
         changes.settingsChanged |= sliderDouble("c_max", s.cMax, 0.0, 8.0, "%.2f");
-        hint("Low-pass only where a kernel spans less than 1 px / c_max (0: the paper's 2 (1 + 2 tan^2(fov/2)))");
+        hint("Low-pass only where a kernel spans less than 1 px / c_max (0: the paper's 2 (1 + tan^2(fovY/2) (1 + (W/H)^2)), from the image corner)");
         changes.settingsChanged |= ImGui::SliderInt("Patch size", &s.patchSize, 1, 32);
         changes.settingsChanged |= sliderDouble("Hysteresis", s.hysteresis, 0.0, 0.5, "%.2f");
         hint("A patch changes filter only when a threshold is crossed by this factor (no flicker while orbiting)");

@@ -5,6 +5,7 @@
 #include "renderer/errors.h"
 
 #include <OpenImageIO/imageio.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -60,6 +61,31 @@ static IsPng endsLikeAPng(const std::filesystem::path& file) {
     return ended ? IsPng::Complete : IsPng::Truncated;
 }
 
+// Headers can claim any size: a 74-byte PNG may say 60000x60000. Reading holds the pixels twice as floats
+// (the file's channels, then RGBA), so a claim is checked before anything is allocated: against half the
+// machine's memory, and for PNG against what its file can hold (deflate expands at most 1032:1).
+static void checkImageSize(const std::filesystem::path& path, const OIIO::ImageSpec& spec, const std::string& format) {
+    const std::string claim = std::to_string(spec.width) + "x" + std::to_string(spec.height) + " pixels of " +
+                              std::to_string(spec.nchannels) + " channels";
+    if (spec.width < 1 || spec.height < 1 || spec.nchannels > 64)
+        throw LoadError(path.string(), "size", "the header claims " + claim + "; expected at least 1x1, at most 64 channels");
+    const double pixels = double(spec.width) * double(spec.height);
+    const double needed = pixels * double(spec.nchannels + 4) * sizeof(float);
+    const double budget = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE)) / 2.0;
+    if (needed > budget)
+        throw LoadError(path.string(), "size",
+                        "the header claims " + claim + ": reading it needs " + std::to_string(int64_t(needed / (1 << 20))) +
+                            " MiB, more than half this machine's memory (" + std::to_string(int64_t(budget / (1 << 20))) +
+                            " MiB)");
+    std::error_code ec;
+    const double fileBytes = double(std::filesystem::file_size(path, ec));
+    const double decodedBytes = pixels * spec.nchannels * double(spec.format.size()) + double(spec.height);
+    if (!ec && format == "png" && decodedBytes > 1032.0 * fileBytes + (1 << 20))
+        throw LoadError(path.string(), "size",
+                        "the header claims " + claim + ", more than a PNG of " + std::to_string(int64_t(fileBytes)) +
+                            " bytes can hold (deflate expands at most 1032:1): the file is damaged");
+}
+
 // The writer for `path`'s extension, after the checks a write would otherwise fail late on.
 static std::unique_ptr<OIIO::ImageOutput> imageWriter(const std::filesystem::path& path) {
     std::error_code ec;
@@ -76,7 +102,10 @@ static std::unique_ptr<OIIO::ImageOutput> imageWriter(const std::filesystem::pat
     return out;
 }
 
-void checkImageWritable(const std::filesystem::path& path) { imageWriter(path); }
+void checkImageWritable(const std::filesystem::path& path) {
+    imageWriter(path);
+    checkFileReplaceable(path);
+}
 
 void writeImage(const Image& image, const std::filesystem::path& path, const float background[3]) {
     // The writer is chosen by `path`'s extension and fills a temporary file that replaces `path` whole.
@@ -101,10 +130,12 @@ void writeImage(const Image& image, const std::filesystem::path& path, const flo
 }
 
 Image readImage(const std::filesystem::path& path) {
+    requireRegularFile(path, "an image file");
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) throw LoadError(path.string(), "", "cannot read image: " + OIIO::geterror());
     const auto& spec = in->spec();
     if (spec.nchannels < 1) throw LoadError(path.string(), "channels", "image has no channels");
+    checkImageSize(path, spec, in->format_name());
     std::vector<float> data(size_t(spec.width) * spec.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
         throw LoadError(path.string(), "", "cannot read pixels: " + in->geterror());

@@ -2,14 +2,14 @@
 #include "renderer/io/json_file.h"
 
 #include "renderer/errors.h"
+#include "renderer/io/atomic_file.h"
 
 #include <fstream>
 
 namespace renderer {
 
 nlohmann::json readJsonFile(const std::filesystem::path& path, const std::string& what) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw LoadError(path.string(), "", "is a folder, expected " + what);
+    requireRegularFile(path, what);   // a FIFO would block the read forever
     std::ifstream in(path);
     if (!in) throw LoadError(path.string(), "", "cannot open");
     try {

@@ -12,10 +12,17 @@ constexpr double kFloatMargin = 1.001;
 } // namespace
 
 AdaptiveThresholds adaptiveThresholds(glm::dvec3 spacing, const ImagePlane& plane, const SplatSettings& s) {
-    // c_max bounds the footprint's elongation at the image border: (u0^2 + u1^2 + u2^2) / u2^2 is at
-    // most 1 + 2 tan^2(fov/2) for perspective rays, 1 for parallel ones.
-    const double spread = plane.orthographic ? 0.0 : plane.tanHalfFovY * plane.tanHalfFovY;
-    const double cMax = s.cMax > 0.0 ? s.cMax : 2.0 * (1.0 + 2.0 * spread);
+    // c_max bounds the footprint's elongation over the image (000 sec. 3.2): 2 max (u0^2 + u1^2 + u2^2) / u2^2,
+    // whose maximum is at the corner farthest from the principal point, 1 + tan^2(fovY/2) (1 + (W/H)^2)
+    // for a centred perspective image (1.299 at 1920x1080, fov 30), 1 for parallel rays.
+    double cornerSpread = 0.0;   // max (u0^2 + u1^2) / u2^2 over the image
+    if (!plane.orthographic)
+        for (const glm::dvec2 corner : {glm::dvec2(0, 0), glm::dvec2(plane.width, 0), glm::dvec2(0, plane.height),
+                                        glm::dvec2(plane.width, plane.height)}) {
+            const glm::dvec2 offsetPx = corner - plane.centrePx;
+            cornerSpread = std::max(cornerSpread, glm::dot(offsetPx, offsetPx) / (plane.fPx * plane.fPx));
+        }
+    const double cMax = s.cMax > 0.0 ? s.cMax : 2.0 * (1.0 + cornerSpread);
     AdaptiveThresholds t;
     t.reconstructionAbovePx = 1.0 / s.cMin;
     t.lowPassBelowPx = 1.0 / cMax;

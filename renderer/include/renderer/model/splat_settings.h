@@ -28,7 +28,7 @@ struct SplatSettings {
     double maxFootprintFraction = 2.0;  // footprints whose cutoff radius exceeds this times the
                                         // image diagonal are culled (near-camera blow-up guard)
     // Adaptive EWA (000 sec. 3.2): magnified patches use reconstruction only, minified ones low-pass
-    // only. Paper defaults; cMax <= 0 means 2 (1 + 2 tan^2(fov/2)).
+    // only. Paper defaults; cMax <= 0 means 2 (1 + tan^2(fovY/2) (1 + (W/H)^2)), the spread at the image corner.
     double cMin = 0.3;
     double cMax = 0.0;
     int patchSize = 8;                  // slice voxels per patch side; 1 classifies every voxel
@@ -92,7 +92,7 @@ constexpr SettingRange kKernelScaleRange{0.05, 10.0};   // voxel spacings
 constexpr SettingRange kCutoffRange{0.5, 10.0};         // sigmas
 constexpr SettingRange kDensityRange{1e-6, 1e6};
 constexpr SettingRange kCMinRange{0.01, 10.0};
-constexpr SettingRange kCMaxRange{0.0, 100.0};          // 0: the paper's 2 (1 + 2 tan^2(fov/2))
+constexpr SettingRange kCMaxRange{0.0, 100.0};          // 0: the paper's 2 (1 + tan^2(fovY/2) (1 + (W/H)^2))
 constexpr SettingRange kPatchSizeRange{1, 256};         // voxels; whole numbers
 constexpr SettingRange kHysteresisRange{0.0, 10.0};
 constexpr SettingRange kOpaqueAlphaRange{0.01, 1.0};    // 1: never opaque
