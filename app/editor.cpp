@@ -22,13 +22,13 @@ int runEditor(const EditorOptions& options) {
     // 3. Frame loop. Edits made in frame N are rendered at the top of frame N+1, at the viewport size
     //    frame N measured; the first frame only measures.
     for (int frame = 1; !window.shouldClose(); ++frame) {
-        editor.waitForInput();           // a. events (or a nap while idle), GPU timers, the 3D mouse
-        editor.applyEdits();             // b. last frame's edits into the scenes: volumes, TF, window, gradients
-        editor.stepFilterMeasurement();  // c. the Filters panel's Measure: start, cancel, one filter more
-        editor.renderViewport();         // d. frame, spin, render the view (or its preview), patch counts
-        editor.drawPanels(frame);        // e. the ImGui frame: docked panels and modals record this frame's edits
-        editor.noteEdits();              // f. what those edits ask of the next frame: probe, preview, render
-        editor.presentFrame(frame);      // g. the UI into the back buffer and on screen; a scripted run's outputs
+        editor.waitForInput();          // a. events (or a nap while idle), GPU timers, 3D mouse
+        editor.applyEdits();            // b. last frame's edits: volumes, TF, window, gradients
+        editor.stepFilterMeasurement(); // c. Filters > Measure: start, cancel, one filter more
+        editor.renderViewport();        // d. frame, spin, render the view (or its preview)
+        editor.drawPanels(frame);       // e. ImGui frame: the panels and modals record edits
+        editor.noteEdits();             // f. what the edits ask of the next frame: probe, render
+        editor.presentFrame(frame);     // g. UI to the back buffer, on screen; scripted outputs
     }
     return editor.exitCode();
 }

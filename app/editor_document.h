@@ -35,9 +35,9 @@ struct Preview {
 struct Document {
     std::optional<renderer::Volume> volume;
     renderer::SplatScene scene;
-    renderer::TransferFunction tf;          // what the scene was classified with
-    renderer::Histogram histogram;          // of the whole volume, for the Window section
-    renderer::ValueRange percentile;        // p1..p99
-    std::optional<renderer::GradientField> gradients;   // once computed (for shading, a later issue)
-    std::unique_ptr<Preview> preview;       // volumes of PreviewSettings::kMinVoxels or more
+    renderer::TransferFunction tf;                    // what the scene was classified with
+    renderer::Histogram histogram;                    // of the whole volume, for the Window section
+    renderer::ValueRange percentile;                  // p1..p99
+    std::optional<renderer::GradientField> gradients; // once computed (for shading, a later issue)
+    std::unique_ptr<Preview> preview;                 // volumes of PreviewSettings::kMinVoxels or more
 };

@@ -7,7 +7,8 @@
 #include <system_error>
 
 void EditorLoop::applyEdits() {
-    // A failed step waits for the next edit instead of repeating (and re-opening the error modal) every frame.
+    // A failed step waits for the next edit instead of repeating (and re-opening the error modal) every
+    // frame.
     // 1. A volume read on the worker: on screen, or its error shown.
     takeLoadedVolume();
     // 2. Settings' buttons: open a volume, save the image, a session opened.
@@ -20,7 +21,8 @@ void EditorLoop::applyEdits() {
     takeGradients();
 }
 
-void EditorLoop::openVolume(const std::filesystem::path& path, const std::optional<renderer::RawOptions>& raw) {
+void EditorLoop::openVolume(const std::filesystem::path& path,
+                            const std::optional<renderer::RawOptions>& raw) {
     m_volumeJob = std::make_unique<VolumeJob>(path, raw, m_state.tf, m_state.window);
     if (m_scripted) m_volumeJob->thread.join();
 }
@@ -40,13 +42,14 @@ bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& pa
             std::fprintf(stderr,
                          "note: --preview: %s has %zu voxels, fewer than the %zu M that get a preview; it "
                          "renders in full\n",
-                         path.string().c_str(), loaded.volume.voxelCount(), ui::PreviewSettings::kMinMegaVoxels);
+                         path.string().c_str(), loaded.volume.voxelCount(),
+                         ui::PreviewSettings::kMinMegaVoxels);
         }
         next.volume = std::move(loaded.volume);
         auto fresh = m_splats ? nullptr : std::make_unique<renderer::SplatRenderer>();
         (m_splats ? *m_splats : *fresh).setScene(next.scene);
         if (fresh) m_splats = std::move(fresh);
-        m_gradientJob.reset();   // cancels the gradients of the volume going away
+        m_gradientJob.reset(); // cancels the gradients of the volume going away
         m_doc = std::move(next);
         m_state.preview.available = m_doc.preview != nullptr;
         m_state.gradientsReady = false;
@@ -78,8 +81,10 @@ void EditorLoop::takeLoadedVolume() {
     if (!m_volumeJob || !m_volumeJob->done) return;
     if (m_volumeJob->thread.joinable()) m_volumeJob->thread.join();
     const std::unique_ptr<VolumeJob> job = std::move(m_volumeJob);
-    if (!job->error.empty()) report(std::runtime_error(job->error));
-    else if (job->result && showVolume(std::move(*job->result), job->path, job->tf)) m_renderPending = true;
+    if (!job->error.empty())
+        report(std::runtime_error(job->error));
+    else if (job->result && showVolume(std::move(*job->result), job->path, job->tf))
+        m_renderPending = true;
 }
 
 void EditorLoop::applySettingsActions() {
@@ -92,8 +97,10 @@ void EditorLoop::applySettingsActions() {
         // Another volume: load it with the session's window and TF; the same one: re-classify it.
         const std::filesystem::path& v = m_settingsChanges.sessionVolume;
         std::error_code ec;
-        if (!v.empty() && !std::filesystem::equivalent(v, m_state.loadedVolume, ec)) openVolume(v);
-        else m_tfPending = m_windowChanged = true;
+        if (!v.empty() && !std::filesystem::equivalent(v, m_state.loadedVolume, ec))
+            openVolume(v);
+        else
+            m_tfPending = m_windowChanged = true;
         m_renderPending = true;
     }
 }
@@ -104,7 +111,7 @@ void EditorLoop::applyTransferFunction() {
     guarded([&] {
         m_doc.tf = m_state.tf;
         renderer::setTransferFunction(m_doc.scene, m_doc.tf);
-        m_splats->setLut(m_doc.scene.lut);   // the lists stay; only the LUT travels
+        m_splats->setLut(m_doc.scene.lut); // the lists stay; only the LUT travels
         if (m_doc.preview) m_doc.preview->setTransferFunction(m_doc.tf);
     });
 }
@@ -113,15 +120,18 @@ void EditorLoop::applyWindow() {
     if (m_splats && m_windowChanged) {
         m_windowChanged = false;
         m_renderPending = true;
-        if (m_windowDragged && m_doc.preview && m_state.preview.whileMoving) {   // the preview's eighth of the voxels now
-            guarded([&] { m_doc.preview->classify(m_doc.tf, renderer::windowFor(*m_doc.volume, m_state.window)); });
+        if (m_windowDragged && m_doc.preview &&
+            m_state.preview.whileMoving) { // the preview's eighth of the voxels now
+            guarded([&] {
+                m_doc.preview->classify(m_doc.tf, renderer::windowFor(*m_doc.volume, m_state.window));
+            });
             m_fullWindowStale = true;
         } else {
             reclassify();
         }
     }
     if (m_fullWindowStale && !(m_state.preview.whileMoving && m_state.preview.moving(m_pollTime)))
-        reclassify();   // every voxel once the drag settles (or the preview is turned off)
+        reclassify(); // every voxel once the drag settles (or the preview is turned off)
 }
 
 void EditorLoop::takeGradients() {
@@ -130,10 +140,10 @@ void EditorLoop::takeGradients() {
     m_doc.gradients = std::move(m_gradientJob->result);
     if (!m_gradientJob->error.empty()) m_state.errorMessage = "gradients: " + m_gradientJob->error;
     m_gradientJob.reset();
-    if (m_splats && m_doc.gradients) {   // shading and surface splats become available
+    if (m_splats && m_doc.gradients) { // shading and surface splats become available
         guarded([&] {
             renderer::addGradients(m_doc.scene, *m_doc.gradients);
-            m_splats->setGradients(m_doc.scene);   // the rest of the scene is on the GPU already
+            m_splats->setGradients(m_doc.scene); // the rest of the scene is on the GPU already
             if (m_doc.preview) m_doc.preview->addGradients();
             m_state.gradientsReady = true;
         });

@@ -20,17 +20,15 @@
 // Work on a worker thread that the UI thread polls each frame: its progress (0..1), a cancel flag the
 // work's progress callback returns, and, once `done`, its result or the message of what it threw.
 // Destroying the job cancels and joins it, so it must go before anything the work reads.
-template <class T>
-struct WorkerJob {
+template <class T> struct WorkerJob {
     std::thread thread;
     std::atomic<double> fraction{0.0};
     std::atomic<bool> cancel{false}, done{false};
-    std::optional<T> result;   // written before `done`; empty when cancelled or failed
-    std::string error;         // an exception from the worker, if any
+    std::optional<T> result; // written before `done`; empty when cancelled or failed
+    std::string error;       // an exception from the worker, if any
 
     // `work(progress)` returns the result (or an optional of it); `progress(f)` returns false once cancelled.
-    template <class Work>
-    void start(Work work) {
+    template <class Work> void start(Work work) {
         thread = std::thread([this, work] {
             try {
                 result = work([this](double f) {
@@ -52,16 +50,18 @@ struct WorkerJob {
 // Gradients computed after a volume loads; the UI shows the progress modal meanwhile.
 struct GradientJob : WorkerJob<renderer::GradientField> {
     explicit GradientJob(const renderer::Volume& volume) {
-        start([&volume](const renderer::ProgressCallback& progress) { return renderer::computeGradients(volume, progress); });
+        start([&volume](const renderer::ProgressCallback& progress) {
+            return renderer::computeGradients(volume, progress);
+        });
     }
 };
 
 // A volume read on the worker: what the UI thread needs to show it (it makes the GL parts).
 struct LoadedVolume {
     renderer::Volume volume;
-    renderer::Histogram histogram;     // of the whole volume, for the Window section
-    renderer::ValueRange percentile;   // p1..p99
-    renderer::SplatScene scene;        // classified with the job's TF over its window
+    renderer::Histogram histogram;   // of the whole volume, for the Window section
+    renderer::ValueRange percentile; // p1..p99
+    renderer::SplatScene scene;      // classified with the job's TF over its window
 };
 
 // Opening a volume: read, aligned to its world axes, its histogram taken and its scene classified on the
@@ -74,11 +74,12 @@ struct VolumeJob : WorkerJob<LoadedVolume> {
     VolumeJob(const std::filesystem::path& file, const std::optional<renderer::RawOptions>& raw,
               const renderer::TransferFunction& classify, const renderer::WindowSettings& window)
         : path(file), tf(classify) {
-        start([file, raw, classify, window](const renderer::ProgressCallback& progress) -> std::optional<LoadedVolume> {
+        start([file, raw, classify,
+               window](const renderer::ProgressCallback& progress) -> std::optional<LoadedVolume> {
             LoadedVolume out;
             try {
-                out.volume = renderer::loadVolumeInWorldFrame(file, raw,
-                                                              [&](double f) { return progress(0.6 * f); });
+                out.volume =
+                    renderer::loadVolumeInWorldFrame(file, raw, [&](double f) { return progress(0.6 * f); });
             } catch (const renderer::Cancelled&) {
                 return std::nullopt;
             }
@@ -86,7 +87,8 @@ struct VolumeJob : WorkerJob<LoadedVolume> {
             out.histogram = renderer::computeHistogram(out.volume, 128);
             out.percentile = renderer::percentileWindow(out.volume, 1.0, 99.0);
             if (!progress(0.7)) return std::nullopt;
-            out.scene = renderer::buildSplatScene(out.volume, classify, renderer::windowFor(out.volume, window));
+            out.scene =
+                renderer::buildSplatScene(out.volume, classify, renderer::windowFor(out.volume, window));
             progress(1.0);
             return out;
         });
@@ -103,14 +105,15 @@ struct FilterComparisonJob {
     renderer::SplatScene scene;
     renderer::ImagePlane view, crop;
     renderer::SplatSettings settings;
-    size_t measured = 0;                   // filters of kFilters measured so far
-    WorkerJob<renderer::Image> truth;      // last: destroyed (joined) before the scene it reads
+    size_t measured = 0;              // filters of kFilters measured so far
+    WorkerJob<renderer::Image> truth; // last: destroyed (joined) before the scene it reads
 
-    FilterComparisonJob(const renderer::SplatScene& s, const renderer::ImagePlane& v, const renderer::SplatSettings& set)
+    FilterComparisonJob(const renderer::SplatScene& s, const renderer::ImagePlane& v,
+                        const renderer::SplatSettings& set)
         : scene(s), view(v), crop(renderer::centreCrop(v, renderer::kComparisonCropPx)), settings(set) {
         truth.start([this](const renderer::ProgressCallback& progress) {
-            return renderer::cachedGroundTruth(scene, crop, settings, {}, renderer::defaultGroundTruthCacheDir(),
-                                               progress);
+            return renderer::cachedGroundTruth(scene, crop, settings, {},
+                                               renderer::defaultGroundTruthCacheDir(), progress);
         });
     }
 };

@@ -46,10 +46,13 @@ bool EditorLoop::start() {
 
 bool EditorLoop::checkTabs() const {
     for (const std::string& tab : m_options.tabs)
-        if (std::none_of(m_panels.begin(), m_panels.end(), [&](const ui::DockPanel& p) { return p.title == tab; })) {
+        if (std::none_of(m_panels.begin(), m_panels.end(),
+                         [&](const ui::DockPanel& p) { return p.title == tab; })) {
             std::string titles;
-            for (const ui::DockPanel& p : m_panels) titles += (titles.empty() ? "" : ", ") + p.title;
-            std::fprintf(stderr, "splatlab: --tab: no panel called '%s' (panels: %s)\n", tab.c_str(), titles.c_str());
+            for (const ui::DockPanel& p : m_panels)
+                titles += (titles.empty() ? "" : ", ") + p.title;
+            std::fprintf(stderr, "splatlab: --tab: no panel called '%s' (panels: %s)\n", tab.c_str(),
+                         titles.c_str());
             return false;
         }
     return true;
@@ -71,7 +74,8 @@ void EditorLoop::report(const std::exception& error) {
 }
 
 bool EditorLoop::knobDeflected() const {
-    return !m_scripted && m_spaceMouse->connected() && m_state.spaceMouse.enabled && m_spaceMouse->state().deflected();
+    return !m_scripted && m_spaceMouse->connected() && m_state.spaceMouse.enabled &&
+           m_spaceMouse->state().deflected();
 }
 
 void EditorLoop::waitForInput() {
@@ -79,7 +83,8 @@ void EditorLoop::waitForInput() {
     // scripted or the knob deflected: keep going.
     if (m_scripted || m_renderPending || m_tfPending || knobDeflected() || m_state.perf.renderContinuously)
         glfwPollEvents();
-    else glfwWaitEventsTimeout(m_spaceMouse->connected() ? 0.016 : 0.05);
+    else
+        glfwWaitEventsTimeout(m_spaceMouse->connected() ? 0.016 : 0.05);
     if (m_splats) {
         m_splats->collectTimers();
         m_perfHistory.addTimes(m_splats->stats());
@@ -87,9 +92,9 @@ void EditorLoop::waitForInput() {
     m_pollTime = glfwGetTime();
     m_spaceMouse->poll(m_pollTime);
     m_state.spaceMouseStatus = m_spaceMouse->status();
-    if (knobDeflected() &&
-        ui::applyOrbitInput(m_state.camera,
-                            ui::spaceMouseOrbit(m_spaceMouse->state(), m_pollTime - m_lastPoll, m_state.spaceMouse))) {
+    if (knobDeflected() && ui::applyOrbitInput(m_state.camera, ui::spaceMouseOrbit(m_spaceMouse->state(),
+                                                                                   m_pollTime - m_lastPoll,
+                                                                                   m_state.spaceMouse))) {
         m_renderPending = true;
         m_state.preview.lastInput = m_pollTime;
     }
@@ -113,9 +118,8 @@ void EditorLoop::writeScriptedOutputs(int fbWidth, int fbHeight) {
         if (const auto written = saveView(m_options.saveImagePath))
             std::printf("wrote %s, %s\n", m_options.saveImagePath.string().c_str(), written->c_str());
     }
-    if (!m_options.screenshotPath.empty() && fbWidth > 0 && fbHeight > 0 && guarded([&] {
-            renderer::writeImage(readBackBuffer(fbWidth, fbHeight), m_options.screenshotPath);
-        }))
+    if (!m_options.screenshotPath.empty() && fbWidth > 0 && fbHeight > 0 &&
+        guarded([&] { renderer::writeImage(readBackBuffer(fbWidth, fbHeight), m_options.screenshotPath); }))
         std::printf("wrote %s\n", m_options.screenshotPath.string().c_str());
     m_window.close();
 }

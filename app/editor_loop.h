@@ -42,22 +42,21 @@ class EditorLoop {
 
     // == One frame, in this order. Edits made in frame N are rendered at the top of frame N+1, at the
     //    viewport size frame N measured; the first frame only measures.
-    void waitForInput();             // editor_loop.cpp: events, GPU timers, the 3D mouse
-    void applyEdits();               // editor_edits.cpp: volumes read, session, TF, window, gradients
-    void stepFilterMeasurement();    // editor_viewport.cpp: the Filters panel's Measure, a filter a frame
-    void renderViewport();           // editor_viewport.cpp: framing, spin, the render, patch counts
-    void drawPanels(int frame);      // editor_panels.cpp: the ImGui frame (layout, panels, modals)
-    void noteEdits();                // editor_panels.cpp: the probe and what the panels' edits ask of the next frame
-    void presentFrame(int frame);    // editor_loop.cpp: the UI into the back buffer; a scripted run's outputs
+    void waitForInput();          // editor_loop.cpp: events, GPU timers, the 3D mouse
+    void applyEdits();            // editor_edits.cpp: volumes read, session, TF, window, gradients
+    void stepFilterMeasurement(); // editor_viewport.cpp: the Filters panel's Measure, a filter a frame
+    void renderViewport();        // editor_viewport.cpp: framing, spin, the render, patch counts
+    void drawPanels(int frame);   // editor_panels.cpp: the ImGui frame (layout, panels, modals)
+    void noteEdits();             // editor_panels.cpp: the probe; what the edits ask next frame
+    void presentFrame(int frame); // editor_loop.cpp: the UI into the back buffer; a scripted run's outputs
 
-    int exitCode() const { return m_exitCode; }   // 0, or 1 after a scripted run's error
+    int exitCode() const { return m_exitCode; } // 0, or 1 after a scripted run's error
 
   private:
     // Errors: scripted runs print one line and exit 1; interactive ones show the modal and go on.
     void report(const std::exception& error);
     // Runs `step`, turning the renderer's typed errors into report(); returns whether it succeeded.
-    template <class Step>
-    bool guarded(Step&& step);
+    template <class Step> bool guarded(Step&& step);
 
     // == Volumes and scenes (editor_edits.cpp)
     // Starts reading `path`, to be classified with state.tf over state.window, on the worker (a scripted
@@ -66,17 +65,18 @@ class EditorLoop {
     // A volume read by a VolumeJob, on screen: a new document and the renderer's scene (and the preview's,
     // GL objects made on this thread); its gradients start on the worker. On failure the document shown
     // stays.
-    bool showVolume(LoadedVolume loaded, const std::filesystem::path& path, const renderer::TransferFunction& tf);
+    bool showVolume(LoadedVolume loaded, const std::filesystem::path& path,
+                    const renderer::TransferFunction& tf);
     // A new window re-classifies every voxel, the preview's too; the scenes keep the old one if this throws.
     // While the window is dragged only the preview's are (m_fullWindowStale), and this follows.
     void reclassify();
     // The window the view is classified with: the preview's while a drag has left the full scene's behind.
     renderer::ValueRange shownWindow() const;
-    void takeLoadedVolume();        // a volume read: show it, or say why it could not be
-    void applySettingsActions();    // Settings: open a volume, save the image, a session opened
-    void applyTransferFunction();   // the TF edited: only the LUT travels
-    void applyWindow();             // the window edited: re-classify (the preview's only, while dragged)
-    void takeGradients();           // gradients computed: shading and surface splats become available
+    void takeLoadedVolume();      // a volume read: show it, or say why it could not be
+    void applySettingsActions();  // Settings: open a volume, save the image, a session opened
+    void applyTransferFunction(); // the TF edited: only the LUT travels
+    void applyWindow();           // the window edited: re-classify (the preview's only, while dragged)
+    void takeGradients();         // gradients computed: shading and surface splats become available
 
     // == The view (editor_viewport.cpp)
     // Renders the view into m_texture, the preview's renderer or the full one; false if it threw.
@@ -84,10 +84,10 @@ class EditorLoop {
     // Settings > Files > Save image (and --save-image): the view as the viewport shows it, at its size.
     // Returns what was written ("955 x 545 (heatmap)"), or nothing after reporting the failure.
     std::optional<std::string> saveView(const std::filesystem::path& path);
-    void frameIfAsked();            // --fit, Settings > Camera > Frame or a double-click: framedCamera()
-    void spinIfContinuous();        // the Performance panel's continuous rendering, turning if asked
-    void renderIfPending();         // the full render, or the preview while the view moves
-    void countPatchesIfShown();     // the Filters panel's patches per filter
+    void frameIfAsked();        // --fit, Settings > Camera > Frame or a double-click: framedCamera()
+    void spinIfContinuous();    // the Performance panel's continuous rendering, turning if asked
+    void renderIfPending();     // the full render, or the preview while the view moves
+    void countPatchesIfShown(); // the Filters panel's patches per filter
     // A scripted run's last frame: --save-image and --screenshot (the back buffer just drawn), then close.
     void writeScriptedOutputs(int fbWidth, int fbHeight);
 
@@ -97,13 +97,13 @@ class EditorLoop {
     std::string perfContext() const;
     void probeHoveredVoxel();
 
-    bool knobDeflected() const;     // the 3D mouse moves the camera this frame
+    bool knobDeflected() const; // the 3D mouse moves the camera this frame
 
     // Declared in the order things must be destroyed in reverse: the jobs before what they read, the
     // renderer's GL objects before the window (which outlives this loop).
     const EditorOptions& m_options;
     EditorWindow& m_window;
-    const bool m_scripted;          // runs N frames and exits; errors end it with code 1
+    const bool m_scripted; // runs N frames and exits; errors end it with code 1
     const std::string m_glRenderer;
     ui::EditorState m_state;
     int m_exitCode = 0;
@@ -121,7 +121,7 @@ class EditorLoop {
     unsigned m_texture = 0; // the renderer's display texture; 0 until something was rendered
     int m_renderWidth = 0, m_renderHeight = 0;
     bool m_tfPending = false, m_renderPending = true, m_windowChanged = false, m_tfChanged = false;
-    bool m_framePending;   // --fit, Settings > Camera > Frame or a double-click: framedCamera()
+    bool m_framePending; // --fit, Settings > Camera > Frame or a double-click: framedCamera()
     // The Performance panel: recent renders; back to back: this UI frame follows one that rendered.
     ui::PerfHistory m_perfHistory;
     std::optional<std::chrono::steady_clock::time_point> m_lastRenderStart;
@@ -141,12 +141,11 @@ class EditorLoop {
 
     // Scripted runs show the 3D mouse's status but never move with it: their frames stay reproducible.
     std::optional<ui::SpaceMouse> m_spaceMouse;
-    double m_lastPoll = 0, m_lastSpin = 0;   // glfwGetTime() seconds
-    double m_pollTime = 0;                   // this frame's events were read at this glfwGetTime()
+    double m_lastPoll = 0, m_lastSpin = 0; // glfwGetTime() seconds
+    double m_pollTime = 0;                 // this frame's events were read at this glfwGetTime()
 };
 
-template <class Step>
-bool EditorLoop::guarded(Step&& step) {
+template <class Step> bool EditorLoop::guarded(Step&& step) {
     try {
         step();
         return true;

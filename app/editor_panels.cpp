@@ -16,45 +16,50 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
          [this] {
              m_tfChanged = ui::drawTransferFunctionPanel(
                  m_state, {.histogram = m_doc.volume ? &m_doc.histogram : nullptr, .window = shownWindow()});
-             m_windowChanged = ui::drawWindowSection(m_state, {.volume = m_doc.volume ? &*m_doc.volume : nullptr,
-                                                               .histogram = &m_doc.histogram,
-                                                               .percentile = m_doc.percentile,
-                                                               .window = shownWindow()});
+             m_windowChanged =
+                 ui::drawWindowSection(m_state, {.volume = m_doc.volume ? &*m_doc.volume : nullptr,
+                                                 .histogram = &m_doc.histogram,
+                                                 .percentile = m_doc.percentile,
+                                                 .window = shownWindow()});
          }},
         {"Settings", "left", [this] { m_settingsChanges = ui::drawSettingsPanel(m_state); }},
         {"Viewport", "viewport", [this] { m_viewport = ui::drawViewportPanel(m_state, m_texture); }},
         {"Stats", "bottom",
          [this] {
-             const bool preview = m_state.preview.shown && m_doc.preview;   // the figures of what the viewport shows
-             ui::drawStatsPanel({.frame = preview ? m_doc.preview->splats.stats()
-                                          : m_splats ? m_splats->stats() : renderer::FrameStats{},
-                                 .volume = m_doc.volume ? &*m_doc.volume : nullptr,
-                                 .visibleSplats = (preview ? m_doc.preview->scene : m_doc.scene).visibleCount(),
-                                 .sceneBytes = preview    ? m_doc.preview->splats.sceneBytes()
-                                               : m_splats ? m_splats->sceneBytes() : 0,
-                                 .workingBytes = preview    ? m_doc.preview->splats.workingBytes()
-                                                 : m_splats ? m_splats->workingBytes() : 0,
-                                 .glRenderer = m_glRenderer});
+             const bool preview =
+                 m_state.preview.shown && m_doc.preview; // the figures of what the viewport shows
+             ui::drawStatsPanel(
+                 {.frame = preview    ? m_doc.preview->splats.stats()
+                           : m_splats ? m_splats->stats()
+                                      : renderer::FrameStats{},
+                  .volume = m_doc.volume ? &*m_doc.volume : nullptr,
+                  .visibleSplats = (preview ? m_doc.preview->scene : m_doc.scene).visibleCount(),
+                  .sceneBytes = preview    ? m_doc.preview->splats.sceneBytes()
+                                : m_splats ? m_splats->sceneBytes()
+                                           : 0,
+                  .workingBytes = preview    ? m_doc.preview->splats.workingBytes()
+                                  : m_splats ? m_splats->workingBytes()
+                                             : 0,
+                  .glRenderer = m_glRenderer});
          }},
         {"Performance", "bottom",
          [this] { ui::drawPerformancePanel(m_state, m_perfHistory, [this] { return perfContext(); }); }},
         {"Filters", "bottom",
          [this] {
              m_filtersShown = true;
-             m_filtersChanges =
-                 ui::drawFiltersPanel(m_state, {.plane = m_lastPlane && m_doc.volume ? &*m_lastPlane : nullptr,
-                                                .dims = m_doc.scene.dims,
-                                                .origin = m_doc.scene.origin,
-                                                .spacing = m_doc.scene.spacing,
-                                                .radius = m_doc.scene.radius,
-                                                .frame = m_splats ? m_splats->stats() : renderer::FrameStats{},
-                                                .patches = m_patchCounts,
-                                                .measurements = m_measurements,
-                                                .cropPx = renderer::kComparisonCropPx,
-                                                .measuring = m_comparison != nullptr,
-                                                .measurementsStale = m_measurementsStale,
-                                                .truthProgress =
-                                                    m_comparison ? m_comparison->truth.fraction.load() : 0.0});
+             m_filtersChanges = ui::drawFiltersPanel(
+                 m_state, {.plane = m_lastPlane && m_doc.volume ? &*m_lastPlane : nullptr,
+                           .dims = m_doc.scene.dims,
+                           .origin = m_doc.scene.origin,
+                           .spacing = m_doc.scene.spacing,
+                           .radius = m_doc.scene.radius,
+                           .frame = m_splats ? m_splats->stats() : renderer::FrameStats{},
+                           .patches = m_patchCounts,
+                           .measurements = m_measurements,
+                           .cropPx = renderer::kComparisonCropPx,
+                           .measuring = m_comparison != nullptr,
+                           .measurementsStale = m_measurementsStale,
+                           .truthProgress = m_comparison ? m_comparison->truth.fraction.load() : 0.0});
          }},
         {"Help", "bottom", [] { ui::drawHelpPanel(); }},
     };
@@ -62,8 +67,9 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
 
 std::string EditorLoop::perfContext() const {
     if (!m_doc.volume || !m_lastPlane || !m_splats) return "no volume, " + m_glRenderer;
-    return ui::renderContext(m_doc.volume->name, m_doc.volume->dims, {m_lastPlane->width, m_lastPlane->height},
-                             m_state.settings, m_splats->stats(), m_glRenderer);
+    return ui::renderContext(m_doc.volume->name, m_doc.volume->dims,
+                             {m_lastPlane->width, m_lastPlane->height}, m_state.settings, m_splats->stats(),
+                             m_glRenderer);
 }
 
 void EditorLoop::drawPanels(int frame) {
@@ -78,7 +84,8 @@ void EditorLoop::drawPanels(int frame) {
     m_viewport.cameraChanged = m_viewport.frame = false;
     // 2. The layout with its panels: --tab's in front for the first frames, and a dropped file's panel.
     std::vector<std::string> tabsToFront = frame <= 2 ? m_options.tabs : std::vector<std::string>{};
-    if (const auto dropped = m_window.takeDroppedFile())   // its panel opens it as its button would (and shows its errors)
+    if (const auto dropped =
+            m_window.takeDroppedFile()) // its panel opens it as its button would (and shows its errors)
         tabsToFront.push_back(ui::dropFile(m_state, *dropped));
     ui::drawDockSpace(m_layout, m_panels, tabsToFront);
     // 3. The modals: an error, a volume being read, gradients being computed.
@@ -93,7 +100,8 @@ void EditorLoop::drawPanels(int frame) {
     if (ui::drawProgressModal("Computing gradients",
                               "Gradients of " + (m_doc.volume ? m_doc.volume->name : std::string()) +
                                   " (central differences, all cores)",
-                              m_gradientJob ? m_gradientJob->fraction.load() : 1.0, m_gradientJob && !m_volumeJob))
+                              m_gradientJob ? m_gradientJob->fraction.load() : 1.0,
+                              m_gradientJob && !m_volumeJob))
         m_gradientJob->cancel = true;
     ImGui::Render();
 }
@@ -103,9 +111,10 @@ void EditorLoop::probeHoveredVoxel() {
     // view, so not while a drag shows the preview or a window edit left the full scene behind.
     m_state.probe.reset();
     if (m_viewport.hoverPx && m_lastPlane && m_doc.volume && !m_fullWindowStale && !m_state.preview.shown)
-        if (const auto hit = renderer::probePixel(m_doc.scene, m_state.settings, *m_lastPlane, *m_viewport.hoverPx))
-            m_state.probe = ui::EditorState::ProbedVoxel{hit->voxel,
-                                                         m_doc.volume->at(hit->voxel.x, hit->voxel.y, hit->voxel.z)};
+        if (const auto hit =
+                renderer::probePixel(m_doc.scene, m_state.settings, *m_lastPlane, *m_viewport.hoverPx))
+            m_state.probe = ui::EditorState::ProbedVoxel{
+                hit->voxel, m_doc.volume->at(hit->voxel.x, hit->voxel.y, hit->voxel.z)};
 }
 
 void EditorLoop::noteEdits() {

@@ -35,7 +35,7 @@ void EditorLoop::stepFilterMeasurement() {
                     *m_splats, m_comparison->view, m_comparison->crop, *m_comparison->truth.result,
                     m_comparison->settings, FilterComparisonJob::kFilters[m_comparison->measured++], 3));
             });
-            m_renderPending = true;   // re-rendered below: the crop replaced the view's targets
+            m_renderPending = true; // re-rendered below: the crop replaced the view's targets
         } else {
             m_comparison.reset();
         }
@@ -45,7 +45,8 @@ void EditorLoop::stepFilterMeasurement() {
 void EditorLoop::frameIfAsked() {
     // Framing needs the viewport's aspect, known from the first frame on, and the scene's current LUT.
     // No volume, none being read: nothing to frame. One being read: framed once it is shown.
-    m_framePending = (m_framePending || m_settingsChanges.frame || m_viewport.frame) && (m_splats || m_volumeJob);
+    m_framePending =
+        (m_framePending || m_settingsChanges.frame || m_viewport.frame) && (m_splats || m_volumeJob);
     if (m_framePending && m_renderWidth > 0 && !m_volumeJob) {
         m_framePending = false;
         m_state.camera = renderer::framedCamera(m_state.camera, m_doc.scene, m_state.settings, m_renderWidth,
@@ -61,7 +62,7 @@ void EditorLoop::spinIfContinuous() {
         const double dt = m_scripted ? 1.0 / 60.0 : std::min(m_pollTime - m_lastSpin, 0.1);
         ui::applyOrbitInput(m_state.camera,
                             {.rotateDxPx = float(-m_state.perf.spinDegPerS * dt / ui::kOrbitDegPerPx)});
-        m_comparison.reset();   // a turning view has no measurement to take
+        m_comparison.reset(); // a turning view has no measurement to take
         m_measurementsStale = true;
     }
     m_lastSpin = m_pollTime;
@@ -70,8 +71,8 @@ void EditorLoop::spinIfContinuous() {
 
 void EditorLoop::renderIfPending() {
     // While the view moves, the preview; once it settles, the full render.
-    const bool preview =
-        m_doc.preview && m_state.preview.whileMoving && (m_options.preview || m_state.preview.moving(m_pollTime));
+    const bool preview = m_doc.preview && m_state.preview.whileMoving &&
+                         (m_options.preview || m_state.preview.moving(m_pollTime));
     m_renderPending |= m_state.preview.shown && !preview;
     const bool renderNow = m_splats && m_renderPending && m_renderWidth > 0;
     if (renderNow) {
@@ -82,8 +83,11 @@ void EditorLoop::renderIfPending() {
                 ? std::chrono::duration<double, std::milli>(start - *m_lastRenderStart).count()
                 : 0.0;
         m_lastRenderStart = start;
-        if (!renderView(preview)) m_texture = 0;
-        else if (!preview) m_perfHistory.addRender(m_splats->stats(), intervalMs);   // the Performance panel's figures are of full renders
+        if (!renderView(preview))
+            m_texture = 0;
+        else if (!preview)
+            m_perfHistory.addRender(m_splats->stats(),
+                                    intervalMs); // the Performance panel's figures are of full renders
     }
     m_renderedLastFrame = renderNow;
 }
@@ -95,20 +99,23 @@ void EditorLoop::countPatchesIfShown() {
         renderer::SplatSettings adaptive = m_state.settings;
         adaptive.filter = renderer::FilterMode::Adaptive;
         std::array<uint64_t, 3> counts{};
-        for (uint8_t mode : m_splats->patchModes(*m_lastPlane, adaptive)) ++counts[std::min<size_t>(mode, 2)];
+        for (uint8_t mode : m_splats->patchModes(*m_lastPlane, adaptive))
+            ++counts[std::min<size_t>(mode, 2)];
         m_patchCounts = counts;
     });
 }
 
 bool EditorLoop::renderView(bool preview) {
     return guarded([&] {
-        const renderer::ImagePlane plane = renderer::makeImagePlane(
-            m_state.camera, m_doc.scene.centre, m_doc.scene.radius, m_renderWidth, m_renderHeight, m_doc.scene.axes);
+        const renderer::ImagePlane plane =
+            renderer::makeImagePlane(m_state.camera, m_doc.scene.centre, m_doc.scene.radius, m_renderWidth,
+                                     m_renderHeight, m_doc.scene.axes);
         // Shading waits for the gradients (computed after a volume loads); until then, unshaded.
         renderer::SplatSettings drawn = m_state.settings;
-        if (!m_state.gradientsReady) drawn.shading = renderer::SplatSettings::Shading::None, drawn.surfaceFlatten = 1.0;
+        if (!m_state.gradientsReady)
+            drawn.shading = renderer::SplatSettings::Shading::None, drawn.surfaceFlatten = 1.0;
         m_state.preview.shown = preview;
-        if (preview) {   // the same extinction per unit length from voxels twice the size
+        if (preview) { // the same extinction per unit length from voxels twice the size
             drawn.density = renderer::densityFor(m_doc.preview->volume, *m_doc.volume, drawn.density);
             m_doc.preview->splats.render(plane, drawn);
             m_texture = m_doc.preview->splats.displayTexture(m_state.background.data(), m_state.showHeatmap);
@@ -126,10 +133,11 @@ std::optional<std::string> EditorLoop::saveView(const std::filesystem::path& pat
     guarded([&] {
         if (!m_splats || m_texture == 0)
             throw renderer::LoadError(path.string(), "", "no view to save: open a volume first");
-        const bool behind = m_fullWindowStale || m_state.preview.shown;   // the full renderer lacks this view
+        const bool behind = m_fullWindowStale || m_state.preview.shown; // the full renderer lacks this view
         if (m_fullWindowStale) reclassify();
         if (behind && !renderView(false)) return;
-        const renderer::Image image = m_state.showHeatmap ? m_splats->readbackHeatmap() : m_splats->readback();
+        const renderer::Image image =
+            m_state.showHeatmap ? m_splats->readbackHeatmap() : m_splats->readback();
         renderer::writeImage(image, path, m_state.background.data());
         written = std::to_string(image.width) + " x " + std::to_string(image.height) +
                   (m_state.showHeatmap ? " (heatmap)" : "");

@@ -32,7 +32,8 @@ void onGlfwError(int code, const char* description) {
 std::deque<std::filesystem::path> g_dropped;
 
 void onDrop(GLFWwindow*, int count, const char** paths) {
-    for (int i = 0; i < count; ++i) g_dropped.emplace_back(paths[i]);
+    for (int i = 0; i < count; ++i)
+        g_dropped.emplace_back(paths[i]);
 }
 
 // Dark theme: ImGui's dark colours with square docked windows and a little more air in the widgets.
@@ -74,7 +75,8 @@ bool EditorWindow::open(int width, int height, bool vsync) {
 #endif
     m_window = glfwCreateWindow(width, height, "SplatLab", nullptr, nullptr);
     if (!m_window) {
-        std::fprintf(stderr, "splatlab editor: cannot open a %dx%d window with an OpenGL 4.5 core context: %s\n",
+        std::fprintf(stderr,
+                     "splatlab editor: cannot open a %dx%d window with an OpenGL 4.5 core context: %s\n",
                      width, height, g_glfwError.c_str());
         return false;
     }

@@ -23,16 +23,16 @@ class EditorWindow {
 
     GLFWwindow* handle() const { return m_window; }
     bool shouldClose() const;
-    void close();                                   // the frame loop ends after this frame
-    void setTitle(const std::filesystem::path& volume);   // "SplatLab — <volume's stem>"
-    std::pair<int, int> framebufferSize() const;    // pixels, not screen coordinates
+    void close();                                       // the frame loop ends after this frame
+    void setTitle(const std::filesystem::path& volume); // "SplatLab — <volume's stem>"
+    std::pair<int, int> framebufferSize() const;        // pixels, not screen coordinates
     void swapBuffers();
     // The oldest file dropped on the window and not yet taken; the frame loop opens one a frame.
     std::optional<std::filesystem::path> takeDroppedFile();
 
   private:
     GLFWwindow* m_window = nullptr;
-    bool m_imguiContext = false, m_imguiGlfw = false, m_imguiGl = false;   // what the destructor shuts down
+    bool m_imguiContext = false, m_imguiGlfw = false, m_imguiGl = false; // what the destructor shuts down
 };
 
 // The default framebuffer's back buffer as an opaque Image, row 0 at the top (GL's row 0 is the bottom).
