@@ -53,7 +53,8 @@ class EditorLoop {
     int exitCode() const { return m_exitCode; } // 0, or 1 after a scripted run's error
 
   private:
-    // Errors: scripted runs print one line and exit 1; interactive ones show the modal and go on.
+    // == Errors (editor_loop.cpp): scripted runs print one line and exit 1; interactive ones show the modal
+    // and go on.
     void report(const std::exception& error);
     // Runs `step`, turning the renderer's typed errors into report(); returns whether it succeeded.
     template <class Step> bool guarded(Step&& step);
@@ -88,8 +89,6 @@ class EditorLoop {
     void spinIfContinuous();    // the Performance panel's continuous rendering, turning if asked
     void renderIfPending();     // the full render, or the preview while the view moves
     void countPatchesIfShown(); // the Filters panel's patches per filter
-    // A scripted run's last frame: --save-image and --screenshot (the back buffer just drawn), then close.
-    void writeScriptedOutputs(int fbWidth, int fbHeight);
 
     // == The panels (editor_panels.cpp)
     std::vector<ui::DockPanel> makePanels();
@@ -97,10 +96,13 @@ class EditorLoop {
     std::string perfContext() const;
     void probeHoveredVoxel();
 
+    // == Input and output (editor_loop.cpp)
     bool knobDeflected() const; // the 3D mouse moves the camera this frame
+    // A scripted run's last frame: --save-image and --screenshot (the back buffer just drawn), then close.
+    void writeScriptedOutputs(int fbWidth, int fbHeight);
 
-    // Declared in the order things must be destroyed in reverse: the jobs before what they read, the
-    // renderer's GL objects before the window (which outlives this loop).
+    // Members go in reverse order of declaration: each job before what it reads, the renderer's GL
+    // objects before the window's context (the window outlives this loop).
     const EditorOptions& m_options;
     EditorWindow& m_window;
     const bool m_scripted; // runs N frames and exits; errors end it with code 1
