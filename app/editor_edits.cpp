@@ -1,0 +1,152 @@
+// Turning last frame's edits into the renderer's scenes: volumes opened and read, sessions opened,
+// transfer function and window edits, gradients ready. Rendering the view is editor_viewport.cpp's.
+#include "editor_loop.h"
+
+#include <cstdio>
+#include <stdexcept>
+#include <system_error>
+
+void EditorLoop::applyEdits() {
+    // A failed step waits for the next edit instead of repeating (and re-opening the error modal) every
+    // frame.
+    // 1. A volume read on the worker: on screen, or its error shown.
+    takeLoadedVolume();
+    // 2. Settings' buttons: open a volume, save the image, a session opened.
+    applySettingsActions();
+    // 3. The TF edited: the scene's LUT (and the preview's).
+    applyTransferFunction();
+    // 4. The window edited: re-classified, the preview only while dragged; every voxel once it settles.
+    applyWindow();
+    // 5. Gradients computed on the worker: shading and surface splats.
+    takeGradients();
+}
+
+void EditorLoop::openVolume(const std::filesystem::path& path,
+                            const std::optional<renderer::RawOptions>& raw) {
+    m_volumeJob = std::make_unique<VolumeJob>(path, raw, m_state.tf, m_state.window);
+    if (m_scripted) m_volumeJob->thread.join();
+}
+
+bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& path,
+                            const renderer::TransferFunction& tf) {
+    return guarded([&] {
+        Document next;
+        next.tf = tf;
+        next.histogram = std::move(loaded.histogram);
+        next.percentile = loaded.percentile;
+        next.scene = std::move(loaded.scene);
+        if (loaded.volume.voxelCount() >= ui::PreviewSettings::kMinVoxels) {
+            next.preview = std::make_unique<Preview>(loaded.volume);
+            next.preview->classify(next.tf, next.scene.window);
+        } else if (m_options.preview) {
+            std::fprintf(stderr,
+                         "note: --preview: %s has %zu voxels, fewer than the %zu M that get a preview; it "
+                         "renders in full\n",
+                         path.string().c_str(), loaded.volume.voxelCount(),
+                         ui::PreviewSettings::kMinMegaVoxels);
+        }
+        next.volume = std::move(loaded.volume);
+        auto fresh = m_splats ? nullptr : std::make_unique<renderer::SplatRenderer>();
+        (m_splats ? *m_splats : *fresh).setScene(next.scene);
+        if (fresh) m_splats = std::move(fresh);
+        m_gradientJob.reset(); // cancels the gradients of the volume going away
+        m_doc = std::move(next);
+        m_state.preview.available = m_doc.preview != nullptr;
+        m_state.gradientsReady = false;
+        m_state.loadedVolume = path;
+        m_state.volumeFile = path.string();
+        m_window.setTitle(path);
+        m_gradientJob = std::make_unique<GradientJob>(*m_doc.volume);
+        if (m_scripted) m_gradientJob->thread.join();
+    });
+}
+
+void EditorLoop::reclassify() {
+    m_fullWindowStale = false;
+    m_renderPending = true;
+    guarded([&] {
+        const renderer::ValueRange window = renderer::windowFor(*m_doc.volume, m_state.window);
+        renderer::SplatScene scene = classifiedScene(*m_doc.volume, m_doc.tf, window, m_doc.gradients);
+        m_splats->setScene(scene);
+        m_doc.scene = std::move(scene);
+        if (m_doc.preview) m_doc.preview->classify(m_doc.tf, window);
+    });
+}
+
+renderer::ValueRange EditorLoop::shownWindow() const {
+    return m_fullWindowStale && m_doc.preview ? m_doc.preview->scene.window : m_doc.scene.window;
+}
+
+void EditorLoop::takeLoadedVolume() {
+    if (!m_volumeJob || !m_volumeJob->done) return;
+    if (m_volumeJob->thread.joinable()) m_volumeJob->thread.join();
+    const std::unique_ptr<VolumeJob> job = std::move(m_volumeJob);
+    if (!job->error.empty())
+        report(std::runtime_error(job->error));
+    else if (job->result && showVolume(std::move(*job->result), job->path, job->tf))
+        m_renderPending = true;
+}
+
+void EditorLoop::applySettingsActions() {
+    if (m_settingsChanges.openVolume) {
+        openVolume(m_state.volumeFile);
+        m_renderPending = true;
+    }
+    if (m_settingsChanges.saveImage) saveView(m_state.imageFile);
+    if (m_settingsChanges.sessionOpened) {
+        // Another volume: load it with the session's window and TF; the same one: re-classify it.
+        const std::filesystem::path& v = m_settingsChanges.sessionVolume;
+        std::error_code ec;
+        if (!v.empty() && !std::filesystem::equivalent(v, m_state.loadedVolume, ec))
+            openVolume(v);
+        else
+            m_tfPending = m_windowChanged = true;
+        m_renderPending = true;
+    }
+}
+
+void EditorLoop::applyTransferFunction() {
+    if (!m_splats || !m_tfPending) return;
+    m_tfPending = false;
+    guarded([&] {
+        m_doc.tf = m_state.tf;
+        renderer::setTransferFunction(m_doc.scene, m_doc.tf);
+        m_splats->setLut(m_doc.scene.lut); // the lists stay; only the LUT travels
+        if (m_doc.preview) m_doc.preview->setTransferFunction(m_doc.tf);
+    });
+}
+
+void EditorLoop::applyWindow() {
+    if (m_splats && m_windowChanged) {
+        m_windowChanged = false;
+        m_renderPending = true;
+        if (m_windowDragged && m_doc.preview &&
+            m_state.preview.whileMoving) { // the preview's eighth of the voxels now
+            guarded([&] {
+                m_doc.preview->classify(m_doc.tf, renderer::windowFor(*m_doc.volume, m_state.window));
+            });
+            m_fullWindowStale = true;
+        } else {
+            reclassify();
+        }
+    }
+    if (m_fullWindowStale && !(m_state.preview.whileMoving && m_state.preview.moving(m_pollTime)))
+        reclassify(); // every voxel once the drag settles (or the preview is turned off)
+}
+
+void EditorLoop::takeGradients() {
+    if (!m_gradientJob || !m_gradientJob->done) return;
+    if (m_gradientJob->thread.joinable()) m_gradientJob->thread.join();
+    m_doc.gradients = std::move(m_gradientJob->result);
+    if (!m_gradientJob->error.empty()) m_state.errorMessage = "gradients: " + m_gradientJob->error;
+    m_gradientJob.reset();
+    if (m_splats && m_doc.gradients) { // shading and surface splats become available
+        guarded([&] {
+            renderer::addGradients(m_doc.scene, *m_doc.gradients);
+            m_splats->setGradients(m_doc.scene); // the rest of the scene is on the GPU already
+            if (m_doc.preview) m_doc.preview->addGradients();
+            m_state.gradientsReady = true;
+        });
+        m_renderPending = true;
+    }
+}

@@ -1,0 +1,119 @@
+// Work the editor hands to worker threads and polls each frame: reading a volume, its gradients, and the
+// Filters panel's ground truth. The UI thread joins each job and takes its result; nothing here draws.
+#pragma once
+#include "renderer/errors.h"
+#include "renderer/io/volume_io.h"
+#include "renderer/model/gradients.h"
+#include "renderer/model/splat_scene.h"
+#include "renderer/model/transfer_function.h"
+#include "renderer/model/window.h"
+#include "renderer/oracle/filter_comparison.h"
+#include "renderer/oracle/ground_truth.h"
+
+#include <array>
+#include <atomic>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <thread>
+
+// Work on a worker thread that the UI thread polls each frame: its progress (0..1), a cancel flag the
+// work's progress callback returns, and, once `done`, its result or the message of what it threw.
+// Destroying the job cancels and joins it, so it must go before anything the work reads.
+template <class T> struct WorkerJob {
+    std::thread thread;
+    std::atomic<double> fraction{0.0};
+    std::atomic<bool> cancel{false}, done{false};
+    std::optional<T> result; // written before `done`; empty when cancelled or failed
+    std::string error;       // an exception from the worker, if any
+
+    // `work(progress)` returns the result (or an optional of it); `progress(f)` returns false once cancelled.
+    template <class Work> void start(Work work) {
+        thread = std::thread([this, work] {
+            try {
+                result = work([this](double f) {
+                    fraction = f;
+                    return !cancel.load();
+                });
+            } catch (const std::exception& e) {
+                error = e.what();
+            }
+            done = true;
+        });
+    }
+    ~WorkerJob() {
+        cancel = true;
+        if (thread.joinable()) thread.join();
+    }
+};
+
+// Gradients computed after a volume loads; the UI shows the progress modal meanwhile.
+struct GradientJob : WorkerJob<renderer::GradientField> {
+    explicit GradientJob(const renderer::Volume& volume) {
+        start([&volume](const renderer::ProgressCallback& progress) {
+            return renderer::computeGradients(volume, progress);
+        });
+    }
+};
+
+// A volume read on the worker: what the UI thread needs to show it (it makes the GL parts).
+struct LoadedVolume {
+    renderer::Volume volume;
+    renderer::Histogram histogram;   // of the whole volume, for the Window section
+    renderer::ValueRange percentile; // p1..p99
+    renderer::SplatScene scene;      // classified with the job's TF over its window
+};
+
+// Opening a volume: read, aligned to its world axes, its histogram taken and its scene classified on the
+// worker, since a large scan takes seconds; the UI shows the progress modal meanwhile. Cancel stops the
+// reading at once (volume_io.h), the rest between steps. The work holds its own copies: the
+// job's members are gone before the base joins the thread.
+struct VolumeJob : WorkerJob<LoadedVolume> {
+    std::filesystem::path path;
+    renderer::TransferFunction tf;
+    VolumeJob(const std::filesystem::path& file, const std::optional<renderer::RawOptions>& raw,
+              const renderer::TransferFunction& classify, const renderer::WindowSettings& window)
+        : path(file), tf(classify) {
+        start([file, raw, classify,
+               window](const renderer::ProgressCallback& progress) -> std::optional<LoadedVolume> {
+            LoadedVolume out;
+            try {
+                out.volume =
+                    renderer::loadVolumeInWorldFrame(file, raw, [&](double f) { return progress(0.6 * f); });
+            } catch (const renderer::Cancelled&) {
+                return std::nullopt;
+            }
+            if (!progress(0.6)) return std::nullopt;
+            out.histogram = renderer::computeHistogram(out.volume, 128);
+            out.percentile = renderer::percentileWindow(out.volume, 1.0, 99.0);
+            if (!progress(0.7)) return std::nullopt;
+            out.scene =
+                renderer::buildSplatScene(out.volume, classify, renderer::windowFor(out.volume, window));
+            progress(1.0);
+            return out;
+        });
+    }
+};
+
+// The Filters panel's "Measure": the ground truth of the view's centre crop on the worker (cached on
+// disk), then, one filter a UI frame, each filter timed on the whole view and compared on the crop.
+// It works on a copy of the scene: a TF edit changes the document's while the worker reads.
+struct FilterComparisonJob {
+    static constexpr std::array<renderer::FilterMode, 4> kFilters{
+        renderer::FilterMode::Reconstruction, renderer::FilterMode::LowPass, renderer::FilterMode::Ewa,
+        renderer::FilterMode::Adaptive};
+    renderer::SplatScene scene;
+    renderer::ImagePlane view, crop;
+    renderer::SplatSettings settings;
+    size_t measured = 0;              // filters of kFilters measured so far
+    WorkerJob<renderer::Image> truth; // last: destroyed (joined) before the scene it reads
+
+    FilterComparisonJob(const renderer::SplatScene& s, const renderer::ImagePlane& v,
+                        const renderer::SplatSettings& set)
+        : scene(s), view(v), crop(renderer::centreCrop(v, renderer::kComparisonCropPx)), settings(set) {
+        truth.start([this](const renderer::ProgressCallback& progress) {
+            return renderer::cachedGroundTruth(scene, crop, settings, {},
+                                               renderer::defaultGroundTruthCacheDir(), progress);
+        });
+    }
+};

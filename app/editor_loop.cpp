@@ -1,0 +1,125 @@
+// The editor's frame loop around the edits and the view: starting from the flags or a session, reading
+// input, and showing the drawn frame (with a scripted run's outputs). Each step is a method of EditorLoop.
+#include "editor_loop.h"
+
+#include "renderer/gl/gl_context.h"
+#include "renderer/io/image.h"
+#include "ui/session.h"
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_opengl3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+EditorLoop::EditorLoop(const EditorOptions& options, EditorWindow& window)
+    : m_options(options), m_window(window), m_scripted(options.frames > 0),
+      m_glRenderer(renderer::glRendererName()), m_framePending(options.fit), m_panels(makePanels()) {}
+
+bool EditorLoop::start() {
+    std::filesystem::path volumePath = m_options.volumePath;
+    guarded([&] {
+        m_state.camera = m_options.camera;
+        m_state.camera.up = renderer::axisFromName(m_options.upAxis);
+        m_state.settings = m_options.settings;
+        m_state.showHeatmap = m_options.settings.heatmap;
+        m_state.window = m_options.window;
+        m_state.perf.renderContinuously = m_options.continuous || m_options.spinDegPerS != 0.0;
+        if (!(std::abs(m_options.spinDegPerS) <= 90.0))
+            throw renderer::RenderError("--spin takes -90 to 90 degrees a second, got " +
+                                        std::to_string(m_options.spinDegPerS));
+        m_state.perf.spinDegPerS = m_options.spinDegPerS;
+        m_state.tf = renderer::transferFunctionFromSpec(m_options.tfSpec);
+        if (m_options.sessionPath.empty()) return;
+        // The session replaces what the flags set; a volume argument replaces the session's volume.
+        const std::filesystem::path sessionVolume = ui::loadSession(m_options.sessionPath, m_state);
+        m_state.sessionFile = m_options.sessionPath.string();
+        if (volumePath.empty()) volumePath = sessionVolume;
+    });
+    if (m_exitCode == 0 && !volumePath.empty()) openVolume(volumePath, m_options.raw);
+    return m_exitCode == 0;
+}
+
+bool EditorLoop::checkTabs() const {
+    for (const std::string& tab : m_options.tabs)
+        if (std::none_of(m_panels.begin(), m_panels.end(),
+                         [&](const ui::DockPanel& p) { return p.title == tab; })) {
+            std::string titles;
+            for (const ui::DockPanel& p : m_panels)
+                titles += (titles.empty() ? "" : ", ") + p.title;
+            std::fprintf(stderr, "splatlab: --tab: no panel called '%s' (panels: %s)\n", tab.c_str(),
+                         titles.c_str());
+            return false;
+        }
+    return true;
+}
+
+void EditorLoop::connectSpaceMouse() {
+    m_spaceMouse.emplace(ui::makeHidapiBackend());
+    m_lastPoll = glfwGetTime(), m_lastSpin = m_lastPoll;
+}
+
+void EditorLoop::report(const std::exception& error) {
+    if (m_scripted) {
+        std::fprintf(stderr, "splatlab editor: %s\n", error.what());
+        m_exitCode = 1;
+        m_window.close();
+    } else {
+        m_state.errorMessage = error.what();
+    }
+}
+
+bool EditorLoop::knobDeflected() const {
+    return !m_scripted && m_spaceMouse->connected() && m_state.spaceMouse.enabled &&
+           m_spaceMouse->state().deflected();
+}
+
+void EditorLoop::waitForInput() {
+    // Idle: sleep until an event (or 50 ms for the GPU timer, 16 ms to read a 3D mouse); busy,
+    // scripted or the knob deflected: keep going.
+    if (m_scripted || m_renderPending || m_tfPending || knobDeflected() || m_state.perf.renderContinuously)
+        glfwPollEvents();
+    else
+        glfwWaitEventsTimeout(m_spaceMouse->connected() ? 0.016 : 0.05);
+    if (m_splats) {
+        m_splats->collectTimers();
+        m_perfHistory.addTimes(m_splats->stats());
+    }
+    m_pollTime = glfwGetTime();
+    m_spaceMouse->poll(m_pollTime);
+    m_state.spaceMouseStatus = m_spaceMouse->status();
+    if (knobDeflected() && ui::applyOrbitInput(m_state.camera, ui::spaceMouseOrbit(m_spaceMouse->state(),
+                                                                                   m_pollTime - m_lastPoll,
+                                                                                   m_state.spaceMouse))) {
+        m_renderPending = true;
+        m_state.preview.lastInput = m_pollTime;
+    }
+    m_lastPoll = m_pollTime;
+}
+
+void EditorLoop::presentFrame(int frame) {
+    const auto [fbWidth, fbHeight] = m_window.framebufferSize();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, fbWidth, fbHeight);
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    guarded([] { renderer::checkGlErrors("editor frame"); });
+    if (m_scripted && frame >= m_options.frames && m_exitCode == 0) writeScriptedOutputs(fbWidth, fbHeight);
+    m_window.swapBuffers();
+}
+
+void EditorLoop::writeScriptedOutputs(int fbWidth, int fbHeight) {
+    if (!m_options.saveImagePath.empty()) {
+        if (const auto written = saveView(m_options.saveImagePath))
+            std::printf("wrote %s, %s\n", m_options.saveImagePath.string().c_str(), written->c_str());
+    }
+    if (!m_options.screenshotPath.empty() && fbWidth > 0 && fbHeight > 0 &&
+        guarded([&] { renderer::writeImage(readBackBuffer(fbWidth, fbHeight), m_options.screenshotPath); }))
+        std::printf("wrote %s\n", m_options.screenshotPath.string().c_str());
+    m_window.close();
+}

@@ -1,0 +1,162 @@
+// The editor between frames: the document, the renderer, the worker jobs and what the panels edited, with
+// the steps of one frame that runEditor (editor.cpp) calls in order. The ui panels only edit EditorState;
+// these steps turn their edits into renders, outside the ImGui frame, so a throw from the renderer never
+// leaves ImGui half-way through a frame.
+#pragma once
+#include "editor.h"
+#include "editor_document.h"
+#include "editor_jobs.h"
+#include "editor_window.h"
+
+#include "renderer/errors.h"
+#include "renderer/gl/splat_renderer.h"
+#include "ui/dock_layout.h"
+#include "ui/editor_state.h"
+#include "ui/panels.h"
+#include "ui/space_mouse.h"
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <exception>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+class EditorLoop {
+  public:
+    // Needs the window open, its context current and ImGui on it; both outlive the loop.
+    EditorLoop(const EditorOptions& options, EditorWindow& window);
+    EditorLoop(const EditorLoop&) = delete;
+    EditorLoop& operator=(const EditorLoop&) = delete;
+
+    // == Before the first frame (editor_loop.cpp)
+    // The flags, then the session file they name; the volume starts loading. False after an error.
+    bool start();
+    // --tab names panels that exist; false after printing which do.
+    bool checkTabs() const;
+    // A 3D mouse, if one is plugged in; the clocks of its input and of the spin start here.
+    void connectSpaceMouse();
+
+    // == One frame, in this order. Edits made in frame N are rendered at the top of frame N+1, at the
+    //    viewport size frame N measured; the first frame only measures.
+    void waitForInput();          // editor_loop.cpp: events, GPU timers, the 3D mouse
+    void applyEdits();            // editor_edits.cpp: volumes read, session, TF, window, gradients
+    void stepFilterMeasurement(); // editor_viewport.cpp: the Filters panel's Measure, a filter a frame
+    void renderViewport();        // editor_viewport.cpp: framing, spin, the render, patch counts
+    void drawPanels(int frame);   // editor_panels.cpp: the ImGui frame (layout, panels, modals)
+    void noteEdits();             // editor_panels.cpp: the probe; what the edits ask next frame
+    void presentFrame(int frame); // editor_loop.cpp: the UI into the back buffer; a scripted run's outputs
+
+    int exitCode() const { return m_exitCode; } // 0, or 1 after a scripted run's error
+
+  private:
+    // == Errors (editor_loop.cpp): scripted runs print one line and exit 1; interactive ones show the modal
+    // and go on.
+    void report(const std::exception& error);
+    // Runs `step`, turning the renderer's typed errors into report(); returns whether it succeeded.
+    template <class Step> bool guarded(Step&& step);
+
+    // == Volumes and scenes (editor_edits.cpp)
+    // Starts reading `path`, to be classified with state.tf over state.window, on the worker (a scripted
+    // run waits for it: deterministic frames); the frame loop shows it once read (showVolume).
+    void openVolume(const std::filesystem::path& path, const std::optional<renderer::RawOptions>& raw = {});
+    // A volume read by a VolumeJob, on screen: a new document and the renderer's scene (and the preview's,
+    // GL objects made on this thread); its gradients start on the worker. On failure the document shown
+    // stays.
+    bool showVolume(LoadedVolume loaded, const std::filesystem::path& path,
+                    const renderer::TransferFunction& tf);
+    // A new window re-classifies every voxel, the preview's too; the scenes keep the old one if this throws.
+    // While the window is dragged only the preview's are (m_fullWindowStale), and this follows.
+    void reclassify();
+    // The window the view is classified with: the preview's while a drag has left the full scene's behind.
+    renderer::ValueRange shownWindow() const;
+    void takeLoadedVolume();      // a volume read: show it, or say why it could not be
+    void applySettingsActions();  // Settings: open a volume, save the image, a session opened
+    void applyTransferFunction(); // the TF edited: only the LUT travels
+    void applyWindow();           // the window edited: re-classify (the preview's only, while dragged)
+    void takeGradients();         // gradients computed: shading and surface splats become available
+
+    // == The view (editor_viewport.cpp)
+    // Renders the view into m_texture, the preview's renderer or the full one; false if it threw.
+    bool renderView(bool preview);
+    // Settings > Files > Save image (and --save-image): the view as the viewport shows it, at its size.
+    // Returns what was written ("955 x 545 (heatmap)"), or nothing after reporting the failure.
+    std::optional<std::string> saveView(const std::filesystem::path& path);
+    void frameIfAsked();        // --fit, Settings > Camera > Frame or a double-click: framedCamera()
+    void spinIfContinuous();    // the Performance panel's continuous rendering, turning if asked
+    void renderIfPending();     // the full render, or the preview while the view moves
+    void countPatchesIfShown(); // the Filters panel's patches per filter
+
+    // == The panels (editor_panels.cpp)
+    std::vector<ui::DockPanel> makePanels();
+    // What the Performance panel's figures are of, for its Copy: volume, image size, mode, GL_RENDERER.
+    std::string perfContext() const;
+    void probeHoveredVoxel();
+
+    // == Input and output (editor_loop.cpp)
+    bool knobDeflected() const; // the 3D mouse moves the camera this frame
+    // A scripted run's last frame: --save-image and --screenshot (the back buffer just drawn), then close.
+    void writeScriptedOutputs(int fbWidth, int fbHeight);
+
+    // Members go in reverse order of declaration: each job before what it reads, the renderer's GL
+    // objects before the window's context (the window outlives this loop).
+    const EditorOptions& m_options;
+    EditorWindow& m_window;
+    const bool m_scripted; // runs N frames and exits; errors end it with code 1
+    const std::string m_glRenderer;
+    ui::EditorState m_state;
+    int m_exitCode = 0;
+
+    // Volume, transfer function, scene and renderer. A failure leaves the editor with no volume.
+    Document m_doc;
+    std::unique_ptr<renderer::SplatRenderer> m_splats;
+    std::unique_ptr<GradientJob> m_gradientJob;
+    std::unique_ptr<VolumeJob> m_volumeJob;
+
+    // What the panels returned last frame, read by this frame's steps.
+    ui::DockLayout m_layout = ui::makeEditorLayout();
+    ui::SettingsChanges m_settingsChanges;
+    ui::ViewportResult m_viewport;
+    unsigned m_texture = 0; // the renderer's display texture; 0 until something was rendered
+    int m_renderWidth = 0, m_renderHeight = 0;
+    bool m_tfPending = false, m_renderPending = true, m_windowChanged = false, m_tfChanged = false;
+    bool m_framePending; // --fit, Settings > Camera > Frame or a double-click: framedCamera()
+    // The Performance panel: recent renders; back to back: this UI frame follows one that rendered.
+    ui::PerfHistory m_perfHistory;
+    std::optional<std::chrono::steady_clock::time_point> m_lastRenderStart;
+    bool m_renderedLastFrame = false;
+    // The Filters panel: the last render's view, and the patches per filter the classifier gives it
+    // (read back from the GPU after a render, while the panel is shown).
+    std::optional<renderer::ImagePlane> m_lastPlane;
+    std::optional<std::array<uint64_t, 3>> m_patchCounts;
+    bool m_filtersShown = false, m_patchCountsStale = true;
+    ui::FiltersChanges m_filtersChanges;
+    std::unique_ptr<FilterComparisonJob> m_comparison;
+    // The window dragged last frame; the full scene's window behind the preview's (see reclassify()).
+    bool m_windowDragged = false, m_fullWindowStale = false;
+    std::vector<renderer::FilterMeasurement> m_measurements;
+    bool m_measurementsStale = false;
+    const std::vector<ui::DockPanel> m_panels;
+
+    // Scripted runs show the 3D mouse's status but never move with it: their frames stay reproducible.
+    std::optional<ui::SpaceMouse> m_spaceMouse;
+    double m_lastPoll = 0, m_lastSpin = 0; // glfwGetTime() seconds
+    double m_pollTime = 0;                 // this frame's events were read at this glfwGetTime()
+};
+
+template <class Step> bool EditorLoop::guarded(Step&& step) {
+    try {
+        step();
+        return true;
+    } catch (const renderer::LoadError& e) {
+        report(e);
+    } catch (const renderer::GlError& e) {
+        report(e);
+    } catch (const renderer::RenderError& e) {
+        report(e);
+    }
+    return false;
+}

@@ -1,0 +1,144 @@
+// The ImGui frame: the docked panels with what each is shown, the modals, and what their edits ask of the
+// next frame (a render, the preview, the probe). The panels themselves are in ui/.
+#include "editor_loop.h"
+
+#include "renderer/oracle/probe.h"
+
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+std::vector<ui::DockPanel> EditorLoop::makePanels() {
+    return {
+        {"Transfer function", "left",
+         [this] {
+             m_tfChanged = ui::drawTransferFunctionPanel(
+                 m_state, {.histogram = m_doc.volume ? &m_doc.histogram : nullptr, .window = shownWindow()});
+             m_windowChanged =
+                 ui::drawWindowSection(m_state, {.volume = m_doc.volume ? &*m_doc.volume : nullptr,
+                                                 .histogram = &m_doc.histogram,
+                                                 .percentile = m_doc.percentile,
+                                                 .window = shownWindow()});
+         }},
+        {"Settings", "left", [this] { m_settingsChanges = ui::drawSettingsPanel(m_state); }},
+        {"Viewport", "viewport", [this] { m_viewport = ui::drawViewportPanel(m_state, m_texture); }},
+        {"Stats", "bottom",
+         [this] {
+             const bool preview =
+                 m_state.preview.shown && m_doc.preview; // the figures of what the viewport shows
+             ui::drawStatsPanel(
+                 {.frame = preview    ? m_doc.preview->splats.stats()
+                           : m_splats ? m_splats->stats()
+                                      : renderer::FrameStats{},
+                  .volume = m_doc.volume ? &*m_doc.volume : nullptr,
+                  .visibleSplats = (preview ? m_doc.preview->scene : m_doc.scene).visibleCount(),
+                  .sceneBytes = preview    ? m_doc.preview->splats.sceneBytes()
+                                : m_splats ? m_splats->sceneBytes()
+                                           : 0,
+                  .workingBytes = preview    ? m_doc.preview->splats.workingBytes()
+                                  : m_splats ? m_splats->workingBytes()
+                                             : 0,
+                  .glRenderer = m_glRenderer});
+         }},
+        {"Performance", "bottom",
+         [this] { ui::drawPerformancePanel(m_state, m_perfHistory, [this] { return perfContext(); }); }},
+        {"Filters", "bottom",
+         [this] {
+             m_filtersShown = true;
+             m_filtersChanges = ui::drawFiltersPanel(
+                 m_state, {.plane = m_lastPlane && m_doc.volume ? &*m_lastPlane : nullptr,
+                           .dims = m_doc.scene.dims,
+                           .origin = m_doc.scene.origin,
+                           .spacing = m_doc.scene.spacing,
+                           .radius = m_doc.scene.radius,
+                           .frame = m_splats ? m_splats->stats() : renderer::FrameStats{},
+                           .patches = m_patchCounts,
+                           .measurements = m_measurements,
+                           .cropPx = renderer::kComparisonCropPx,
+                           .measuring = m_comparison != nullptr,
+                           .measurementsStale = m_measurementsStale,
+                           .truthProgress = m_comparison ? m_comparison->truth.fraction.load() : 0.0});
+         }},
+        {"Help", "bottom", [] { ui::drawHelpPanel(); }},
+    };
+}
+
+std::string EditorLoop::perfContext() const {
+    if (!m_doc.volume || !m_lastPlane || !m_splats) return "no volume, " + m_glRenderer;
+    return ui::renderContext(m_doc.volume->name, m_doc.volume->dims,
+                             {m_lastPlane->width, m_lastPlane->height}, m_state.settings, m_splats->stats(),
+                             m_glRenderer);
+}
+
+void EditorLoop::drawPanels(int frame) {
+    // 1. A fresh ImGui frame; the panels report this frame's edits afresh.
+    m_state.openingVolume = m_volumeJob ? m_volumeJob->path : std::filesystem::path();
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    m_settingsChanges = {};
+    m_tfChanged = m_windowChanged = m_filtersShown = false;
+    m_filtersChanges = {};
+    m_viewport.cameraChanged = m_viewport.frame = false;
+    // 2. The layout with its panels: --tab's in front for the first frames, and a dropped file's panel.
+    std::vector<std::string> tabsToFront = frame <= 2 ? m_options.tabs : std::vector<std::string>{};
+    if (const auto dropped =
+            m_window.takeDroppedFile()) // its panel opens it as its button would (and shows its errors)
+        tabsToFront.push_back(ui::dropFile(m_state, *dropped));
+    ui::drawDockSpace(m_layout, m_panels, tabsToFront);
+    // 3. The modals: an error, a volume being read, gradients being computed.
+    ui::drawErrorModal(m_state);
+    if (ui::drawProgressModal("Opening volume",
+                              m_volumeJob ? "Reading " + m_volumeJob->path.filename().string() +
+                                                (m_volumeJob->cancel ? " (cancelling)" : "")
+                                          : std::string(),
+                              m_volumeJob ? m_volumeJob->fraction.load() : 1.0, m_volumeJob != nullptr))
+        m_volumeJob->cancel = true;
+    // One modal at a time: the gradients of the volume shown go on under a volume being read.
+    if (ui::drawProgressModal("Computing gradients",
+                              "Gradients of " + (m_doc.volume ? m_doc.volume->name : std::string()) +
+                                  " (central differences, all cores)",
+                              m_gradientJob ? m_gradientJob->fraction.load() : 1.0,
+                              m_gradientJob && !m_volumeJob))
+        m_gradientJob->cancel = true;
+    ImGui::Render();
+}
+
+void EditorLoop::probeHoveredVoxel() {
+    // The voxel under the mouse, for the next frame's tooltip and TF marker: the last full render's
+    // view, so not while a drag shows the preview or a window edit left the full scene behind.
+    m_state.probe.reset();
+    if (m_viewport.hoverPx && m_lastPlane && m_doc.volume && !m_fullWindowStale && !m_state.preview.shown)
+        if (const auto hit =
+                renderer::probePixel(m_doc.scene, m_state.settings, *m_lastPlane, *m_viewport.hoverPx))
+            m_state.probe = ui::EditorState::ProbedVoxel{
+                hit->voxel, m_doc.volume->at(hit->voxel.x, hit->voxel.y, hit->voxel.z)};
+}
+
+void EditorLoop::noteEdits() {
+    // 1. The voxel under the mouse.
+    probeHoveredVoxel();
+    // 2. Any edit of the view ends a measurement under way and dates the last one.
+    m_tfPending |= m_tfChanged;
+    const bool viewEdited = m_settingsChanges.any() || m_tfChanged || m_windowChanged ||
+                            m_filtersChanges.settingsChanged || m_viewport.cameraChanged ||
+                            m_settingsChanges.openVolume || m_settingsChanges.sessionOpened ||
+                            m_settingsChanges.frame || m_viewport.frame;
+    if (viewEdited) {
+        m_comparison.reset();
+        m_measurementsStale = true;
+    }
+    // 3. A drag or the wheel: the preview until it settles.
+    const bool mouseDown = ImGui::IsMouseDown(ImGuiMouseButton_Left);
+    m_windowDragged = m_windowChanged && mouseDown;
+    if (m_viewport.cameraChanged || ((m_tfChanged || m_windowChanged) && mouseDown))
+        m_state.preview.lastInput = glfwGetTime();
+    // 4. Render next frame after an edit or when the viewport changed size.
+    m_renderPending |= viewEdited;
+    if (m_viewport.widthPx != m_renderWidth || m_viewport.heightPx != m_renderHeight) {
+        m_renderWidth = m_viewport.widthPx, m_renderHeight = m_viewport.heightPx;
+        m_renderPending = true;
+    }
+}
