@@ -516,9 +516,12 @@ bool printProgress(double fraction) {
     return true;
 }
 
-int runReference(const SceneArgs& a, const GroundTruthOptions& options, const std::string& cacheDir, bool noCache) {
+int runReference(const SceneArgs& a, const SplatFlags& splat, const GroundTruthOptions& options,
+                 const std::string& cacheDir, bool noCache) {
     checkImageWritable(a.out);   // before the rays are traced
-    const Scene s = buildScene(a, SplatFlags{});   // the ground truth depends on how it looks only
+    SplatFlags compositingOnly;   // of the splatting flags, the ground truth depends on compositing only
+    compositingOnly.compositing = splat.compositing;
+    const Scene s = buildScene(a, compositingOnly);
     GroundTruthStats stats;
     const Image image = noCache ? renderGroundTruth(s.scene, s.plane, s.settings, options, printProgress, &stats)
                                 : cachedGroundTruth(s.scene, s.plane, s.settings, options,
@@ -621,6 +624,19 @@ int main(int argc, char** argv) {
     reference->add_option("--supersample", gt.supersample, "Rays per pixel axis for the 1-px low-pass (1..8)")
         ->capture_default_str()
         ->check(CLI::Range(1, 8));
+    // The ground truth depends on how the volume looks and, of the splatting flags, on compositing only:
+    // X-ray's truth is the integral without attenuation, every other mode's the absorption-emission one.
+    SplatFlags refSplat;
+    const size_t beforeCompositing = reference->get_options().size();
+    reference->add_option("--compositing", refSplat.compositing,
+                          "Whose truth: xray (the integral without attenuation) or any other mode (absorption and "
+                          "emission; splat-every-sample, sheet-back-to-front and sheet-front-to-back share it)")
+        ->capture_default_str();
+    sessionSets(reference, beforeCompositing);
+    reference->add_option("--session", ref.session,
+                          "The ground truth of a session saved by the editor: its volume, TF, window, camera and "
+                          "compositing (a volume argument replaces its volume; --size and --out still apply)");
+    reference->get_option("volume")->required(false);
     reference->add_option("--cache", cacheDir, "Cache folder (default: ~/.cache/splatlab/reference)");
     reference->add_flag("--no-cache", noCache, "Always compute, never read or write the cache");
 
@@ -691,9 +707,10 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
         if (*render && !r.session.empty()) rejectFlagsBesideSession(render);
+        if (*reference && !ref.session.empty()) rejectFlagsBesideSession(reference);
         if (*editor && !editorSession.empty()) rejectFlagsBesideSession(editor);
         if (*render) return runRender(r, ra);
-        if (*reference) return runReference(ref, gt, cacheDir, noCache);
+        if (*reference) return runReference(ref, refSplat, gt, cacheDir, noCache);
         if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);
         if (*info) return runInfo(infoPath, infoRaw, infoGradients);
         if (*accuracy) return runAccuracy(acc);

@@ -352,6 +352,39 @@ TEST(Cli, MistakesGetOneClearLineAndAFailingExit) {
     }
 }
 
+// X-ray's ground truth from the command line, as the Filters panel has it. Without attenuation the order
+// along a ray does not matter: seen from the opposite side (parallel rays, the camera turned 180 degrees)
+// the X-ray truth is the same image mirrored left to right. With attenuation (every other mode's truth)
+// the other side shows what the front hid.
+TEST(Cli, ReferenceTakesCompositingSoXRayHasAGroundTruthFromTheCommandLine) {
+    const auto dir = testing_support::testOutputDir("cli_reference_xray");
+    const std::string view = "\"" + headsq() + "\" --size 24x16 --up -z --ortho --no-cache ";
+    // Largest difference between the view from the front and the mirrored view from behind.
+    auto frontAgainstMirroredBack = [&](const std::string& compositing) {
+        std::array<renderer::Image, 2> images;
+        for (int i = 0; i < 2; ++i) {
+            const std::string out = (dir / (compositing + std::to_string(i) + ".exr")).string();
+            const CliRun r = splatlab("reference " + view + "--compositing " + compositing + " --camera " +
+                                      (i == 0 ? "30,20,2.5,30" : "210,-20,2.5,30") + " --out \"" + out + "\"");
+            EXPECT_EQ(r.status, 0) << r.output;
+            images[size_t(i)] = renderer::readImage(out);
+        }
+        const renderer::Image& front = images[0];
+        double largest = 0.0;
+        for (int y = 0; y < front.height; ++y)
+            for (int x = 0; x < front.width; ++x)
+                for (int c = 0; c < 4; ++c)
+                    largest = std::max(largest, double(std::abs(front.rgba[size_t(y * front.width + x) * 4 + size_t(c)] -
+                                                                images[1].rgba[size_t(y * front.width + front.width - 1 - x) * 4 + size_t(c)])));
+        return largest;
+    };
+    EXPECT_LT(frontAgainstMirroredBack("xray"), 1e-3);
+    EXPECT_GT(frontAgainstMirroredBack("sheet-front-to-back"), 0.05);
+    const CliRun r = splatlab("reference " + view + "--compositing sideways --out \"" + (dir / "x.exr").string() + "\"");
+    EXPECT_NE(r.status, 0);
+    EXPECT_THAT(r.output, HasSubstr("--compositing"));
+}
+
 TEST(Cli, CompareReportsTheErrorWritesTheDifferenceAndRefusesWhatItCannotMeasure) {
     const auto dir = testing_support::testOutputDir("cli_compare");
     renderer::Image a(16, 8), b(16, 8);
