@@ -667,12 +667,13 @@ int main(int argc, char** argv) {
     auto* accuracy = addAccuracyCommand(app, acc);
 
     EditorOptions e;
-    e.volumePath = std::filesystem::path(SPLATLAB_ASSET_DIR) / "volumes" / "headsq.nhdr";
+    e.volumePath = std::filesystem::path(SPLATLAB_ASSET_DIR) / "volumes" / "bonsai.nhdr";
     std::string editorSize = "1280x800", editorVolume, screenshot, editorUp, editorCamera, editorSession;
     LookFlags editorLook;
     SplatFlags editorSplat;
     RawFlags editorRaw;
-    auto* editor = app.add_subcommand("editor", "Open the editor window (default: the bundled headsq)");
+    auto* editor = app.add_subcommand("editor", "Open the editor window (default: the bundled bonsai, 128^3, "
+                                                 "framed, with --tf bonsai, lit per splat)");
     editor->add_option("volume", editorVolume, "Volume file");
     editor->add_option("--tf", e.tfSpec, "Transfer function: a preset name or a JSON file")
         ->capture_default_str()
@@ -690,7 +691,7 @@ int main(int argc, char** argv) {
                                      "(Settings > Camera > Frame)");
     editor->add_flag("--heatmap", e.settings.heatmap, "Start with the filter-mode heatmap in the viewport");
     editor->add_option("--up", editorUp, "Axis of the file's world frame shown upwards: x, y, z, -x, -y, -z (default: z; "
-                                         "-z for the bundled headsq)");
+                                         "y for the bundled bonsai)");
     sessionSets(editor, viewFlags);
     addLookFlags(editor, editorLook);
     addSplatFlags(editor, editorSplat);
@@ -715,9 +716,21 @@ int main(int argc, char** argv) {
         if (*info) return runInfo(infoPath, infoRaw, infoGradients);
         if (*accuracy) return runAccuracy(acc);
         if (*tfCommand) return runTf(tfSpec, tfOut);
-        // The bundled headsq stores its slices from the crown down, so it is shown with -z up.
-        e.upAxis = editorVolume.empty() ? "-z" : "z";
-        if (editorVolume.empty()) e.camera = parseCamera("60,15,2.5,30");   // a three-quarter view of the face
+        // No volume and no session: the bundled bonsai (assets/volumes/MANIFEST.md) as it looks best, each
+        // default giving way to its flag. Its trunk grows along +y. It is framed from a three-quarter view
+        // a little above the rim (unless --camera says where), in its preset, lit per splat (once the
+        // gradients are in, a fraction of a second after it opens). Its voxels are twice as long as the
+        // 256^3 scan's, so twice the density per voxel length keeps that scan's extinction per unit length.
+        const bool bundled = editorVolume.empty() && editorSession.empty();
+        const auto unset = [&](const char* flag) { return editor->get_option(flag)->count() == 0; };
+        if (bundled) {
+            e.upAxis = "y";
+            e.camera = parseCamera("30,20,2.5,30");
+            if (unset("--camera")) e.fit = true;
+            if (unset("--tf")) e.tfSpec = "bonsai";
+            if (unset("--shading")) editorLook.shading = "per-splat";
+            if (unset("--density")) editorLook.density = 2.0;
+        }
         if (!editorCamera.empty()) e.camera = parseCamera(editorCamera);
         applyLookFlags(editorLook, e.settings);
         applySplatFlags(editorSplat, e.settings);

@@ -726,6 +726,31 @@ TEST(Cli, FitFramesEverythingVisibleAndTheEditorFramesAsRenderDoes) {
     EXPECT_GT(coveredBox(fromEditor).y1 - coveredBox(fromEditor).y0, int(0.85 * fromEditor.height));
 }
 
+TEST(Cli, TheEditorWithoutAVolumeOpensTheBundledBonsaiFramedInItsPresetAndLit) {
+    // The first picture a newcomer sees (scripts/editor): the defaults main.cpp gives the bundled bonsai are
+    // the view `render` draws with these flags.
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    const std::filesystem::path dir = testing_support::testOutputDir(), saved = dir / "editor_default.exr",
+                                drawn = dir / "render_default.exr";
+    const CliRun e = run("LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE
+                         "\" editor --frames 4 --save-image \"" + saved.string() + "\" 2>&1");
+    ASSERT_EQ(e.status, 0) << e.output;
+    const renderer::Image fromEditor = renderer::readImage(saved);
+    const std::string bonsai = (testing_support::assetDir() / "volumes" / "bonsai.nhdr").string();
+    const CliRun r = splatlab("render \"" + bonsai + "\" --tf bonsai --up y --camera 30,20,2.5,30 --fit --shading "
+                              "per-splat --density 2 --size " + std::to_string(fromEditor.width) + "x" +
+                              std::to_string(fromEditor.height) + " --frames 1 -o \"" + drawn.string() + "\"");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const renderer::Image fromCli = renderer::readImage(drawn);
+    ASSERT_EQ(fromCli.rgba.size(), fromEditor.rgba.size());
+    const auto d = testing_support::renderDifference(fromCli, fromEditor);
+    EXPECT_LE(d.elsewhere, 1e-5f);
+    EXPECT_LE(d.atOpaque, 2e-3f);
+    EXPECT_GT(coveredBox(fromEditor).y1 - coveredBox(fromEditor).y0, int(0.6 * fromEditor.height))
+        << "framed, the bonsai fills most of the height";
+}
+
 TEST(Cli, RenderOpensASessionAsTheFlagsItStandsForWouldDrawIt) {
     // A view designed in the editor (saved as a session) rendered headless at another size.
     const std::filesystem::path dir = testing_support::testOutputDir("cli_session");

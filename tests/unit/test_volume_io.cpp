@@ -152,6 +152,30 @@ TEST(BundledVolumes, AssetsLoad) {
     const Volume neghip = loadVolume(dir / "neghip.nhdr");
     EXPECT_EQ(neghip.dims, glm::ivec3(66));
     EXPECT_EQ(neghip.range.hi, 255.0f);
+    const Volume bonsai = loadVolume(dir / "bonsai.nhdr");   // the editor's default volume
+    EXPECT_EQ(bonsai.dims, glm::ivec3(128));
+    EXPECT_EQ(bonsai.spacing, glm::dvec3(2.0));
+    EXPECT_EQ(bonsai.range.hi, 255.0f);
+}
+
+// assets/volumes/MANIFEST.md: the bundled bonsai is the shared 256^3 scan, each 2x2x2 block's mean
+// rounded half up, and nothing else.
+TEST(BundledVolumes, BonsaiIsTheSharedScansRoundedTwoByTwoByTwoBlockMeans) {
+    SPLATLAB_REQUIRE_SHARED_DATA(dir);
+    const Volume fine = loadVolume(dir / "bonsai.nhdr");
+    const Volume coarse = loadVolume(testing_support::assetDir() / "volumes" / "bonsai.nhdr");
+    ASSERT_EQ(fine.dims, glm::ivec3(256));
+    ASSERT_EQ(coarse.dims, glm::ivec3(128));
+    EXPECT_EQ(coarse.spacing, 2.0 * fine.spacing);
+    size_t mismatches = 0;
+    for (int z = 0; z < 128; ++z)
+        for (int y = 0; y < 128; ++y)
+            for (int x = 0; x < 128; ++x) {
+                int sum = 0;
+                for (int c = 0; c < 8; ++c) sum += int(fine.at(2 * x + (c & 1), 2 * y + (c >> 1 & 1), 2 * z + (c >> 2)));
+                mismatches += int(coarse.at(x, y, z)) != (sum + 4) / 8;
+            }
+    EXPECT_EQ(mismatches, 0u);
 }
 
 // == Files written by the tests
