@@ -159,6 +159,7 @@ int runInfo(const std::string& path, const RawFlags& raw, bool gradients) {
     if (v.directions != glm::dmat3(1.0)) {
         const glm::dmat3& d = v.directions;
         Volume axesOnly;   // no voxels: what alignment leaves of these axes, for the message
+        axesOnly.name = path;   // an error names the file
         axesOnly.directions = d;
         const Volume aligned = alignedToWorldAxes(axesOnly);
         const glm::dmat3 left = aligned.directions;

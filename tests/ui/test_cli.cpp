@@ -449,6 +449,17 @@ TEST(Cli, EditorFlagMistakesNameTheFlagAndWhatItTakes) {
     }
 }
 
+// Parallel axes cannot be resampled: `info` says so naming the file (it once printed "splatlab: : field").
+TEST(Cli, InfoNamesTheFileWhoseAxesAreParallel) {
+    const auto file = testing_support::testOutputDir("cli_info") / "parallel_axes.nrrd";
+    ASSERT_TRUE(testing_support::writeFile(file, "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\n"
+                                                 "space dimension: 3\nspace directions: (1,0,0) (1,0,0) (0,0,1)\n"
+                                                 "encoding: raw\n\n" + std::string(8, '\x10')));
+    const CliRun r = splatlab("info \"" + file.string() + "\"");
+    EXPECT_THAT(r.output, HasSubstr(file.string() + ": field 'directions'")) << r.output;
+    EXPECT_THAT(r.output, Not(HasSubstr("splatlab: : "))) << r.output;
+}
+
 TEST(Cli, InfoReportsOrientationPercentilesAndGradientsWithAProgressBar) {
     const CliRun r = splatlab("info \"" + headsq() + "\" --gradients");
     ASSERT_EQ(r.status, 0) << r.output;

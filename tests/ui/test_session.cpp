@@ -6,10 +6,14 @@
 #include "ui/session.h"
 
 #include "renderer/errors.h"
+#include "renderer/io/volume_io.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
+#include <csignal>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -151,6 +155,25 @@ TEST(Session, SectionsLeftOutKeepTheStateAndUnknownKeysAreIgnored) {
     expectSameSession(state, expected);
 }
 
+// A path of 10 MB in a session comes back as one short line: quoted input is cut at 200 characters.
+TEST(Session, AHugeQuotedValueComesBackCutShort) {
+    const auto dir = testing_support::testOutputDir("session");
+    const std::string huge(10'000'000, 'a');
+    std::ofstream(dir / "huge_path.json") << R"({"splatlab_session": 1, "volume": ")" << huge << R"(.raw"})";
+    ui::EditorState state;
+    try {
+        const std::filesystem::path volume = ui::loadSession(dir / "huge_path.json", state);
+        renderer::loadVolume(volume);
+        ADD_FAILURE() << "loaded a volume of a 10 MB name";
+    } catch (const renderer::LoadError& e) {
+        EXPECT_LT(std::string(e.what()).size(), 1000u);
+        EXPECT_THAT(e.what(), HasSubstr("characters)"));
+    }
+    const renderer::LoadError error(std::string(300, 'p'), "field", std::string(5000, 'r'));
+    EXPECT_LT(std::string(error.what()).size(), 1000u);
+    EXPECT_EQ(error.path().size(), 300u) << "the whole path stays for callers";
+}
+
 TEST(Session, AWrongValueAnywhereIsRefusedNamingTheFieldAndChangesNothing) {
     const auto dir = testing_support::testOutputDir("session");
     const std::pair<const char*, const char*> bad[] = {
@@ -158,6 +181,10 @@ TEST(Session, AWrongValueAnywhereIsRefusedNamingTheFieldAndChangesNothing) {
         {"[1]", "expected a JSON object"},
         {R"({"camera": {}})", "splatlab_session"},
         {R"({"splatlab_session": 99})", "newer"},
+        {R"({"splatlab_session": 18446744073709551615})", "newer"},   // 2^64-1: read as -1 by a signed cast
+        {R"({"splatlab_session": -5})", "expected a whole number from 1"},
+        {R"({"splatlab_session": 0})", "expected a whole number from 1"},
+        {R"({"splatlab_session": 1.5})", "expected a whole number from 1"},
         {R"({"splatlab_session": 1, "volume": 3})", "'volume'"},
         {R"({"splatlab_session": 1, "camera": []})", "'camera'"},
         {R"({"splatlab_session": 1, "camera": {"distance": -1}})", "'camera.distance'"},
@@ -241,10 +268,18 @@ TEST(Session, AFailedSaveKeepsTheOldFile) {
     const auto dir = testing_support::testOutputDir("session");
     ui::saveSession(unusualState(), {}, dir / "keep.json");
     const std::string before = readText(dir / "keep.json");
-    std::filesystem::create_directories(dir / "keep.json.tmp");   // the temporary file cannot be written
-    EXPECT_THROW(ui::saveSession(ui::EditorState{}, {}, dir / "keep.json"), renderer::LoadError);
+    {   // A full disk, made by a file-size limit: the temporary file cannot be written whole.
+        rlimit saved{};
+        ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
+        const auto previousSignal = std::signal(SIGXFSZ, SIG_IGN);   // a write past the limit fails, not kills
+        rlimit small = saved;
+        small.rlim_cur = 256;
+        ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+        EXPECT_THROW(ui::saveSession(ui::EditorState{}, {}, dir / "keep.json"), renderer::LoadError);
+        setrlimit(RLIMIT_FSIZE, &saved);
+        std::signal(SIGXFSZ, previousSignal);
+    }
     EXPECT_EQ(readText(dir / "keep.json"), before);
-    std::filesystem::remove_all(dir / "keep.json.tmp");
     try {
         ui::saveSession(ui::EditorState{}, {}, dir / "missing" / "s.json");
         ADD_FAILURE() << "saved into a folder that does not exist";

@@ -147,11 +147,18 @@ std::filesystem::path loadSession(const std::filesystem::path& file, EditorState
     const std::string name = file.string();
     json j = renderer::readJsonFile(file, "a SplatLab session (.json)");
     if (!j.is_object()) throw renderer::LoadError(name, "", "expected a JSON object");
-    if (!j.contains("splatlab_session") || !j["splatlab_session"].is_number_integer())
+    if (!j.contains("splatlab_session") || !j["splatlab_session"].is_number())
         throw renderer::LoadError(name, "splatlab_session", "missing: not a SplatLab session");
-    if (j["splatlab_session"].get<long long>() > kSessionVersion)
+    // Versions are whole numbers from 1; nlohmann keeps 2^64-1 as unsigned and -5 as signed, so each
+    // kind is checked as itself (a cast would turn one into the other).
+    const json& version = j["splatlab_session"];
+    if (!version.is_number_unsigned() || version.get<uint64_t>() < 1)
         throw renderer::LoadError(name, "splatlab_session",
-                                  "version " + j["splatlab_session"].dump() + " is newer than this SplatLab reads (" +
+                                  "version " + version.dump() + ": expected a whole number from 1 to " +
+                                      std::to_string(kSessionVersion));
+    if (version.get<uint64_t>() > uint64_t(kSessionVersion))
+        throw renderer::LoadError(name, "splatlab_session",
+                                  "version " + version.dump() + " is newer than this SplatLab reads (" +
                                       std::to_string(kSessionVersion) + ")");
 
     EditorState next = state;

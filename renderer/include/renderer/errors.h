@@ -17,9 +17,19 @@ public:
     const std::string& field() const { return m_field; }
     const std::string& reason() const { return m_reason; }
 
+    // Quoted input is cut to this many characters in what(): a 100 MB path in a session must not come
+    // back as a 100 MB error line. path() and reason() keep the whole text.
+    static constexpr size_t kQuoteLimit = 200;
+    static std::string capped(const std::string& text, size_t limit = kQuoteLimit) {
+        return text.size() <= limit ? text : text.substr(0, limit) + "... (" + std::to_string(text.size()) + " characters)";
+    }
+
 private:
     static std::string format(const std::string& path, const std::string& field, const std::string& reason) {
-        return field.empty() ? path + ": " + reason : path + ": field '" + field + "': " + reason;
+        const std::string where = capped(path);
+        // A reason quotes input too (a value, a second path): it gets room for two quotes and its own words.
+        const std::string why = capped(reason, 3 * kQuoteLimit);
+        return field.empty() ? where + ": " + why : where + ": field '" + capped(field) + "': " + why;
     }
     std::string m_path, m_field, m_reason;
 };
