@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <bit>
+#include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -564,3 +566,33 @@ TEST(Procedural, SphereShellsAreSymmetric) {
 }
 
 } // namespace
+
+// A header may claim more voxels than the machine can hold as floats, behind a small compressed stream
+// (audit: a 610 KB .raw.gz took 4.8 GiB). The claim is checked against the memory budget before anything
+// is allocated or decompressed, and refused at once naming the file, the claim and the budget.
+TEST(VolumeMemoryBudget, AClaimOverTheBudgetIsRefusedAtOnceNamingFileClaimAndBudget) {
+    const std::string zeros(size_t(64) * 64 * 128 * 4, '\0');   // float32: 2 MiB
+    const fs::path nrrd = outDir() / "budget_f32.nrrd";
+    writeFile(nrrd, "NRRD0004\ntype: float\ndimension: 3\nsizes: 64 64 128\nendian: little\nencoding: gzip\n\n" +
+                        gzipBytes(zeros));
+    EXPECT_EQ(loadVolume(nrrd).voxelCount(), size_t(64) * 64 * 128) << "within the default budget it loads";
+
+    ASSERT_EQ(setenv("SPLATLAB_MEMORY_BUDGET_MB", "1", 1), 0);
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string error;
+    try {
+        loadVolume(nrrd);
+    } catch (const LoadError& e) {
+        error = e.what();
+    }
+    // A raw name claiming 2^31 voxels behind 4 KB of gzip: also refused before any byte is decoded.
+    const fs::path bomb = outDir() / "bomb_2048x1024x1024_uint8.raw.gz";
+    writeFile(bomb, gzipBytes(std::string(4096, '\0')));
+    EXPECT_THROW(loadVolume(bomb), LoadError);
+    unsetenv("SPLATLAB_MEMORY_BUDGET_MB");
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1));
+    EXPECT_NE(error.find(nrrd.string()), std::string::npos) << error;
+    EXPECT_NE(error.find("64 x 64 x 128 voxels need 2 MiB"), std::string::npos) << error;
+    EXPECT_NE(error.find("memory budget of 1 MiB"), std::string::npos) << error;
+    EXPECT_GT(volumeMemoryBudget(), uint64_t(1) << 20) << "the default is half of what the process may use";
+}

@@ -366,8 +366,26 @@ const char* supportedVolumeTypes() {
            ".tif/.png slices or a slice pattern such as slice_%03d.png";
 }
 
+namespace {
+Volume loadVolumeByType(const std::filesystem::path& path, const std::optional<RawOptions>& raw,
+                        const ProgressCallback& progress);
+} // namespace
+
 Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOptions>& raw,
                   const ProgressCallback& progress) {
+    // The budget check keeps lying headers from allocating; an allocation that still fails (memory
+    // taken by others meanwhile) is named here rather than reaching the user as a bare std::bad_alloc.
+    try {
+        return loadVolumeByType(path, raw, progress);
+    } catch (const std::bad_alloc&) {
+        fail(path, "", "out of memory while reading the voxels (the memory budget is " +
+                           std::to_string(volumeMemoryBudget() / kMiB) + " MiB; less is free now)");
+    }
+}
+
+namespace {
+Volume loadVolumeByType(const std::filesystem::path& path, const std::optional<RawOptions>& raw,
+                        const ProgressCallback& progress) {
     std::error_code ec;
     const std::string name = lower(path.filename().string());
     if (name.find('%') != std::string::npos) return loadImageStack(path, progress);
@@ -390,6 +408,7 @@ Volume loadVolume(const std::filesystem::path& path, const std::optional<RawOpti
     fail(path, "", "unknown file type " + excerpt(path.extension().string()) + " (supported: " +
                        supportedVolumeTypes() + ")");
 }
+} // namespace
 
 Volume loadVolumeInWorldFrame(const std::filesystem::path& path, const std::optional<RawOptions>& raw,
                               const ProgressCallback& progress) {

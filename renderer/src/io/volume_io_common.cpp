@@ -2,6 +2,8 @@
 // streamed voxel reader with raw, gzip/zlib and bzip2 storage.
 #include "volume_io_detail.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
 #include <zlib.h>
 #ifdef SPLATLAB_HAVE_BZIP2
 #include <bzlib.h>
@@ -15,6 +17,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -103,8 +106,21 @@ glm::ivec3 checkedDims(const fs::path& path, const std::string& field, long long
             fail(path, field, text + " voxels is more than the " + std::to_string(kMaxVoxels) + " supported");
         product *= (unsigned long long)s;
     }
+    checkVoxelsFitTheBudget(path, field, text, product);
     return {int(x), int(y), int(z)};
 }
+
+void checkVoxelsFitTheBudget(const fs::path& path, const std::string& field, const std::string& claim,
+                             uint64_t voxels) {
+    const uint64_t bytes = voxels * sizeof(float), budget = volumeMemoryBudget();
+    if (bytes > budget)
+        fail(path, field,
+             claim + " voxels need " + std::to_string((bytes + kMiB - 1) / kMiB) +
+                 " MiB as 32-bit floats, more than the memory budget of " + std::to_string(budget / kMiB) +
+                 " MiB (half of what this process may use; SPLATLAB_MEMORY_BUDGET_MB sets it)");
+}
+
+
 
 glm::dvec3 checkedSpacing(const fs::path& path, const std::string& field, glm::dvec3 spacing) {
     for (int axis = 0; axis < 3; ++axis)
@@ -398,3 +414,23 @@ std::string readSmallFile(const fs::path& path, size_t maxBytes) {
 }
 
 } // namespace renderer::io
+
+namespace renderer {
+
+uint64_t volumeMemoryBudget() {
+    if (const char* set = std::getenv("SPLATLAB_MEMORY_BUDGET_MB")) {
+        char* end = nullptr;
+        const unsigned long long mib = std::strtoull(set, &end, 10);
+        if (end != set && *end == '\0' && mib > 0 && mib < (1ull << 40)) return uint64_t(mib) * io::kMiB;
+    }
+    // Physical memory, or less where a limit on this process says so (ulimit -v, -d).
+    uint64_t usable = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGESIZE));
+    for (int resource : {RLIMIT_AS, RLIMIT_DATA}) {
+        rlimit limit{};
+        if (getrlimit(resource, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
+            usable = std::min<uint64_t>(usable, uint64_t(limit.rlim_cur));
+    }
+    return usable / 2;
+}
+
+} // namespace renderer

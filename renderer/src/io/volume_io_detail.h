@@ -31,9 +31,13 @@ std::optional<double> parseDouble(std::string_view s);
 std::string number(double v);
 std::string layoutText(glm::ivec3 dims, VoxelType type);
 
-// Three axis sizes, each positive and fitting an int, product within kMaxVoxels; checked before any
-// allocation so lying headers cannot overflow size_t or exhaust memory.
+// Three axis sizes, each positive and fitting an int, product within kMaxVoxels and the memory budget;
+// checked before any allocation so lying headers cannot overflow size_t or exhaust memory.
 glm::ivec3 checkedDims(const fs::path& path, const std::string& field, long long x, long long y, long long z);
+// Refuses `voxels` (as the header `claim`s them) when their floats exceed volumeMemoryBudget().
+void checkVoxelsFitTheBudget(const fs::path& path, const std::string& field, const std::string& claim,
+                             uint64_t voxels);
+constexpr uint64_t kMiB = uint64_t(1) << 20;
 // Each component finite and > 0.
 glm::dvec3 checkedSpacing(const fs::path& path, const std::string& field, glm::dvec3 spacing);
 

@@ -143,6 +143,9 @@ struct StackBuilder {
                  "more than " + std::to_string(kMaxVoxels) + " voxels or " + std::to_string(kMaxSlices) +
                      " slices");
         const size_t count = size_t(volume.dims.x) * size_t(volume.dims.y);
+        checkVoxelsFitTheBudget(report, "slices", std::to_string(slices.size() + 1) + " slices of " +
+                                                      std::to_string(volume.dims.x) + " x " + std::to_string(volume.dims.y),
+                                (slices.size() + 1) * count);
         claimedBytes += count * voxelTypeBytes(volume.type);
         if (claimedBytes > fileBytes * kMaxImageExpansion + (uintmax_t(1) << 20))
             fail(report, "width/height",

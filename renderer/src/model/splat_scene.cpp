@@ -140,7 +140,23 @@ AxisLists buildAxisLists(const SplatScene& s, int axis) {
 
 } // namespace
 
+namespace {
+SplatScene buildSplatSceneOrThrow(const Volume& volume, const TransferFunction& tf, ValueRange window);
+} // namespace
+
+// An allocation that fails while classifying becomes an error naming the volume and what was being built,
+// so the editor reports it and keeps the scene it had.
 SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, ValueRange window) {
+    try {
+        return buildSplatSceneOrThrow(volume, tf, window);
+    } catch (const std::bad_alloc&) {
+        throw RenderError("volume '" + volume.name + "': out of memory building the splat lists of its " +
+                          std::to_string(volume.voxelCount()) + " voxels (the voxel classes and the three axes' lists)");
+    }
+}
+
+namespace {
+SplatScene buildSplatSceneOrThrow(const Volume& volume, const TransferFunction& tf, ValueRange window) {
     if (volume.voxelCount() == 0 || volume.values.size() != volume.voxelCount())
         throw RenderError("volume '" + volume.name + "' has no voxels");
     // The GL path addresses a list entry as gl_VertexID / 6 (a signed int).
@@ -172,6 +188,7 @@ SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, Val
     setTransferFunction(s, tf);
     return s;
 }
+} // namespace
 
 void addGradients(SplatScene& s, const GradientField& field) {
     if (field.dims != s.dims)
