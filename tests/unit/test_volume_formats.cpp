@@ -412,7 +412,7 @@ TEST(ImageStackLoad, NumberedTiffPatternAndMultiPageTiff) {
 TEST(ImageStackLoad, MismatchedSlicesColourAndGapsAreRefused) {
     const fs::path dir = outDir() / "bad_stacks";
     fs::remove_all(dir);
-    for (const char* sub : {"sizes", "rgb", "gap", "empty", "junk"})
+    for (const char* sub : {"sizes", "rgb", "gap", "empty", "junk", "same_number"})
         fs::create_directories(dir / sub);
     writeSlice(dir / "sizes" / "a1.png", 4, 4, OIIO::TypeDesc::UINT8, std::vector<uint8_t>(16));
     writeSlice(dir / "sizes" / "a2.png", 4, 5, OIIO::TypeDesc::UINT8, std::vector<uint8_t>(20));
@@ -427,6 +427,9 @@ TEST(ImageStackLoad, MismatchedSlicesColourAndGapsAreRefused) {
     writeFile(dir / "junk" / "broken.png", "\x89PNG\r\n\x1a\n but nothing after");
     expectLoadError(dir / "junk", {"broken.png"});
     expectLoadError(dir / "gap" / "none%d.png", {"no file", "matches the slice pattern"});
+    for (const char* name : {"slice_1.png", "slice_01.png", "slice_2.png"})
+        writeSlice(dir / "same_number" / name, 2, 2, OIIO::TypeDesc::UINT8, std::vector<uint8_t>(4));
+    expectLoadError(dir / "same_number", {"field 'slices'", "slice_1.png", "slice_01.png", "the same number"});
 }
 
 // == The real originals in ../shared, against their raw copies
@@ -627,6 +630,23 @@ std::vector<BadFile> badFiles() {
         {"nii_inf_slope.nii",
          nii([](NiftiFields& f) { f.slope = INFINITY; }),
          {"field 'scl_slope': inf, expected a finite number"}},
+        // Finite, but the stored values times it are not floats any more: they would turn into +inf.
+        {"nii_overflowing_slope.nii",
+         nii([](NiftiFields& f) { f.slope = 3e38f; }),
+         {"field 'scl_slope'", "within a 32-bit float's range"}},
+        {"nii_tiny_pixdim.nii",
+         nii([](NiftiFields& f) { f.pixdim[1] = 1e-30f; }),
+         {"field 'pixdim'", "expected 1e-06 to 1e+06"}},
+        {"nii_huge_pixdim.nii",
+         nii([](NiftiFields& f) { f.pixdim[3] = 1e30f; }),
+         {"field 'pixdim'", "spacing 1e+30 on axis 2", "expected 1e-06 to 1e+06"}},
+        // b^2 + c^2 + d^2 = 1.5: no unit quaternion has these parts.
+        {"nii_non_unit_quaternion.nii",
+         nii([](NiftiFields& f) {
+             f.qformCode = 1;
+             f.quatern = {0.5f, 1.0f, 0.5f, 0, 0, 0};
+         }),
+         {"field 'quatern_b/c/d'", "expected at most 1"}},
         {"nii_gz_garbage.nii.gz",
          std::string("\x1f\x8b\x08\x00garbage-garbage-garbage", 27),
          {"field 'data'", "stream is corrupt"}},

@@ -360,6 +360,9 @@ const BadHeader kBadHeaders[] = {
     {"zero_spacing", {"spacings: 1 0 1"}, {"'spacings'", "'0'", "positive"}},
     {"negative_spacing", {"spacings: 1 1 -2"}, {"'spacings'", "'-2'", "positive"}},
     {"nan_spacing", {"spacings: nan 1 1"}, {"'spacings'", "'nan'", "finite"}},
+    // Finite and positive, but footprints square them: the volume rendered blank.
+    {"denormal_spacing", {"spacings: 1e-320 1 1"}, {"'spacings'", "expected 1e-06 to 1e+06"}},
+    {"huge_spacing", {"spacings: 1 1e300 1"}, {"'spacings'", "spacing 1e+300 on axis 1", "expected 1e-06 to 1e+06"}},
     {"unknown_type", {"type: double"}, {"field 'type': 'double' is not supported", "uchar"}},
     {"unknown_encoding", {"encoding: lzma"}, {"field 'encoding': 'lzma'", "raw, gzip"}},
     {"missing_endian", {"type: int16"}, {"field 'endian': missing", "int16"}},

@@ -192,7 +192,7 @@ glm::dvec3 nrrdSpacing(const fs::path& path, const NrrdHeader& header, glm::dmat
             if (v.size() == 3) directionsOut[axis] = glm::dvec3(v[0], v[1], v[2]) / spacing[axis];
         }
     }
-    return spacing;
+    return checkedSpacing(path, spacings ? spacings->name : directions ? directions->name : "spacings", spacing);
 }
 
 size_t nonNegativeField(const fs::path& path, const NrrdField* field) {
@@ -264,7 +264,7 @@ Volume loadRaw(const std::filesystem::path& path, const RawOptions& options, con
 
     volume.name = volumeName(path);
     volume.type = options.type;
-    volume.spacing = options.spacing;
+    volume.spacing = checkedSpacing(path, "spacing", options.spacing);
     volume.values = readVoxels(path, src, volume.dims, volume.type);
     updateRange(volume);
     return volume;

@@ -128,6 +128,14 @@ glm::dvec3 checkedSpacing(const fs::path& path, const std::string& field, glm::d
             fail(path, field,
                  "spacing " + number(spacing[axis]) + " on axis " + std::to_string(axis) +
                      ", expected a finite positive number");
+    // Footprints, the camera and the ground truth square and divide spacings: outside this range they
+    // under- or overflow and the volume renders blank (1e-320 and 1e300 did). Real scans use 1e-3..1e2
+    // (metres to millimetres, microns for microscopy).
+    for (int axis = 0; axis < 3; ++axis)
+        if (spacing[axis] < kMinSpacing || spacing[axis] > kMaxSpacing)
+            fail(path, field,
+                 "spacing " + number(spacing[axis]) + " on axis " + std::to_string(axis) + ", expected " +
+                     number(kMinSpacing) + " to " + number(kMaxSpacing) + " (in the file's units)");
     return spacing;
 }
 

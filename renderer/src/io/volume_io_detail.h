@@ -38,7 +38,8 @@ glm::ivec3 checkedDims(const fs::path& path, const std::string& field, long long
 void checkVoxelsFitTheBudget(const fs::path& path, const std::string& field, const std::string& claim,
                              uint64_t voxels);
 constexpr uint64_t kMiB = uint64_t(1) << 20;
-// Each component finite and > 0.
+// Each component finite and within [kMinSpacing, kMaxSpacing].
+constexpr double kMinSpacing = 1e-6, kMaxSpacing = 1e6;
 glm::dvec3 checkedSpacing(const fs::path& path, const std::string& field, glm::dvec3 spacing);
 
 // The name shown for a volume: the file name without .gz/.bz2 and then the format's extension.

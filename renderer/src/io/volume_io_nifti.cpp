@@ -9,11 +9,16 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace renderer {
+
 namespace {
 
 using namespace io;
+
+// How far above 1 the squares of a stored unit quaternion may round (float32 parts).
+constexpr double kQuaternionSlack = 1e-5;
 
 constexpr size_t kHeaderBytes = 348;
 
@@ -155,14 +160,26 @@ Volume loadNifti(const std::filesystem::path& path, const ProgressCallback& prog
         const glm::dvec3 offset{h.f32(268), h.f32(272), h.f32(276)};
         if (!std::isfinite(b + c + d) || !std::isfinite(offset.x + offset.y + offset.z))
             fail(path, "quatern_b/c/d", "not finite");
-        const double a = std::sqrt(std::max(0.0, 1.0 - (b * b + c * c + d * d)));
+        // (b, c, d) are a unit quaternion's last three parts, so b^2 + c^2 + d^2 <= 1; taken as they are,
+        // a larger sum gives axes that are not orthonormal (a distorted volume). Float rounding of a unit
+        // quaternion stays within kQuaternionSlack and is normalised away.
+        double bb = b, cc = c, dd = d;
+        const double squares = b * b + c * c + d * d;
+        if (squares > 1.0 + kQuaternionSlack)
+            fail(path, "quatern_b/c/d",
+                 "b^2 + c^2 + d^2 = " + number(squares) + ", expected at most 1 (the parts of a unit quaternion)");
+        if (squares > 1.0) {
+            const double norm = std::sqrt(squares);
+            bb /= norm, cc /= norm, dd /= norm;
+        }
+        const double a = std::sqrt(std::max(0.0, 1.0 - (bb * bb + cc * cc + dd * dd)));
         const double qfac = h.f32(76) < 0 ? -1.0 : 1.0; // pixdim[0]
         // Rotation from the unit quaternion (a, b, c, d), rows as in nifti1.h; z flipped by qfac.
         const glm::dmat3 r(
-            glm::dvec3(a * a + b * b - c * c - d * d, 2 * (b * c + a * d), 2 * (b * d - a * c)),
-            glm::dvec3(2 * (b * c - a * d), a * a + c * c - b * b - d * d, 2 * (c * d + a * b)),
-            glm::dvec3(qfac * 2 * (b * d + a * c), qfac * 2 * (c * d - a * b),
-                       qfac * (a * a + d * d - c * c - b * b)));
+            glm::dvec3(a * a + bb * bb - cc * cc - dd * dd, 2 * (bb * cc + a * dd), 2 * (bb * dd - a * cc)),
+            glm::dvec3(2 * (bb * cc - a * dd), a * a + cc * cc - bb * bb - dd * dd, 2 * (cc * dd + a * bb)),
+            glm::dvec3(qfac * 2 * (bb * dd + a * cc), qfac * 2 * (cc * dd - a * bb),
+                       qfac * (a * a + dd * dd - cc * cc - bb * bb)));
         volume.directions = r;
         volume.origin = offset;
     }
@@ -174,9 +191,21 @@ Volume loadNifti(const std::filesystem::path& path, const ProgressCallback& prog
                    .progress = progress};
     if (gzip) src.compression = Compression::Zlib;
     volume.values = readVoxels(path, src, volume.dims, volume.type);
-    if (slope != 0 && !(slope == 1 && inter == 0))
+    if (slope != 0 && !(slope == 1 && inter == 0)) {
+        // Scaled values must stay 32-bit floats: a slope of 3e38 turned voxels into +inf, which then
+        // vanished from the image without a word.
+        const auto [lo, hi] = std::minmax_element(volume.values.begin(), volume.values.end());
+        for (const double stored : {double(*lo), double(*hi)}) {
+            const double scaled = stored * slope + inter;
+            if (!(std::abs(scaled) <= double(std::numeric_limits<float>::max())))
+                fail(path, "scl_slope",
+                     "scl_slope " + number(slope) + " and scl_inter " + number(inter) + " take the stored value " +
+                         number(stored) + " to " + number(scaled) +
+                         ", expected scaled values within a 32-bit float's range (+-3.4e38)");
+        }
         for (float& v : volume.values)
             v = float(double(v) * slope + inter);
+    }
     updateRange(volume);
     return volume;
 }

@@ -216,6 +216,13 @@ Volume loadImageStack(const std::filesystem::path& pathOrPattern, const Progress
         std::sort(files.begin(), files.end(), [](const fs::path& a, const fs::path& b) {
             return naturalLess(a.filename().string(), b.filename().string());
         });
+        // slice_1.png and slice_01.png hold the same number: which comes first is not known, and reading
+        // both would put one slice in twice.
+        for (size_t k = 1; k < files.size(); ++k)
+            if (!naturalLess(files[k - 1].filename().string(), files[k].filename().string()))
+                fail(pathOrPattern, "slices",
+                     "'" + files[k - 1].filename().string() + "' and '" + files[k].filename().string() +
+                         "' have the same number, expected one file per slice number (remove one of them)");
     }
     if (files.size() > size_t(kMaxSlices))
         fail(pathOrPattern, "slices",
