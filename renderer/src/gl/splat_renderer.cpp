@@ -3,10 +3,11 @@
 // splatGeometry() does on the CPU (same formulas, float instead of double) and emits a point or quad
 // around the cutoff ellipse; the fragment stage evaluates the Gaussian at the pixel centre. Tiled
 // (sheets and X-ray): compute passes build the same footprints, bin them to screen tiles and
-// composite each tile's pixels in registers (kTileSplatCompMain and after).
+// composite each tile's pixels in registers (renderer/shaders/tile_*.comp).
 #include "renderer/gl/splat_renderer.h"
 
 #include "gl_util.h"
+#include "gl/shader_sources.h"
 #include "renderer/math/classifier.h"
 #include "renderer/errors.h"
 #include "renderer/gl/gl_context.h"
@@ -28,818 +29,8 @@ namespace renderer {
 
 namespace {
 
-// GLSL header of the programs that share the opaque-tile size.
-std::string opaqueTileHeader() {
-    return "#version 450 core\n#define OPAQUE_TILE " + std::to_string(kOpaqueTilePx) + "\n";
-}
-
-// Reading the opaque-tile map (1 where every pixel of the tile is opaque) for occlusion culling, through
-// texel fetches (Gl::bindCullMap): llvmpipe loads from a storage buffer lane by lane.
-const char* kOpaqueTilesRead = R"(
-#ifdef OCCLUSION
-layout(binding = 7) uniform usamplerBuffer opaqueTexels;
-bool tileOpaque(int t) { return texelFetch(opaqueTexels, t).r != 0u; }
-#endif
-)";
-
-// Uniforms and the adaptive classifier, shared by the splat vertex stage and the patch-mode pass.
-const char* kSplatCommon = R"(
-uniform ivec3 uDims;
-uniform vec3 uSpacing;        // object position of voxel ijk is origin + spacing * ijk
-uniform mat3 uViewFromObject; // W
-uniform vec3 uTranslation;    // W origin + d: camera position of voxel (0,0,0)
-uniform float uFPx;
-uniform float uNear;
-uniform int uFilter;          // 0 reconstruction, 1 low-pass, 2 EWA, 3 adaptive (classifier.h)
-uniform bool uOrtho;          // constant affine projection diag(f, f, 1)
-uniform int uAxis;            // traversal axis: slices and patches lie across it
-uniform int uPatchSize;
-uniform float uReconAbovePx, uLowPassBelowPx, uSigmaMin, uSigmaMax;
-
-uniform float uHysteresis;
-
-// previous: last frame's filter (3: none), for hysteresis, as classifyDepth() on the CPU.
-int classifyDepth(float u2, int previous) {
-    if (!uOrtho && !(u2 > uNear)) return 0;
-    float pxPerUnit = uOrtho ? uFPx : uFPx / u2;
-    float reconAbove = uReconAbovePx, lowPassBelow = uLowPassBelowPx;
-    if (uHysteresis > 0.0 && previous != 3) {   // enter by 1 + h, leave by 1 / (1 + h)
-        float band = 1.0 + uHysteresis;
-        reconAbove = previous == 0 ? reconAbove / band : reconAbove * band;
-        lowPassBelow = previous == 1 ? lowPassBelow * band : lowPassBelow / band;
-    }
-    if (uSigmaMin * pxPerUnit > reconAbove) return 0;
-    if (uSigmaMax * pxPerUnit < lowPassBelow) return 1;
-    return 2;
-}
-
-// The patch's filter from its four corner voxels, as classifyPatch() does on the CPU.
-int classifyPatch(ivec3 ijk, int previous) {
-    int a = (uAxis + 1) % 3, b = (uAxis + 2) % 3;
-    int a0 = ijk[a] / uPatchSize * uPatchSize, b0 = ijk[b] / uPatchSize * uPatchSize;
-    int a1 = min(a0 + uPatchSize - 1, uDims[a] - 1), b1 = min(b0 + uPatchSize - 1, uDims[b] - 1);
-    int mode = 2;
-    for (int corner = 0; corner < 4; ++corner) {
-        ivec3 c = ijk;
-        c[a] = (corner & 1) != 0 ? a1 : a0;
-        c[b] = (corner & 2) != 0 ? b1 : b0;
-        int m = classifyDepth((uViewFromObject * (uSpacing * vec3(c)) + uTranslation).z, previous);
-        if (corner == 0) mode = m;
-        else if (m != mode) return 2;
-    }
-    return mode;
-}
-
-int resolveFilter(ivec3 ijk, int previous) { return uFilter == 3 ? classifyPatch(ijk, previous) : uFilter; }
-)";
-
-// The footprint of one listed voxel, shared by the vertex stage and the tile pass: the same guards in
-// the same order, counted in the same slots.
-const char* kSplatFootprint = R"(
-layout(std430, binding = 0) readonly buffer Entries { uint entries[]; };   // 16-bit offsets, two a word
-// The LUT through texel fetches: on llvmpipe a storage-buffer load of a vec4 cost a third of the footprint.
-layout(binding = 4) uniform samplerBuffer lutTexels;
-layout(std430, binding = 2) buffer Counters { uint counters[]; };
-layout(std430, binding = 3) readonly buffer Gradients { uint gradients[]; };   // 3 bytes a voxel (shading.h)
-// Adaptive: each patch's filter at (patch along a1, patch along a2, slice), written by the patch pass.
-layout(binding = 8) uniform usampler3D patchModes;
-uniform float uInvPatchSize;
-layout(binding = 0) uniform usampler3D classes;      // per-voxel LUT class (R16UI)
-
-uniform ShadingParams uShadingParams;
-uniform float uSurfaceFlatten, uSurfaceGradient;   // flatten 1: no surface splats
-uniform vec3 uSigma;          // kernel sigma per object axis
-
-uniform vec2 uCentrePx, uViewport;
-uniform mat3 uVarCamera;      // W V'' W^T, shared by every voxel of a rectilinear grid
-uniform float uCutoff;        // in sigmas
-uniform float uExtinctionScale;   // density / mean spacing * voxel volume
-uniform float uMaxHalfExtent;     // huge-footprint guard, pixels
-
-// Program variants (SplatRenderer::Gl::splatProgram) switch features with #defines: llvmpipe runs
-// both sides of a branch under a mask, so an unused feature would still cost every vertex/fragment.
-bool countingInvocation();
-void count(int slot) {   // COUNTERS: count per splat (slots: CounterSlot)
-#ifdef COUNTERS
-    if (countingInvocation()) atomicAdd(counters[slot], 1u);
-#endif
-}
-
-struct Footprint {
-    vec2 centre, halfExtent;  // pixels, y down; the cutoff ellipse's box
-    vec3 conic;               // (a, b, c): e = a dx^2 + 2 b dx dy + c dy^2
-    float amplitude;          // optical depth at the centre
-    vec3 colour;
-    vec3 gradient;            // per-fragment shading: W times the decoded relative gradient
-    int mode;                 // the filter used
-    uint lutClass;            // tiles fetch the unshaded colour by it
-};
-
-// Entry k of run `run` (first entry, tile base, slice | bucket << 16 | dense << 31, count): false when
-// a guard culls it (counted in its slot).
-bool footprint(uvec4 run, uint k, out Footprint f) {
-    bool dense = (run.z >> 31) != 0u;
-    uint e = run.x + k;
-    uint pos = run.y + (dense ? k : (entries[e >> 1] >> ((e & 1u) * 16u)) & 0xffffu);
-    int a1 = (uAxis + 1) % 3, a2 = (uAxis + 2) % 3;
-    ivec3 ijk;
-    ijk[uAxis] = int(run.z & 0xffffu);
-    ijk[a1] = int(pos % uint(uDims[a1]));
-    ijk[a2] = int(pos / uint(uDims[a1]));
-    uint cls = texelFetch(classes, ijk, 0).r;
-    if (dense && (cls >> 6) != ((run.z >> 16) & 0xffu)) return false;   // another bucket's voxel
-    count(0);
-    f.lutClass = cls;
-    vec4 tf = texelFetch(lutTexels, int(cls));
-    if (!(tf.a > 0.0)) { count(1); return false; }
-
-    vec3 u = uViewFromObject * (uSpacing * vec3(ijk)) + uTranslation;
-    if (!(u.z > uNear)) { count(2); return false; }
-    float l = length(u);
-    float iz = 1.0 / u.z;
-    // Pixel-unit Jacobian (001 eq. 25), written row by row, transposed into GLSL's column order;
-    // orthographic: the constant affine map.
-    mat3 J = uOrtho ? mat3(uFPx, 0.0, 0.0, 0.0, uFPx, 0.0, 0.0, 0.0, 1.0)
-                    : transpose(mat3(uFPx * iz, 0.0, -uFPx * u.x * iz * iz,
-                                     0.0, uFPx * iz, -uFPx * u.y * iz * iz,
-                                     u.x / l, u.y / l, u.z / l));
-    uint voxel = uint(ijk.x) + uint(uDims.x) * (uint(ijk.y) + uint(uDims.y) * uint(ijk.z));
-#if defined(SURFACE) || defined(SPLAT_SHADING) || defined(FRAGMENT_SHADING)
-    // The voxel's 3 bytes from the two words they may span (gradientBufferBytes() pads one word).
-    uint byte = 3u * voxel, shift = (byte & 3u) * 8u;
-    uint texel = gradients[byte >> 2u] >> shift | (gradients[(byte >> 2u) + 1u] << (31u - shift)) << 1u;
-    vec4 grad = unpackGradient(texel & 0xffffffu);
-#else
-    vec4 grad = vec4(0.0);
-#endif
-#ifdef SURFACE
-    bool surface = grad.w >= uSurfaceGradient;
-    mat3 varCamera = surface ? surfaceVarianceCamera(uSigma, uViewFromObject, grad.xyz, uSurfaceFlatten) : uVarCamera;
-#else
-    bool surface = false;
-    mat3 varCamera = uVarCamera;
-#endif
-    mat3 V = J * varCamera * transpose(J);
-    mat2 vHat = mat2(V[0][0], V[0][1], V[1][0], V[1][1]);
-#ifdef ADAPTIVE   // the patch's filter, classified once per patch by the patch pass
-    // By float (exact: the half keeps a multiple of the size off the boundary): llvmpipe divides
-    // integers lane by lane.
-    int pa = int((float(ijk[a1]) + 0.5) * uInvPatchSize), pb = int((float(ijk[a2]) + 0.5) * uInvPatchSize);
-    f.mode = int(texelFetch(patchModes, ivec3(pa, pb, ijk[uAxis]), 0).r);
-#else
-    f.mode = uFilter;
-#endif
-    mat2 M = f.mode == 0 ? vHat : (f.mode == 1 ? mat2(1.0) : vHat + mat2(1.0));
-    if (surface && f.mode == 0) M = clampFootprintVariance(M, kMinFootprintVariancePx2);
-    float det = M[0][0] * M[1][1] - M[0][1] * M[1][0];
-    if (!(det > 1e-12)) { count(3); return false; }
-    f.halfExtent = uCutoff * sqrt(vec2(M[0][0], M[1][1]));
-    if (max(f.halfExtent.x, f.halfExtent.y) > uMaxHalfExtent) { count(4); return false; }
-    f.centre = uCentrePx + uFPx * (uOrtho ? u.xy : u.xy * iz);
-    if (f.centre.x + f.halfExtent.x < 0.0 || f.centre.x - f.halfExtent.x > uViewport.x ||
-        f.centre.y + f.halfExtent.y < 0.0 || f.centre.y - f.halfExtent.y > uViewport.y) { count(5); return false; }
-
-    float detJ = uOrtho ? uFPx * uFPx : uFPx * uFPx * l * iz * iz * iz;
-    f.conic = vec3(M[1][1], -M[0][1], M[0][0]) / det;
-    f.amplitude = tf.a * uExtinctionScale * detJ / (6.283185307 * sqrt(det));
-    f.gradient = uViewFromObject * (grad.xyz * grad.w);
-#ifdef SPLAT_SHADING
-    f.colour = shade(tf.rgb, f.gradient, -u, uShadingParams);
-#else
-    f.colour = tf.rgb;
-#endif
-    return true;
-}
-
-// Pixels the footprint can touch, as the CPU's box: centres inside centre -+ halfExtent.
-ivec2 boxLo(Footprint f) { return ivec2(ceil(f.centre - f.halfExtent - 0.5)); }
-ivec2 boxHi(Footprint f) { return ivec2(floor(f.centre + f.halfExtent - 0.5)); }
-
-#ifdef OCCLUSION
-uniform int uTilesX;          // columns of the opaque-tile map
-// Culled when every tile under the pixels it can touch was opaque at the last snapshot of the map:
-// early termination would reject each of its pixels anyway. Boxes wider than 4 tiles are kept.
-bool hidden(Footprint f) {
-    ivec2 ta = clamp(boxLo(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
-    ivec2 tb = clamp(boxHi(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
-    if (tb.x - ta.x >= 4 || tb.y - ta.y >= 4) return false;
-    for (int ty = ta.y; ty <= tb.y; ++ty)
-        for (int tx = ta.x; tx <= tb.x; ++tx)
-            if (!tileOpaque(ty * uTilesX + tx)) return false;   // most splats leave at their first tile
-    return true;
-}
-#endif
-)";
-
-const char* kSplatVertMain = R"(
-layout(location = 0) in uvec4 aRun;  // per draw (baseInstance): the run record
-uniform bool uReverse;        // front-to-back splat-every-sample: each run read backwards
-uniform int uVertsPerSplat;   // 1: point sprite, 6: two triangles
-uniform float uGuardPx;       // the viewport reaches this far past the image (points clip by centre)
-
-flat out vec2 vCentre;
-flat out vec3 vConic;
-flat out float vAmplitude;
-flat out vec3 vColour;
-flat out vec3 vHeat;          // one-hot filter mode
-flat out vec4 vNormalTrust;   // per-fragment shading: the unit normal and how far it is trusted
-
-bool countingInvocation() { return gl_VertexID % uVertsPerSplat == 0; }
-
-const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
-
-void main() {
-    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);   // culled unless a footprint is emitted below
-    gl_PointSize = 1.0;
-    bool dense = (aRun.z >> 31) != 0u;
-    // Listed runs: gl_VertexID starts at the run's first entry; dense runs walk their tile from 0.
-    uint k = uint(gl_VertexID) / uint(uVertsPerSplat) - (dense ? 0u : aRun.x);
-    if (uReverse) k = aRun.w - 1u - k;
-    Footprint f;
-    if (!footprint(aRun, k, f)) return;
-#ifdef OCCLUSION
-    if (hidden(f)) { count(10); return; }
-#endif
-    count(6);
-    count(7 + f.mode);
-    vCentre = f.centre;
-    vConic = f.conic;
-    vAmplitude = f.amplitude;
-    vNormalTrust = vec4(unitOrZero(f.gradient), normalTrust(f.gradient, uShadingParams));
-    vColour = f.colour;
-    vHeat = vec3(f.mode == 0 ? 1.0 : 0.0, f.mode == 1 ? 1.0 : 0.0, f.mode == 2 ? 1.0 : 0.0);
-    // Half a pixel of margin against rounding: the fragment test, not the primitive, decides coverage
-    // (a pixel centre on the box's edge would lie on the cutoff ellipse).
-    vec2 p = f.centre;
-    if (uVertsPerSplat == 1) gl_PointSize = 2.0 * max(f.halfExtent.x, f.halfExtent.y) + 1.0;
-    else p += kCorners[gl_VertexID % 6] * (f.halfExtent + 0.5);
-    vec2 span = uViewport + 2.0 * uGuardPx;
-    gl_Position = vec4(2.0 * (p.x + uGuardPx) / span.x - 1.0, 1.0 - 2.0 * (p.y + uGuardPx) / span.y, 0.0, 1.0);
-}
-)";
-
-// Tiled splatting (SplatSettings::Primitive::Tiles), for sheet and X-ray compositing: compute passes
-// instead of the rasteriser. (1) Each kept splat is written as a record and counted in every screen
-// tile (SPLAT_TILE pixels square) its box reaches, per slice rank; (2) the counts become offsets, per
-// tile over the ranks and then over the tiles; (3) each splat copies its record into its tiles' lists;
-// (4) one workgroup per tile walks its list slice by slice, every pixel keeping its sheet and the image
-// in registers. A pixel's sums do not depend on the order within a slice, so the lists need no sort.
-// The slices go through these passes in chunks, the image carried from one to the next (X-ray's
-// resolve follows the last). Front to back with early termination each chunk is binned against the
-// tiles earlier chunks made opaque (OCCLUSION), so hidden splats cost no entries.
-// Records are RECORD_VEC4S vec4s: centre and half extent; conic and amplitude; its bits (rank | mode << 16 |
-// LUT class << 18) in .w of the third, whose .rgb holds the colour with SPLAT_SHADING; FRAGMENT_SHADING: the
-// gradient. List entries are ENTRY_TEXELS vec4s (see kTileScatterComp).
-const char* kTileSplatCompMain = R"(
-layout(local_size_x = RUN_LANES) in;
-layout(std430, binding = 5) readonly buffer Runs { uvec4 runs[]; };
-layout(std430, binding = 6) readonly buffer Commands { uvec4 commands[]; };   // count 0: no active bucket
-layout(std430, binding = 7) writeonly buffer Splats { vec4 splats[]; };
-layout(std430, binding = 8) buffer Bins { uint bins[]; };                     // per tile and chunk rank
-uniform uint uRunFirst, uRuns, uGroupsX;   // the chunk's runs
-uniform ivec2 uTiles;
-uniform int uSlices, uRank0, uRanks;       // the chunk: ranks uRank0 .. uRank0 + uRanks - 1
-uniform bool uRankDescending;   // rank 0 is the highest slice
-uniform uint uSegments;         // workgroups a run's voxels are dealt to (gl_WorkGroupID.z)
-uniform uint uProbe;            // 2: the trip count of the loop that ends main()
-
-bool countingInvocation() { return true; }
-
-void main() {
-    uint r = uRunFirst + gl_WorkGroupID.y * uGroupsX + gl_WorkGroupID.x;
-    if (r >= uRunFirst + uRuns || commands[r].x == 0u) return;
-    uvec4 run = runs[r];
-    int slice = int(run.z & 0xffffu);
-    uint rank = uint((uRankDescending ? uSlices - 1 - slice : slice) - uRank0);
-    for (uint k = gl_WorkGroupID.z * uint(RUN_LANES) + gl_LocalInvocationID.x; k < run.w;
-         k += uint(RUN_LANES) * uSegments) {
-        Footprint f;
-        if (!footprint(run, k, f)) continue;
-#ifdef OCCLUSION
-        if (hidden(f)) { count(10); continue; }
-#endif
-        count(6);
-        count(7 + f.mode);
-        uint i = atomicAdd(splatCount, 1u);
-        // On llvmpipe a storage-buffer store costs a loop over the lanes per component: only what is used.
-        float bits = uintBitsToFloat(rank | uint(f.mode) << 16 | f.lutClass << 18);
-        splats[RECORD_VEC4S * i] = vec4(f.centre, f.halfExtent);
-        splats[RECORD_VEC4S * i + 1] = vec4(f.conic, f.amplitude);
-#ifdef SPLAT_SHADING
-        splats[RECORD_VEC4S * i + 2] = vec4(f.colour, bits);
-#else
-        splats[RECORD_VEC4S * i + 2].w = bits;
-#endif
-#ifdef FRAGMENT_SHADING
-        splats[RECORD_VEC4S * i + 3].xyz = f.gradient;
-#endif
-        ivec2 ta = max(boxLo(f), ivec2(0)) / SPLAT_TILE, tb = min(boxHi(f), ivec2(uViewport) - 1) / SPLAT_TILE;
-        for (int ty = ta.y; ty <= tb.y; ++ty)
-            for (int tx = ta.x; tx <= tb.x; ++tx) {
-                int t = ty * uTiles.x + tx;
-#ifdef OCCLUSION   // an opaque tile takes nothing more: no entry
-                if (tileOpaque(t)) continue;
-#endif
-                atomicAdd(bins[t * uRanks + int(rank)], 1u);
-            }
-    }
-    // llvmpipe ends every loop of an invocation once its loops have run 65535 iterations together, so a
-    // long run (or huge boxes) would lose splats without a word. A loop of uProbe (2) iterations that
-    // stops after one says so; the host then deals the runs to more workgroups.
-    uint probe = 0u;
-    for (uint i = 0u; i < uProbe; ++i) ++probe;
-    if (probe < uProbe) atomicOr(cut, 1u);
-}
-)";
-
-// What the tile passes of a part share: splats recorded, list entries, the most entries one tile has (the
-// composite's loop over them), whether a record-pass invocation was cut short (llvmpipe's loop limit:
-// the end of kTileSplatCompMain), then each tile's count and later where its list starts.
-const char* kTileState = R"(
-layout(std430, binding = 9) buffer TileState { uint splatCount; uint entryCount; uint tileMost; uint cut; uint tileBase[]; };
-)";
-
-// Counts to offsets: per tile over its ranks (bins become where each rank starts in the tile's list,
-// tileBase the tile's total)...
-const char* kTileOffsetsComp = R"(
-layout(local_size_x = 64) in;
-layout(std430, binding = 8) buffer Bins { uint bins[]; };
-uniform int uTileCount, uRanks;
-void main() {
-    int t = int(gl_GlobalInvocationID.x);
-    if (t >= uTileCount) return;
-    uint sum = 0u;
-    for (int k = 0; k < uRanks; ++k) {
-        uint c = bins[t * uRanks + k];
-        bins[t * uRanks + k] = sum;
-        sum += c;
-    }
-    tileBase[t] = sum;
-}
-)";
-
-// ...then over the tiles, in one workgroup: tileBase becomes where each tile's list starts, entryCount
-// the total; the tiles with entries are listed, with the composite's indirect dispatch (a grid
-// BUSY_ROW wide: a dimension may be capped at 65535) and their count.
-const char* kTileBasesComp = R"(
-layout(local_size_x = 1024) in;
-layout(std430, binding = 12) writeonly buffer Busy { uvec4 busyGroups; uint busyTiles[]; };
-uniform int uTileCount;
-shared uint partial[1024], partialBusy[1024], partialMost[1024];
-void main() {
-    uint id = gl_LocalInvocationID.x;
-    uint per = (uint(uTileCount) + 1023u) / 1024u;
-    uint i0 = min(id * per, uint(uTileCount)), i1 = min(i0 + per, uint(uTileCount));
-    uint sum = 0u, busy = 0u, most = 0u;
-    for (uint i = i0; i < i1; ++i) {
-        uint c = tileBase[i];
-        sum += c;
-        busy += c > 0u ? 1u : 0u;
-        most = max(most, c);
-    }
-    partial[id] = sum;
-    partialBusy[id] = busy;
-    partialMost[id] = most;
-    barrier();
-    if (id == 0u) {
-        uint running = 0u, runningBusy = 0u, runningMost = 0u;
-        for (uint j = 0u; j < 1024u; ++j) {
-            uint v = partial[j], b = partialBusy[j];
-            partial[j] = running;
-            partialBusy[j] = runningBusy;
-            running += v;
-            runningBusy += b;
-            runningMost = max(runningMost, partialMost[j]);
-        }
-        entryCount = running;
-        tileMost = runningMost;
-        busyGroups = uvec4(min(runningBusy, BUSY_ROW), (runningBusy + BUSY_ROW - 1u) / BUSY_ROW, 1u, runningBusy);
-    }
-    barrier();
-    uint running = partial[id], runningBusy = partialBusy[id];
-    for (uint i = i0; i < i1; ++i) {
-        uint v = tileBase[i];
-        tileBase[i] = running;
-        running += v;
-        if (v > 0u) busyTiles[runningBusy++] = i;
-    }
-}
-)";
-
-// Each splat copies what the composite needs into the list of every tile its box reaches (bins: the
-// cursor per rank; afterwards where each rank ends). Copies, not indices: a tile then reads its list in
-// order, where records fetched by index miss the cache (a third of bonsai's composite time on llvmpipe).
-// An entry is (centre, conic.xy), (conic.z, amplitude, bits) and, with shading, the shaded colour or the
-// gradient: without SPLAT_SHADING the composite fetches the colour from the LUT by class, so an entry
-// takes 7 stored floats instead of 12 (llvmpipe pays per stored component).
-const char* kTileScatterComp = R"(
-layout(local_size_x = 64) in;
-layout(binding = 6) uniform samplerBuffer splatTexels;
-layout(binding = 5) uniform usamplerBuffer stateTexels;   // TileState as texels: tileBase[t] is texel 4 + t
-layout(std430, binding = 8) buffer Bins { uint bins[]; };
-layout(std430, binding = 10) writeonly buffer Entries { vec4 entries[]; };
-uniform ivec2 uTiles;
-uniform int uRanks;
-uniform vec2 uViewport;
-void scatter(uint i) {
-    int r = int(RECORD_VEC4S * i);
-    vec4 box = texelFetch(splatTexels, r), conic = texelFetch(splatTexels, r + 1);
-#ifdef SPLAT_SHADING
-    vec4 colour = texelFetch(splatTexels, r + 2);
-    float bits = colour.w;
-#else
-    float bits = texelFetch(splatTexels, r + 2).w;
-#endif
-#ifdef FRAGMENT_SHADING
-    vec3 gradient = texelFetch(splatTexels, r + 3).xyz;
-#endif
-    int rank = int(floatBitsToUint(bits) & 0xffffu);
-    // The same box as the count pass: the same floats through the same formulas.
-    ivec2 ta = max(ivec2(ceil(box.xy - box.zw - 0.5)), ivec2(0)) / SPLAT_TILE;
-    ivec2 tb = min(ivec2(floor(box.xy + box.zw - 0.5)), ivec2(uViewport) - 1) / SPLAT_TILE;
-    for (int ty = ta.y; ty <= tb.y; ++ty)
-        for (int tx = ta.x; tx <= tb.x; ++tx) {
-            int t = ty * uTiles.x + tx;
-#ifdef OCCLUSION   // as the count pass
-            if (tileOpaque(t)) continue;
-#endif
-            uint e = ENTRY_TEXELS * (texelFetch(stateTexels, 4 + t).r + atomicAdd(bins[t * uRanks + rank], 1u));
-            entries[e] = vec4(box.xy, conic.xy);
-            entries[e + 1u].xyz = vec3(conic.zw, bits);
-#ifdef SPLAT_SHADING
-            entries[e + 2u].xyz = colour.rgb;
-#endif
-#ifdef FRAGMENT_SHADING
-            entries[e + 2u].xyz = gradient;
-#endif
-        }
-}
-void main() {   // a grid of at most 65535 workgroups walks every splat
-    for (uint i = gl_GlobalInvocationID.x; i < splatCount; i += gl_NumWorkGroups.x * 64u) scatter(i);
-}
-)";
-
-// The footprint's quadratic form at pixel offset (dx, dy) from its centre: e = a dx^2 + 2 b dx dy + c dy^2
-// for conic (a, b, c). One definition for the fragment stage and the tile composite.
-const char* kConicForm = R"(
-float conicForm(vec3 q, float dx, float dy) { return q.x * dx * dx + 2.0 * q.y * dx * dy + q.z * dy * dy; }
-)";
-
-// One workgroup per tile, one invocation per pixel column: slice by slice, each of the column's pixels
-// adds its splats into its sheet, which is composited into the pixel (front to back "under", back to
-// front "over"; X-ray: summed and resolved at the end). Early termination as the rasterised sheets: a
-// pixel whose alpha reached uOpaqueAlpha at a refresh (every uRefresh ranks) takes nothing more.
-// A column per invocation fetches each record once for eight pixels (fetches were 60 % of a frame on
-// llvmpipe with a pixel per invocation). Every row is evaluated without a branch: the cutoff test
-// zeroes rows outside the ellipse, which lies inside the box the tiles were chosen by, and on llvmpipe
-// a masked branch costs more than the row (both sides run under a mask). Whole slices and tiles are
-// skipped by loops of at most one pass (SKIP_UNLESS): llvmpipe leaves a loop once no lane is in it.
-// Such a loop costs more than a row's composite, so an empty sheet is composited too (it adds nothing).
-const char* kTileCompositeCompMain = R"(
-#if SPLAT_TILE != 8
-#error the row macros below assume 8x8 tiles
-#endif
-#define ROWS(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7)
-#define SKIP_UNLESS(cond) for (int once = 0; once < ((cond) ? 1 : 0); ++once)
-layout(local_size_x = SPLAT_TILE) in;
-// The list through texel fetches: llvmpipe gathers those without a bounds check per lane.
-layout(binding = 0) uniform samplerBuffer entries;
-layout(binding = 1) uniform samplerBuffer lut;   // without SPLAT_SHADING: the colour by LUT class
-layout(std430, binding = 8) readonly buffer Bins { uint bins[]; };   // where each rank ends in its tile's list
-// The image and heatmap so far (earlier chunks; cleared before the first), rows bottom up.
-layout(rgba32f, binding = 0) uniform image2D outImage;
-layout(rgba32f, binding = 1) uniform image2D outHeat;
-layout(std430, binding = 11) writeonly buffer OpaqueTiles { uint opaqueTiles[]; };   // OCCLUSION
-layout(std430, binding = 12) readonly buffer Busy { uvec4 busyGroups; uint busyTiles[]; };   // the tiles to do
-shared uint liveColumns;
-uniform ivec2 uTiles;
-uniform int uRank0, uRanks, uRefresh;   // the chunk's ranks, as the count pass
-uniform vec2 uViewport, uCentrePx;
-uniform float uCutoff, uFPx, uOpaqueAlpha;
-uniform bool uFrontToBack, uOrtho;
-uniform ShadingParams uShadingParams;
-
-// (sum c tau, sum tau) -> premultiplied colour of alpha 1 - exp(-sum tau), as the sheet composite.
-vec4 sheetRgba(vec4 q) {
-    if (!(q.a > 0.0)) return vec4(0.0);
-    float a = q.a < 1e-3 ? q.a * (1.0 - 0.5 * q.a) : 1.0 - exp(-q.a);
-    return vec4(q.rgb / q.a * a, a);
-}
-
-vec4 composite(vec4 image, vec4 sheet) {
-#ifdef XRAY
-    return image + sheet;
-#else
-    vec4 s = sheetRgba(sheet);
-    return uFrontToBack ? image + (1.0 - image.a) * s : s + (1.0 - s.a) * image;
-#endif
-}
-
-#ifdef HEATMAP
-#define ADD_HEAT(r) sheetHeat##r += vec4(mode == 0u ? tau : 0.0, mode == 1u ? tau : 0.0, mode == 2u ? tau : 0.0, tau);
-#define COMPOSITE_HEAT(r) heat##r = composite(heat##r, sheetHeat##r);
-#define STORE_HEAT(r) imageStore(outHeat, ivec2(px, int(uViewport.y) - 1 - (y0 + r)), heat##r);
-#define LOAD_HEAT(r) imageLoad(outHeat, ivec2(px, int(uViewport.y) - 1 - (y0 + r)))
-#else
-#define LOAD_HEAT(r) vec4(0.0)
-#define ADD_HEAT(r)
-#define COMPOSITE_HEAT(r)
-#define STORE_HEAT(r)
-#endif
-#ifdef FRAGMENT_SHADING   // towards the eye along this pixel's ray, taken once a pixel
-#define DECLARE_VIEW(r) vec3 view##r = unitOrZero(toEyeAt(vec2(cx, float(y0 + r) + 0.5), uCentrePx, uFPx, uOrtho));
-#define SHADE(r) vec3 colour = shadeUnit(c, normal, trust, view##r, uShadingParams);
-#else
-#define DECLARE_VIEW(r)
-#define SHADE(r) vec3 colour = c;
-#endif
-
-// Past the image's edge imageLoad gives 0 (nothing is stored there).
-#define DECLARE(r) \
-    vec4 image##r = imageLoad(outImage, ivec2(px, int(uViewport.y) - 1 - (y0 + r))), heat##r = LOAD_HEAT(r), sheet##r, sheetHeat##r; \
-    bool live##r = true; \
-    DECLARE_VIEW(r)
-#define REFRESH(r) live##r = image##r.a < uOpaqueAlpha;
-#define CLEAR(r) sheet##r = vec4(0.0); sheetHeat##r = vec4(0.0);
-// The Gaussian down a column. COLUMN_RECURRENCE: by recurrence, two sums and two products a row instead of
-// the quadratic form and an exp (the exp was 12 % of the composite on llvmpipe, the form another 13 %). Along
-// the column e(r+1) - e(r) = 2 b dx + c (2 dy + 1) grows by 2 c a row, so e takes two sums, and
-// g(r+1) = g(r) h(r) with h(r) = exp(-(e(r+1) - e(r)) / 2), h(r+1) = h(r) exp(-c). The host sets it only where every
-// footprint holds the 1-px low-pass (M >= I, so the conic's c <= 1: footprintsHoldThePixel) and the cutoff
-// is at most 3 sigmas (columnRecurrence()): a column with a row inside the cutoff ellipse then has
-// e <= (3 + 7)^2 = 100 in every row, so no factor under- or overflows; a column with none takes nothing,
-// whatever its products.
-#ifdef COLUMN_RECURRENCE
-#define COLUMN_START \
-    float dy0 = float(y0) + 0.5 - centre.y; \
-    float e = conicForm(conic, dx, dy0), de = 2.0 * (conic.y * dx + conic.z * (dy0 + 0.5)), dde = 2.0 * conic.z; \
-    float g = amplitude * exp(-0.5 * e); \
-    float h = exp(-0.5 * de), k = exp(-conic.z);
-#define EXPONENT(r) e
-#define GAUSSIAN(e) g
-#define COLUMN_STEP g *= h; h *= k; e += de; de += dde;
-#else
-#define COLUMN_START
-#define EXPONENT(r) conicForm(conic, dx, float(y0 + r) + 0.5 - centre.y)
-#define GAUSSIAN(e) amplitude * exp(-0.5 * (e))
-#define COLUMN_STEP
-#endif
-#define ROW(r) { \
-        float e##r = EXPONENT(r); \
-        float tau = live##r && e##r <= cutoff2 ? GAUSSIAN(e##r) : 0.0; \
-        COLUMN_STEP \
-        SHADE(r) \
-        sheet##r += vec4(colour * tau, tau); \
-        ADD_HEAT(r) \
-    }
-#define COMPOSITE(r) { image##r = composite(image##r, sheet##r); COMPOSITE_HEAT(r) }
-#define STORE(r) \
-    if (y0 + r < int(uViewport.y)) { \
-        imageStore(outImage, ivec2(px, int(uViewport.y) - 1 - (y0 + r)), image##r); \
-        STORE_HEAT(r) \
-    }
-
-#define OPAQUE(r) && (y0 + r >= int(uViewport.y) || image##r.a >= uOpaqueAlpha)
-
-void main() {
-    // Only tiles with entries in this chunk: the others stay as they are.
-    uint busy = gl_WorkGroupID.y * BUSY_ROW + gl_WorkGroupID.x;
-    if (busy >= busyGroups.w) return;
-    int t = int(busyTiles[busy]);
-    int px = (t % uTiles.x) * SPLAT_TILE + int(gl_LocalInvocationID.x), y0 = (t / uTiles.x) * SPLAT_TILE;
-    float cx = float(px) + 0.5;   // pixel centres, y down
-    float cutoff2 = uCutoff * uCutoff;
-    ROWS(DECLARE)
-    uint base = tileBase[t], start = 0u;
-    bool stale = false;   // a refresh is due before the next slice with splats here
-    for (int k = 0; k < uRanks; ++k) {
-        uint end = bins[t * uRanks + k];
-        stale = stale || (uFrontToBack && (uRank0 + k) % uRefresh == 0);
-        SKIP_UNLESS(end > start) {
-            if (stale) { ROWS(REFRESH) }
-            stale = false;
-            bool anyLive = live0 || live1 || live2 || live3 || live4 || live5 || live6 || live7;
-            ROWS(CLEAR)
-            for (uint j = start; j < (anyLive ? end : start); ++j) {
-                int i = int(ENTRY_TEXELS * (base + j));
-                vec4 a = texelFetch(entries, i), b = texelFetch(entries, i + 1);
-                vec2 centre = a.xy;
-                vec3 conic = vec3(a.zw, b.x);
-                float amplitude = b.y;
-                uint bits = floatBitsToUint(b.z), mode = (bits >> 16) & 3u;
-#ifdef SPLAT_SHADING
-                vec3 c = texelFetch(entries, i + 2).rgb;
-#else
-                vec3 c = texelFetch(lut, int(bits >> 18)).rgb;
-#endif
-#ifdef FRAGMENT_SHADING
-                vec3 gradient = texelFetch(entries, i + 2).xyz;
-                vec3 normal = unitOrZero(gradient);
-                float trust = normalTrust(gradient, uShadingParams);
-#endif
-                float dx = cx - centre.x;
-                COLUMN_START
-                ROWS(ROW)
-            }
-            ROWS(COMPOSITE)
-        }
-        start = end;
-    }
-#ifdef OCCLUSION   // the opaque-tile map the next chunk is binned against (pixels past the edge count as opaque)
-    if (gl_LocalInvocationID.x == 0u) liveColumns = 0u;
-    barrier();
-    bool opaque = px >= int(uViewport.x) || (true ROWS(OPAQUE));
-    if (!opaque) atomicOr(liveColumns, 1u);
-    barrier();
-    if (gl_LocalInvocationID.x == 0u) {
-        opaqueTiles[t] = liveColumns == 0u ? 1u : 0u;
-        if (liveColumns == 0u) opaqueTiles[uTiles.x * uTiles.y] = 1u;   // after the map: any tile opaque
-    }
-#endif
-    if (px >= int(uViewport.x)) return;
-    ROWS(STORE)
-}
-)";
-
-const char* kSplatFragMain = R"(
-flat in vec2 vCentre;
-flat in vec3 vConic;
-flat in float vAmplitude;
-flat in vec3 vColour;
-flat in vec3 vHeat;
-flat in vec4 vNormalTrust;
-uniform vec2 uViewport, uCentrePx;
-uniform float uCutoff, uFPx;
-uniform bool uOrtho;
-uniform ShadingParams uShadingParams;
-uniform bool uAdditive;       // sheets and X-ray sum optical depth; splat-every-sample blends "over"
-layout(location = 0) out vec4 fragColour;
-#ifdef HEATMAP
-layout(location = 1) out vec4 fragHeat;
-#endif
-
-void main() {
-    vec2 d = vec2(gl_FragCoord.x, uViewport.y - gl_FragCoord.y) - vCentre;   // y down, like the CPU
-    float e = conicForm(vConic, d.x, d.y);
-    if (e > uCutoff * uCutoff) discard;
-    float tau = vAmplitude * exp(-0.5 * e);
-    // 1 - exp(-tau) loses all digits in float for tiny tau; the series is exact to 1e-10 there.
-    float w = uAdditive ? tau : (tau < 1e-3 ? tau * (1.0 - 0.5 * tau) : 1.0 - exp(-tau));
-    vec3 colour = vColour;
-#ifdef FRAGMENT_SHADING   // towards the eye along this pixel's ray
-    vec2 px = vec2(gl_FragCoord.x, uViewport.y - gl_FragCoord.y);
-    colour = shadeUnit(vColour, vNormalTrust.xyz, vNormalTrust.w, unitOrZero(toEyeAt(px, uCentrePx, uFPx, uOrtho)),
-                       uShadingParams);
-#endif
-    fragColour = vec4(colour * w, w);
-#ifdef HEATMAP
-    fragHeat = vec4(vHeat * w, w);
-#endif
-}
-)";
-
-const char* kFullscreenVert = R"(#version 450 core
-void main() {
-    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
-
-// Sheet compositing: the slice's sheet as premultiplied colour, blended behind the image (front to
-// back: src (1 - dst.a) + dst) or over it (back to front). HEATMAP: the heat sheet likewise.
-const char* kCompositeFragMain = R"(
-layout(binding = 0) uniform sampler2D sheet;
-layout(binding = 1) uniform sampler2D sheetHeat;
-layout(location = 0) out vec4 outColour;
-#ifdef HEATMAP
-layout(location = 1) out vec4 outHeat;
-#endif
-
-// (sum c tau, sum tau) -> premultiplied colour of alpha 1 - exp(-sum tau).
-vec4 sheetRgba(vec4 q) {
-    if (!(q.a > 0.0)) return vec4(0.0);
-    float a = q.a < 1e-3 ? q.a * (1.0 - 0.5 * q.a) : 1.0 - exp(-q.a);
-    return vec4(q.rgb / q.a * a, a);
-}
-
-void main() {
-    ivec2 p = ivec2(gl_FragCoord.xy);
-    outColour = sheetRgba(texelFetch(sheet, p, 0));
-#ifdef HEATMAP
-    outHeat = sheetRgba(texelFetch(sheetHeat, p, 0));
-#endif
-}
-)";
-
-// Early termination, before each front-to-back slice: pixels of the image whose alpha reached
-// uOpaqueAlpha get depth 0.5 in the sheet's depth buffer, where the splats (also at 0.5) then fail
-// GL_LESS: no fill is spent behind opaque pixels.
-const char* kOpaqueMaskFrag = R"(#version 450 core
-layout(binding = 2) uniform sampler2D image;
-uniform float uOpaqueAlpha;
-void main() {
-    if (texelFetch(image, ivec2(gl_FragCoord.xy), 0).a < uOpaqueAlpha) discard;
-}
-)";
-
-// The opaque-tile map occlusion culling reads: 1 where every pixel of the tile (rows top down, as
-// the splats' pixel coordinates) reached uOpaqueAlpha; pixels past the image's edge count as opaque.
-const char* kOpaqueTilesComp = R"(
-layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 2) uniform sampler2D image;
-layout(std430, binding = 11) writeonly buffer OpaqueTiles { uint opaqueTiles[]; };
-uniform float uOpaqueAlpha;
-uniform ivec2 uTiles;
-void main() {
-    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
-    if (t.x >= uTiles.x || t.y >= uTiles.y) return;
-    ivec2 size = textureSize(image, 0);
-    bool opaque = true;
-    for (int y = t.y * OPAQUE_TILE; y < min((t.y + 1) * OPAQUE_TILE, size.y); ++y)
-        for (int x = t.x * OPAQUE_TILE; x < min((t.x + 1) * OPAQUE_TILE, size.x); ++x)
-            opaque = opaque && texelFetch(image, ivec2(x, size.y - 1 - y), 0).a >= uOpaqueAlpha;
-    opaqueTiles[t.y * uTiles.x + t.x] = opaque ? 1u : 0u;
-    if (opaque) opaqueTiles[uTiles.x * uTiles.y] = 1u;   // after the map: any tile opaque
-}
-)";
-
-// X-ray resolve, in place: the accumulated sums become 1 - exp(-sum), like the CPU oracle; the
-// heatmap splits that alpha by each mode's share of the sum.
-const char* kResolveFrag = R"(#version 450 core
-layout(binding = 2) uniform sampler2D image;
-layout(binding = 3) uniform sampler2D heat;
-layout(location = 0) out vec4 outColour;
-layout(location = 1) out vec4 outHeat;
-void main() {
-    ivec2 p = ivec2(gl_FragCoord.xy);
-    outColour = vec4(1.0) - exp(-texelFetch(image, p, 0));
-    vec4 h = texelFetch(heat, p, 0);
-    float a = 1.0 - exp(-h.a);
-    outHeat = vec4(h.a > 0.0 ? h.rgb * (a / h.a) : vec3(0.0), a);
-}
-)";
-
-// Display: composite over the background and flip, so memory row 0 is the image's top row.
-const char* kDisplayFrag = R"(#version 450 core
-layout(binding = 0) uniform sampler2D image;
-uniform vec3 uBackground;
-out vec4 fragColour;
-void main() {
-    ivec2 size = textureSize(image, 0);
-    vec4 c = texelFetch(image, ivec2(gl_FragCoord.x, size.y - 1 - int(gl_FragCoord.y)), 0);
-    fragColour = vec4(c.rgb + (1.0 - c.a) * uBackground, 1.0);
-}
-)";
-
-// Bucket selection: one indirect draw per run of the frame's axis, in the frame's order; inactive
-// buckets draw 0 vertices. Runs only change with the volume, so a TF edit re-runs this pass and uploads
-// nothing; so does a turn to another axis or order (one array, not one per order). Two layouts, since
-// a frame may draw some slices as points and others as quads: the first uRuns commands draw a vertex
-// a splat, the next uRuns six (32 bytes a run).
-const char* kCommandsComp = R"(#version 450 core
-layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Runs { uvec4 runs[]; };     // first entry, tile, slice|bucket|dense, count
-layout(std430, binding = 1) readonly buffer LutBuffer { vec4 lut[]; };
-layout(std430, binding = 2) readonly buffer SliceRuns { uint sliceRuns[]; };   // as AxisLists::sliceRuns
-layout(std430, binding = 3) writeonly buffer Commands { uvec4 commands[]; };
-uniform uint uRuns;
-uniform bool uAllBuckets;
-uniform bool uDescending;   // slices from the highest, each slice's runs in their own order
-uniform bool uReversed;     // the exact reverse (front-to-back splat-every-sample reverses each run too)
-void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= uRuns) return;
-    uvec4 run = runs[i];
-    uint bucket = (run.z >> 16) & 0xffu;
-    bool selected = uAllBuckets;
-    for (uint c = bucket << 6; c < ((bucket + 1u) << 6) && !selected; ++c) selected = lut[c].a > 0.0;
-    uint slice = run.z & 0xffffu;
-    uint slot = uDescending ? uRuns - sliceRuns[slice + 1u] + (i - sliceRuns[slice]) : i;
-    // DrawArraysIndirectCommand: count, instanceCount, first (0 for dense runs), baseInstance (selects
-    // this run's aRun).
-    uint at = uReversed ? uRuns - 1u - slot : slot, count = selected ? run.w : 0u;
-    commands[at] = uvec4(count, 1u, run.x, i);
-    commands[uRuns + at] = uvec4(6u * count, 1u, 6u * run.x, i);
-}
-)";
-
-const char* kPatchCompMain = R"(
-layout(local_size_x = 64) in;
-layout(r8ui, binding = 0) uniform uimage3D modes;   // last frame's in, this frame's out
-uniform int uNa, uNb, uSlices;
-uniform bool uHasPrevious;
-void main() {
-    int i = int(gl_GlobalInvocationID.x);
-    if (i >= uSlices * uNb * uNa) return;
-    ivec3 at = ivec3(i % uNa, i / uNa % uNb, i / (uNa * uNb));
-    ivec3 ijk;
-    ijk[uAxis] = at.z;
-    ijk[(uAxis + 1) % 3] = at.x * uPatchSize;
-    ijk[(uAxis + 2) % 3] = at.y * uPatchSize;
-    int previous = uHasPrevious ? int(imageLoad(modes, at).r) : 3;
-    imageStore(modes, at, uvec4(resolveFilter(ijk, previous)));
-}
-)";
+// The #define of the programs that share the opaque-tile size.
+std::string opaqueTileDefine() { return "#define OPAQUE_TILE " + std::to_string(kOpaqueTilePx) + "\n"; }
 
 constexpr int kTimerRing = 4;
 // Tiled splatting culls against the opaque-tile map with its own tile indices.
@@ -937,11 +128,11 @@ struct AxisBuffers {
 
 } // namespace
 
-// Feature bits of a splat program variant (the #defines above).
+// Feature bits of a splat program variant: #defines of renderer/shaders/ (every set: programs.cmake).
 enum SplatVariant { kCounters = 1, kSurface = 2, kSplatShading = 4, kFragmentShading = 8, kHeatmap = 16, kAdaptive = 32,
                     kOcclusion = 64 };
 
-// Tiled splatting's vec4s per splat record and per list entry (kTileSplatCompMain, kTileScatterComp).
+// Tiled splatting's vec4s per splat record and per list entry (tile_record.comp, tile_scatter.comp).
 int recordVec4s(int bits) { return bits & kFragmentShading ? 4 : 3; }
 int entryTexels(int bits) { return bits & (kSplatShading | kFragmentShading) ? 3 : 2; }
 
@@ -959,7 +150,7 @@ std::string variantDefines(int bits) {
 
 // Whether the tile composite may take the Gaussian down a column by recurrence (COLUMN_RECURRENCE): every
 // footprint holds the 1-px low-pass (its conic's entries are at most 1) and the cutoff is at most 3 sigmas.
-// Both bound its products (kTileCompositeCompMain).
+// Both bound its products (tile_composite.comp).
 bool columnRecurrence(FilterMode drawn, glm::ivec3 dims, glm::dvec3 origin, glm::dvec3 spacing, const ImagePlane& plane,
                       const SplatSettings& s) {
     return s.cutoffSigmas <= 3.0 && footprintsHoldThePixel(drawn, dims, origin, spacing, plane, s);
@@ -1162,7 +353,7 @@ struct SplatRenderer::Gl {
         lapPass = pass;
     }
 
-    // X-ray's sums become 1 - exp(-sum), in place (kResolveFrag).
+    // X-ray's sums become 1 - exp(-sum), in place (xray_resolve.frag).
     void resolveXRay(int w, int h) {
         lap(GpuPass::Resolve);
         glBindFramebuffer(GL_FRAMEBUFFER, frameFbo);
@@ -1203,7 +394,7 @@ struct SplatRenderer::Gl {
         glBindTextureUnit(unit, texture);
     }
 
-    // The opaque-tile map occlusion culling reads (kOpaqueTilesRead).
+    // The opaque-tile map occlusion culling reads (opaque_tiles_read.glsl).
     void bindCullMap(GLuint map) {
         bindTexels(opaqueTexture, GL_R32UI, map, GLsizeiptr(opaqueMapBytes()), 7);
     }
@@ -1213,14 +404,14 @@ struct SplatRenderer::Gl {
     GLuint splatProgram(int bits) {
         auto it = splatPrograms.find(bits);
         if (it != splatPrograms.end()) return it->second;
-        const std::string header = opaqueTileHeader() + variantDefines(bits);
-        const GLuint p = gl::buildProgram("splat", (header + shadingGlsl() + kSplatCommon + kOpaqueTilesRead + kSplatFootprint + kSplatVertMain).c_str(),
-                                          (header + shadingGlsl() + kConicForm + kSplatFragMain).c_str());
+        const std::string defines = opaqueTileDefine() + variantDefines(bits);
+        const GLuint p = gl::buildProgram("splat", programSource("splat", defines, "splat.vert").c_str(),
+                                          programSource("splat", defines, "splat.frag").c_str());
         splatPrograms[bits] = p;
         return p;
     }
 
-    // Tiled splatting's passes (kTile* below); bits: SplatVariant features of the splat and composite
+    // Tiled splatting's passes (renderer/shaders/tile_*.comp); bits: SplatVariant features of the splat and composite
     // passes.
     enum TilePass { kTileSplat = 1 << 8, kTileOffsets = 2 << 8, kTileBases = 3 << 8, kTileScatter = 4 << 8,
                     kTileComposite = 5 << 8, kTileXRay = 1 << 12, kTileColumnRecurrence = 1 << 13 };
@@ -1228,17 +419,18 @@ struct SplatRenderer::Gl {
         const int key = pass | bits;
         auto it = tilePrograms.find(key);
         if (it != tilePrograms.end()) return it->second;
-        const std::string header = opaqueTileHeader() + variantDefines(bits) + (bits & kTileXRay ? "#define XRAY\n" : "") +
-                                   (bits & kTileColumnRecurrence ? "#define COLUMN_RECURRENCE\n" : "") +
-                                   "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n#define BUSY_ROW 4096u\n" + kTileState +
-                                   "#define RECORD_VEC4S " + std::to_string(recordVec4s(bits)) + "u\n#define ENTRY_TEXELS " +
-                                   std::to_string(entryTexels(bits)) + "u\n";
-        std::string source;
-        if (pass == kTileSplat) source = header + "#define RUN_LANES " + std::to_string(runLanes) + "\n" + shadingGlsl() + kSplatCommon + kOpaqueTilesRead + kSplatFootprint + kTileSplatCompMain;
-        else if (pass == kTileOffsets) source = header + kTileOffsetsComp;
-        else if (pass == kTileBases) source = header + kTileBasesComp;
-        else if (pass == kTileScatter) source = header + kOpaqueTilesRead + kTileScatterComp;
-        else source = header + shadingGlsl() + kConicForm + kTileCompositeCompMain;
+        std::string defines = opaqueTileDefine() + variantDefines(bits) + (bits & kTileXRay ? "#define XRAY\n" : "") +
+                              (bits & kTileColumnRecurrence ? "#define COLUMN_RECURRENCE\n" : "") +
+                              "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n#define BUSY_ROW 4096u\n" +
+                              "#define RECORD_VEC4S " + std::to_string(recordVec4s(bits)) + "u\n#define ENTRY_TEXELS " +
+                              std::to_string(entryTexels(bits)) + "u\n";
+        if (pass == kTileSplat) defines += "#define RUN_LANES " + std::to_string(runLanes) + "\n";
+        const char* program = pass == kTileSplat     ? "tile_record"
+                              : pass == kTileOffsets ? "tile_offsets"
+                              : pass == kTileBases   ? "tile_bases"
+                              : pass == kTileScatter ? "tile_scatter"
+                                                     : "tile_composite";
+        const std::string source = programSource(program, defines, std::string(program) + ".comp");
         const GLuint p = gl::buildComputeProgram("tiled_splatting", source.c_str());
         tilePrograms[key] = p;
         return p;
@@ -1450,18 +642,8 @@ Rect sliceRect(const glm::dvec3& origin, const glm::dvec3& spacing, const ImageP
 // them. llvmpipe stops it at 65535 (its LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop of the
 // shader), and then silently ends every later loop after one iteration. 0: it ran to the end.
 uint32_t measureLoopLimit() {
-    static const char* kSource = R"(#version 450 core
-layout(local_size_x = 1) in;
-layout(std430, binding = 0) buffer Result { uint iterations; };
-uniform uint uN;
-void main() {
-    uint n = 0u;
-    for (uint i = 0u; i < uN; ++i) ++n;
-    iterations = n;
-}
-)";
     constexpr GLuint kTrip = 1u << 20;
-    const GLuint program = gl::buildComputeProgram("loop_limit", kSource);
+    const GLuint program = gl::buildComputeProgram("loop_limit", programSource("loop_limit", "", "loop_limit.comp").c_str());
     GLuint buffer = 0;
     glCreateBuffers(1, &buffer);
     glNamedBufferStorage(buffer, 4, nullptr, 0);
@@ -1487,16 +669,25 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     installGlDebugCallback();
     Gl& g = *m_gl;
     g.splatProgram(0);   // the common variant: a broken shader fails here, not in the first frame
-    for (int heat = 0; heat < 2; ++heat)
-        g.compositePrograms[size_t(heat)] = gl::buildProgram(
-            "sheet_composite",  kFullscreenVert,
-            (std::string("#version 450 core\n") + (heat ? "#define HEATMAP\n" : "") + kCompositeFragMain).c_str());
-    g.opaqueMaskProgram = gl::buildProgram("opaque_mask", kFullscreenVert, kOpaqueMaskFrag);
-    g.resolveProgram = gl::buildProgram("xray_resolve", kFullscreenVert, kResolveFrag);
-    g.displayProgram = gl::buildProgram("display", kFullscreenVert, kDisplayFrag);
-    g.commandsProgram = gl::buildComputeProgram("bucket_commands", kCommandsComp);
-    g.patchProgram = gl::buildComputeProgram("patch_modes", (std::string("#version 450 core\n") + kSplatCommon + kPatchCompMain).c_str());
-    g.opaqueTilesProgram = gl::buildComputeProgram("opaque_tiles", (opaqueTileHeader() + kOpaqueTilesComp).c_str());
+    for (int heat = 0; heat < 2; ++heat) {
+        const std::string defines = heat ? "#define HEATMAP\n" : "";
+        g.compositePrograms[size_t(heat)] =
+            gl::buildProgram("sheet_composite", programSource("sheet_composite", defines, "fullscreen.vert").c_str(),
+                             programSource("sheet_composite", defines, "sheet_composite.frag").c_str());
+    }
+    // A full-screen pass: the one triangle of fullscreen.vert, then `fragment`.
+    auto fullscreen = [](const char* program, const char* fragment) {
+        return gl::buildProgram(program, programSource(program, "", "fullscreen.vert").c_str(),
+                                programSource(program, "", fragment).c_str());
+    };
+    g.opaqueMaskProgram = fullscreen("opaque_mask", "opaque_mask.frag");
+    g.resolveProgram = fullscreen("xray_resolve", "xray_resolve.frag");
+    g.displayProgram = fullscreen("display", "display.frag");
+    g.commandsProgram =
+        gl::buildComputeProgram("bucket_commands", programSource("bucket_commands", "", "bucket_commands.comp").c_str());
+    g.patchProgram = gl::buildComputeProgram("patch_modes", programSource("patch_modes", "", "patch_modes.comp").c_str());
+    g.opaqueTilesProgram = gl::buildComputeProgram(
+        "opaque_tiles", programSource("opaque_tiles", opaqueTileDefine(), "opaque_tiles.comp").c_str());
     glCreateVertexArrays(1, &g.splatVao);
     glCreateVertexArrays(1, &g.emptyVao);
     // Attribute 0: the run record, one per draw (divisor 1 reads element baseInstance).
@@ -1561,7 +752,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         listBytes = std::max(listBytes, a.gpuBytes());
         mostRuns = std::max(mostRuns, a.hostRuns.size());
     }
-    const uint64_t commandBytes = mostRuns * 32;   // both layouts (kCommandsComp)
+    const uint64_t commandBytes = mostRuns * 32;   // both layouts (bucket_commands.comp)
     uint64_t needed = scene.classes.size() * sizeof(uint16_t) + scene.lut.size() * sizeof(glm::vec4) + listBytes +
                       commandBytes + gradientBufferBytes(scene.gradients.size());
     std::optional<uint64_t> freeBytes = freeGpuMemoryBytes();
@@ -1823,7 +1014,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     glBindVertexArray(g.splatVao);
     glVertexArrayVertexBuffer(g.splatVao, 0, axis.runs, 0, sizeof(glm::uvec4));
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, g.commands);
-    // Where slice `slice`'s commands lie in the bound array (as kCommandsComp lays them out), and how
+    // Where slice `slice`'s commands lie in the bound array (as bucket_commands.comp lays them out), and how
     // many there are.
     const uint32_t runCount = axis.runCount;
     auto sliceCommands = [&](uint32_t slice) {
@@ -1904,7 +1095,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         // say). llvmpipe bins timestamp queries into a bound framebuffer's draws and runs dispatches
         // at once, so every pass's time landed in the lap before it.
         glBindFramebuffer(GL_FRAMEBUFFER, g.computeFbo);
-        // Tiled splatting (kTileSplatCompMain): splat records and per-tile counts, offsets, lists, then
+        // Tiled splatting (tile_record.comp and after): splat records and per-tile counts, offsets, lists, then
         // one workgroup per tile composites. Ranks follow the compositing order. With early termination
         // the ranks go in chunks, each binned against the opaque-tile map the chunks before it left.
         const glm::ivec2 grid((plane.width + kSplatTilePx - 1) / kSplatTilePx,
