@@ -56,6 +56,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
                           (plane.height + kSplatTilePx - 1) / kSplatTilePx);
     const GLint tileCount = grid.x * grid.y;
     const size_t recordBytes = size_t(recordVec4s(variant)) * 16, texels = size_t(entryTexels(variant));
+    // 1. Chunks of slices, and the buffers their records, counts and busy tiles need.
     // Chunks: occlusion ones (nextOcclusionChunk(), at most maxOcclusionChunk()), else listChunkSlices.
     const bool occlusion = variant & kOcclusion;
     uint32_t chunk = occlusion ? uint32_t(occlusionSlices(settings))
@@ -84,6 +85,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
     Gl::bindTexels(g.tileSplatTexture, GL_RGBA32F, g.tileSplats,
                    GLsizeiptr(std::min<uint64_t>(g.tileSplatBytes / 16, g.texelCap()) * 16), 6);
     Gl::bindTexels(g.tileStateTexture, GL_R32UI, g.tileState, GLsizeiptr(g.tileStateBytes), 5);
+    // 2. The passes' programs, their uniforms for this frame, and the bindings every part shares.
     const GLuint offsets = g.tileProgram(Gl::kTileOffsets, 0);
     const GLuint bases = g.tileProgram(Gl::kTileBases, 0);
     const GLuint scatter = g.tileProgram(Gl::kTileScatter, variant & (kSplatShading | kFragmentShading | kOcclusion));
@@ -122,6 +124,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, g.tileBusy);
     glBindImageTexture(0, g.image, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(1, g.heat, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    // 3. Chunk by chunk, in parts where its lists do not fit: record, offsets and bases, scatter, composite.
     for (uint32_t k0 = 0; k0 < slices && refused.empty(); advance(k0)) {
         const uint32_t chunkEnd = std::min(slices, k0 + chunk);
         // The chunk goes whole unless its lists do not fit; then in parts of ranks j0 .. j1 - 1, each
@@ -148,6 +151,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
                 glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
                 glCopyNamedBufferSubData(g.counterBuffer, g.savedCounters, 0, 0, kCounterSlots * 4);
             }
+            // 3a. Record: the part's splats and each tile's count per rank (tile_record.comp).
             g.lap(GpuPass::Splats);
             glClearNamedBufferSubData(g.tileBins, GL_R32UI, 0, GLsizeiptr(size_t(tileCount) * ranks * 4),
                                       GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
@@ -165,6 +169,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
             glDispatchCompute(groupsX, (runs + groupsX - 1) / groupsX, segments);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);   // records: the scatter's texels
 
+            // 3b. Counts to offsets, per tile and then over the tiles (tile_offsets.comp, tile_bases.comp).
             g.lap(GpuPass::Offsets);
             g.useProgram(offsets);
             glUniform1i(glGetUniformLocation(offsets, "uRanks"), GLint(ranks));
@@ -174,6 +179,8 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
             glDispatchCompute(1, 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
                             GL_TEXTURE_FETCH_BARRIER_BIT);
+            // 3c. Read back what the part needs; a run cut short, lists too long or a tile too busy: again,
+            //     dealt wider or in fewer slices (or refused where one slice is too much).
             // Splats, entries (they size the lists' buffer), the busiest tile's entries and whether a
             // record invocation was cut short: the one wait of a part (a few bytes).
             GLuint counts[4] = {0, 0, 0, 0};
@@ -232,12 +239,14 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
             Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * texels * 16);
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.tileList);
 
+            // 3d. Scatter: each splat into its tiles' lists (tile_scatter.comp).
             g.lap(GpuPass::Scatter);
             g.useProgram(scatter);
             glUniform1i(glGetUniformLocation(scatter, "uRanks"), GLint(ranks));
             glDispatchCompute(std::clamp<GLuint>((counts[0] + 63) / 64, 1, 65535), 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
 
+            // 3e. Composite: a workgroup per busy tile (tile_composite.comp).
             g.lap(GpuPass::Composite);
             g.useProgram(composite);
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, g.opaqueTiles);
@@ -254,6 +263,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
         }
         if (occlusion && !anyOpaque) anyOpaque = g.anyTileOpaque();
     }
+    // 4. X-ray's resolve; the slices drawn.
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
                     GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
