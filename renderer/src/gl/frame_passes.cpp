@@ -51,7 +51,8 @@ void SplatRenderer::Gl::prepareFrame(FramePlan& f) {
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
     // 3d. The splat (or tile record) program of the frame's variant, its uniforms and bindings.
-    const GLuint p = f.program = tiles ? g.tileProgram(Gl::kTileSplat, variant & ~kHeatmap) : g.splatProgram(variant);
+    const GLuint p = f.program =
+        tiles ? g.tileProgram(Gl::kTileSplat, variant & ~kHeatmap) : g.splatProgram(variant);
     g.useProgram(p);
     glBindTextureUnit(8, g.patchTexture);
     g.setCommonUniforms(p, plane, settings, trav.axis);
@@ -154,7 +155,8 @@ size_t SplatRenderer::Gl::classifyPatches(const ImagePlane& plane, const SplatSe
 }
 
 // Uniforms of SPLAT_COMMON for this view.
-void SplatRenderer::Gl::setCommonUniforms(GLuint p, const ImagePlane& plane, const SplatSettings& settings, int axis) const {
+void SplatRenderer::Gl::setCommonUniforms(GLuint p, const ImagePlane& plane, const SplatSettings& settings,
+                                          int axis) const {
     const glm::mat3 w(plane.viewFromObject);
     // Positions relative to the volume's origin, folded into the translation in double: a volume
     // far from the world origin (1e6 units) keeps its sub-voxel precision in float.

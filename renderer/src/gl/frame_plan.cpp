@@ -58,7 +58,8 @@ double pointExcessPx2(glm::dvec3 u, const glm::dmat3& varianceCamera, const Imag
 
 } // namespace
 
-FramePlan SplatRenderer::Gl::planFrame(const ImagePlane& plane, const SplatSettings& settings, bool rasterise) {
+FramePlan SplatRenderer::Gl::planFrame(const ImagePlane& plane, const SplatSettings& settings,
+                                        bool rasterise) {
     Gl& g = *this;
     if (plane.width < 1 || plane.height < 1 || plane.width > 16384 || plane.height > 16384)
         throw RenderError("image size " + std::to_string(plane.width) + "x" + std::to_string(plane.height) +

@@ -95,7 +95,8 @@ void SplatRenderer::Gl::ensureBuffer(GLuint& buffer, size_t& capacity, size_t by
 // Binds to `unit` the buffer texture `texture` (created on first use) over the first `bytes` of
 // `buffer`: llvmpipe fetches texels lane by lane as a gather, storage-buffer values component by
 // component, so the passes read what they do not write as texels.
-void SplatRenderer::Gl::bindTexels(GLuint& texture, GLenum format, GLuint buffer, GLsizeiptr bytes, GLuint unit) {
+void SplatRenderer::Gl::bindTexels(GLuint& texture, GLenum format, GLuint buffer, GLsizeiptr bytes,
+                                   GLuint unit) {
     if (!texture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &texture);
     glTextureBufferRange(texture, format, buffer, 0, bytes);
     glBindTextureUnit(unit, texture);

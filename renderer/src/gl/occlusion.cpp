@@ -35,28 +35,28 @@ void SplatRenderer::Gl::maskOpaquePixels(const FramePlan& f, GLuint fbo, bool re
     const ImagePlane& plane = f.plane;
     const SplatSettings& settings = f.settings;
     const GLuint p = f.program;
-        g.lap(GpuPass::Opaque);
-        glDisable(GL_SCISSOR_TEST);
-        glDisable(GL_BLEND);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-        glViewport(0, 0, plane.width, plane.height);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_ALWAYS);
-        glDepthMask(GL_TRUE);
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        g.useProgram(g.opaqueMaskProgram);
-        glUniform1f(glGetUniformLocation(g.opaqueMaskProgram, "uOpaqueAlpha"), float(settings.opaqueAlpha));
-        glBindTextureUnit(2, g.image);
-        glBindVertexArray(g.emptyVao);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        if (remap) g.updateOpaqueTiles(float(settings.opaqueAlpha));
-        // Back to splatting: at depth 0.5 against the mask, blending, the splat program.
-        glDepthFunc(GL_LESS);
-        glDepthMask(GL_FALSE);
-        glEnable(GL_BLEND);
-        g.useProgram(p);
-        glBindVertexArray(g.splatVao);
+    g.lap(GpuPass::Opaque);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_BLEND);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, plane.width, plane.height);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    g.useProgram(g.opaqueMaskProgram);
+    glUniform1f(glGetUniformLocation(g.opaqueMaskProgram, "uOpaqueAlpha"), float(settings.opaqueAlpha));
+    glBindTextureUnit(2, g.image);
+    glBindVertexArray(g.emptyVao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    if (remap) g.updateOpaqueTiles(float(settings.opaqueAlpha));
+    // Back to splatting: at depth 0.5 against the mask, blending, the splat program.
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    g.useProgram(p);
+    glBindVertexArray(g.splatVao);
 }
 
 } // namespace renderer

@@ -3,6 +3,9 @@
 #include "splat_renderer_state.h"
 #include "gl/shader_sources.h"
 
+#include <string>
+#include <utility>
+
 namespace renderer {
 
 namespace {
@@ -39,11 +42,12 @@ GLuint SplatRenderer::Gl::tileProgram(int pass, int bits) {
     const int key = pass | bits;
     auto it = tilePrograms.find(key);
     if (it != tilePrograms.end()) return it->second;
-    std::string defines = opaqueTileDefine() + variantDefines(bits) + (bits & kTileXRay ? "#define XRAY\n" : "") +
-                          (bits & kTileColumnRecurrence ? "#define COLUMN_RECURRENCE\n" : "") +
-                          "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n#define BUSY_ROW 4096u\n" +
-                          "#define RECORD_VEC4S " + std::to_string(recordVec4s(bits)) + "u\n#define ENTRY_TEXELS " +
-                          std::to_string(entryTexels(bits)) + "u\n";
+    std::string defines = opaqueTileDefine() + variantDefines(bits);
+    if (bits & kTileXRay) defines += "#define XRAY\n";
+    if (bits & kTileColumnRecurrence) defines += "#define COLUMN_RECURRENCE\n";
+    defines += "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n#define BUSY_ROW 4096u\n";
+    defines += "#define RECORD_VEC4S " + std::to_string(recordVec4s(bits)) + "u\n";
+    defines += "#define ENTRY_TEXELS " + std::to_string(entryTexels(bits)) + "u\n";
     if (pass == kTileSplat) defines += "#define RUN_LANES " + std::to_string(runLanes) + "\n";
     const char* program = pass == kTileSplat     ? "tile_record"
                           : pass == kTileOffsets ? "tile_offsets"
@@ -57,25 +61,25 @@ GLuint SplatRenderer::Gl::tileProgram(int pass, int bits) {
 }
 
 void SplatRenderer::Gl::buildFixedPrograms() {
-    for (int heat = 0; heat < 2; ++heat) {
-        const std::string defines = heat ? "#define HEATMAP\n" : "";
-        compositePrograms[size_t(heat)] =
-            gl::buildProgram("sheet_composite", programSource("sheet_composite", defines, "fullscreen.vert").c_str(),
-                             programSource("sheet_composite", defines, "sheet_composite.frag").c_str());
-    }
     // A full-screen pass: the one triangle of fullscreen.vert, then `fragment`.
-    auto fullscreen = [](const char* program, const char* fragment) {
-        return gl::buildProgram(program, programSource(program, "", "fullscreen.vert").c_str(),
-                                programSource(program, "", fragment).c_str());
+    auto fullscreen = [](const char* program, const std::string& defines, const char* fragment) {
+        return gl::buildProgram(program, programSource(program, defines, "fullscreen.vert").c_str(),
+                                programSource(program, defines, fragment).c_str());
     };
-    opaqueMaskProgram = fullscreen("opaque_mask", "opaque_mask.frag");
-    resolveProgram = fullscreen("xray_resolve", "xray_resolve.frag");
-    displayProgram = fullscreen("display", "display.frag");
-    commandsProgram =
-        gl::buildComputeProgram("bucket_commands", programSource("bucket_commands", "", "bucket_commands.comp").c_str());
-    patchProgram = gl::buildComputeProgram("patch_modes", programSource("patch_modes", "", "patch_modes.comp").c_str());
-    opaqueTilesProgram = gl::buildComputeProgram(
-        "opaque_tiles", programSource("opaque_tiles", opaqueTileDefine(), "opaque_tiles.comp").c_str());
+    // A compute pass: <program>.comp.
+    auto compute = [](const char* program, const std::string& defines) {
+        return gl::buildComputeProgram(program,
+                                       programSource(program, defines, std::string(program) + ".comp").c_str());
+    };
+    for (int heat = 0; heat < 2; ++heat)
+        compositePrograms[size_t(heat)] =
+            fullscreen("sheet_composite", heat ? "#define HEATMAP\n" : "", "sheet_composite.frag");
+    opaqueMaskProgram = fullscreen("opaque_mask", "", "opaque_mask.frag");
+    resolveProgram = fullscreen("xray_resolve", "", "xray_resolve.frag");
+    displayProgram = fullscreen("display", "", "display.frag");
+    commandsProgram = compute("bucket_commands", "");
+    patchProgram = compute("patch_modes", "");
+    opaqueTilesProgram = compute("opaque_tiles", opaqueTileDefine());
 }
 
 // How many iterations the driver lets one invocation's loops run: a loop of 2^20 iterations counts
@@ -83,7 +87,8 @@ void SplatRenderer::Gl::buildFixedPrograms() {
 // shader), and then silently ends every later loop after one iteration. 0: it ran to the end.
 uint32_t measureLoopLimit() {
     constexpr GLuint kTrip = 1u << 20;
-    const GLuint program = gl::buildComputeProgram("loop_limit", programSource("loop_limit", "", "loop_limit.comp").c_str());
+    const GLuint program =
+        gl::buildComputeProgram("loop_limit", programSource("loop_limit", "", "loop_limit.comp").c_str());
     GLuint buffer = 0;
     glCreateBuffers(1, &buffer);
     glNamedBufferStorage(buffer, 4, nullptr, 0);
@@ -100,4 +105,5 @@ uint32_t measureLoopLimit() {
     glDeleteProgram(program);
     return iterations < kTrip ? iterations : 0;
 }
+
 } // namespace renderer

@@ -35,7 +35,8 @@ std::string programSource(std::string_view program, const std::string& defines, 
     const std::string wanted = sortedDefines(defines);
     bool validated = false;
     for (size_t i = 0; i < embedded::kValidatedDefineCount && !validated; ++i)
-        validated = program == embedded::kValidatedDefines[i].program && wanted == embedded::kValidatedDefines[i].defines;
+        validated = program == embedded::kValidatedDefines[i].program &&
+                    wanted == embedded::kValidatedDefines[i].defines;
     if (!validated)
         throw std::logic_error("shader program '" + std::string(program) +
                                "' with defines not validated at build time (add the set to "

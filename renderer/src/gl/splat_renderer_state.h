@@ -21,7 +21,8 @@
 
 namespace renderer {
 
-constexpr int kTimerRing = 4;   // GPU timers in flight: a frame's laps are read back up to this many frames later
+// GPU timers in flight: a frame's laps are read back up to this many frames later.
+constexpr int kTimerRing = 4;
 
 // Counter slots of the vertex stage's count(): the SplatCounters fields in this order.
 enum CounterSlot { kVisible, kTransparent, kNear, kDegenerate, kHuge, kOffscreen, kDrawn, kMode0, kOccluded = kMode0 + 3,
@@ -64,7 +65,8 @@ enum SliceDraw : uint8_t { kNothing, kPoints, kQuads };
 
 // What drawFrame decides before it issues anything (Gl::planFrame()), read by every step after it.
 struct FramePlan {
-    FramePlan(const ImagePlane& p, const SplatSettings& s, const AxisBuffers& l) : plane(p), settings(s), lists(l) {}
+    FramePlan(const ImagePlane& p, const SplatSettings& s, const AxisBuffers& l)
+        : plane(p), settings(s), lists(l) {}
     const ImagePlane& plane;
     const SplatSettings& settings;
     const AxisBuffers& lists;          // the traversal axis's, resident
@@ -197,7 +199,8 @@ struct SplatRenderer::Gl {
     void releaseTargets();
     static GLuint makeTexture(GLenum format, int w, int h);
     static GLuint makeFbo(std::initializer_list<GLuint> colours, GLuint depthTexture);
-    // The frame's image, heatmap, sheets and depth at w x h (kept while the size stays) and the opaque-tile map.
+    // The frame's image, heatmap, sheets and depth at w x h (kept while the size stays) and the
+    // opaque-tile map.
     void ensureTargets(int w, int h);
     // Grows `buffer` to at least `bytes` (with headroom); its contents are not kept.
     static void ensureBuffer(GLuint& buffer, size_t& capacity, size_t bytes);
@@ -207,8 +210,10 @@ struct SplatRenderer::Gl {
     static void bindTexels(GLuint& texture, GLenum format, GLuint buffer, GLsizeiptr bytes, GLuint unit);
 
     // program_variants.cpp: programs from renderer/shaders/.
-    void buildFixedPrograms();   // the programs without variants, built once by SplatRenderer's constructor
-    GLuint splatProgram(int bits);   // the rasterised splat program of SplatVariant `bits`, built on first use
+    // The programs without variants, built once by SplatRenderer's constructor.
+    void buildFixedPrograms();
+    // The rasterised splat program of SplatVariant `bits`, built on first use.
+    GLuint splatProgram(int bits);
     // Tiled splatting's passes (renderer/shaders/tile_*.comp); bits: SplatVariant features of the splat and
     // composite passes.
     enum TilePass { kTileSplat = 1 << 8, kTileOffsets = 2 << 8, kTileBases = 3 << 8, kTileScatter = 4 << 8,
