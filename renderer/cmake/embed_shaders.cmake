@@ -14,7 +14,8 @@ string(APPEND out "const ShaderFile kShaderFiles[] = {\n")
 foreach(file IN LISTS files)
   resolve_shader_includes("${SHADER_DIR}" "${file}" "" text)
   if(text MATCHES "\\)glsl\"")
-    message(FATAL_ERROR "${SHADER_DIR}/${file}: contains )glsl\", which ends the raw string it is embedded in")
+    message(FATAL_ERROR "${SHADER_DIR}/${file}: contains )glsl\", "
+                        "which would end the raw string it is embedded in")
   endif()
   string(APPEND out "    {\"${file}\", R\"glsl(${text})glsl\"},\n")
 endforeach()
@@ -28,6 +29,7 @@ foreach(program IN LISTS SHADER_PROGRAMS)
     string(APPEND out "    {\"${program}\", \"${set_}\"},\n")
   endforeach()
 endforeach()
-string(APPEND out "};\nconst size_t kValidatedDefineCount = std::size(kValidatedDefines);\n\n} // namespace renderer::embedded\n")
+string(APPEND out "};\nconst size_t kValidatedDefineCount = std::size(kValidatedDefines);\n\n"
+                  "} // namespace renderer::embedded\n")
 
 file(WRITE "${OUTPUT}" "${out}")

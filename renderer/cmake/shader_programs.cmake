@@ -11,7 +11,7 @@ macro(shader_program name)
   set(SHADER_PROGRAM_${name}_AXES ${_sp_AXES})
 endmacro()
 
-# The define sets of `program`, each as "#define" lines sorted by name (the form shaderDefinesValidated()
+# The define sets of `program`, each as "#define" lines sorted by name (the form programSource()
 # compares), each line ended by "|" instead of "\n" and the whole set after a "." (so no set is the empty
 # string, which a CMake list cannot hold).
 function(shader_define_sets program out_var)

@@ -33,16 +33,17 @@ foreach(program IN LISTS SHADER_PROGRAMS)
   endforeach()
 endforeach()
 
-execute_process(COMMAND "${GLSLANG}" ${inputs} RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE output)
+execute_process(COMMAND "${GLSLANG}" ${inputs}
+                RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE output)
 if(result EQUAL 0)
   file(TOUCH "${STAMP}")
   return()
 endif()
 
 # glslangValidator prints each input's path, then its errors: keep each error once, and the define sets
-# that hit errors.
-string(REPLACE ";" "\\;" output "${output}")   # whole lines, semicolons and all
-string(REPLACE "\n" ";" lines "${output}")
+# that hit errors. Semicolons stand aside while the output is a CMake list of lines.
+string(REPLACE ";" "@semicolon@" output_lines "${output}")
+string(REPLACE "\n" ";" lines "${output_lines}")
 set(errors "")
 set(failed "")
 set(current "")
@@ -53,19 +54,25 @@ foreach(line IN LISTS lines)
     string(SUBSTRING "${line}" ${skip} -1 current)
   elseif(line MATCHES "^ERROR: " AND NOT line MATCHES "compilation errors|Linking|No code generated")
     # As compilers write them, so editors jump there: /abs/path/file.glsl:12: error: message
-    string(REGEX REPLACE "^ERROR: ([^:]+):([0-9]+): (.*)$" "${SOURCE_ROOT}/\\1:\\2: error: \\3" line "${line}")
+    string(REGEX REPLACE "^ERROR: ([^:]+):([0-9]+): (.*)$" "${SOURCE_ROOT}/\\1:\\2: error: \\3"
+           line "${line}")
     list(APPEND errors "${line}")
     list(APPEND failed "${current}")
   endif()
 endforeach()
-list(REMOVE_DUPLICATES errors)
-list(REMOVE_DUPLICATES failed)
-list(LENGTH failed failures)
-list(GET failed 0 first)
-string(REPLACE ";" "\n" errors "${errors}")
-if(errors STREQUAL "")
-  set(errors "${output}")
+if(failed)
+  list(REMOVE_DUPLICATES errors)
+  list(REMOVE_DUPLICATES failed)
+  list(LENGTH failed failures)
+  list(GET failed 0 first)
+  string(REPLACE ";" "\n" errors "${errors}")
+  string(REPLACE "@semicolon@" ";" errors "${errors}")
+  set(report "${errors}\nfirst failing: ${DESCRIBE_${first}}\n(sources in ${WORK_DIR})")
+  set(summary "${failures} of ${count} compilations")
+else()   # no error line: all it said
+  set(report "${output}")
+  set(summary "exit status ${result}")
 endif()
 # NOTICE, unlike FATAL_ERROR, leaves the lines as they are (no wrapping).
-message(NOTICE "${errors}\nfirst failing: ${DESCRIBE_${first}}\n(sources in ${WORK_DIR})")
-message(FATAL_ERROR "GLSL validation failed: ${failures} of ${count} compilations (glslangValidator)")
+message(NOTICE "${report}")
+message(FATAL_ERROR "GLSL validation failed: ${summary} (glslangValidator)")

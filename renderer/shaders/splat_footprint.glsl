@@ -1,6 +1,6 @@
-// Needs shading.glsl, splat_common.glsl and opaque_tiles_read.glsl before it.
 // The footprint of one listed voxel, shared by the vertex stage and the tile pass: the same guards in
-// the same order, counted in the same slots.
+// the same order, counted in the same slots. Needs shading.glsl, splat_common.glsl and
+// opaque_tiles_read.glsl included before it.
 layout(std430, binding = 0) readonly buffer Entries { uint entries[]; };   // 16-bit offsets, two a word
 // The LUT through texel fetches: on llvmpipe a storage-buffer load of a vec4 cost a third of the footprint.
 layout(binding = 4) uniform samplerBuffer lutTexels;

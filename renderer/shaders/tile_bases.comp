@@ -1,7 +1,7 @@
 // Tiled splatting, pass 2b (bases): where each tile's list starts, and the tiles with entries.
-// ...then over the tiles, in one workgroup: tileBase becomes where each tile's list starts, entryCount
-// the total; the tiles with entries are listed, with the composite's indirect dispatch (a grid
-// BUSY_ROW wide: a dimension may be capped at 65535) and their count.
+// After tile_offsets.comp, over the tiles, in one workgroup: tileBase becomes where each tile's list
+// starts, entryCount the total; the tiles with entries are listed, with the composite's indirect
+// dispatch (a grid BUSY_ROW wide: a dimension may be capped at 65535) and their count.
 #include "tile_state.glsl"
 layout(local_size_x = 1024) in;
 layout(std430, binding = 12) writeonly buffer Busy { uvec4 busyGroups; uint busyTiles[]; };

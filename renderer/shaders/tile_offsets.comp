@@ -1,6 +1,6 @@
 // Tiled splatting, pass 2a (offsets): per tile, its counts per rank become offsets.
 // Counts to offsets: per tile over its ranks (bins become where each rank starts in the tile's list,
-// tileBase the tile's total)...
+// tileBase the tile's total); tile_bases.comp then goes over the tiles.
 #include "tile_state.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 8) buffer Bins { uint bins[]; };
