@@ -1,0 +1,105 @@
+// The GL objects SplatRenderer::Gl owns: render targets, growable buffers, buffer textures, teardown.
+#include "splat_renderer_state.h"
+
+namespace renderer {
+
+SplatRenderer::Gl::~Gl() {
+    for (auto [bits, p] : splatPrograms) glDeleteProgram(p);
+    for (auto [bits, p] : tilePrograms) glDeleteProgram(p);
+    const GLuint tileBuffers[] = {tileSplats, tileBins, tileState, tileList,
+                                  tileBusy, chunkStartMap, savedCounters};
+    glDeleteBuffers(7, tileBuffers);
+    glDeleteTextures(1, &tileListTexture);
+    glDeleteTextures(1, &tileSplatTexture);
+    glDeleteTextures(1, &opaqueTexture);
+    glDeleteTextures(1, &tileStateTexture);
+    for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
+                     commandsProgram, patchProgram, opaqueTilesProgram})
+        glDeleteProgram(p);
+    glDeleteFramebuffers(1, &computeFbo);
+    const GLuint vaos[] = {splatVao, emptyVao};
+    glDeleteVertexArrays(2, vaos);
+    glDeleteTextures(1, &classTexture);
+    glDeleteTextures(1, &lutTexture);
+    glDeleteTextures(1, &patchTexture);
+    const GLuint buffers[] = {lutBuffer, counterBuffer, gradientBuffer, commands};
+    glDeleteBuffers(4, buffers);
+    for (auto& a : axes) a.release();
+    releaseTargets();
+    for (Laps& l : laps) glDeleteQueries(GLsizei(l.queries.size()), l.queries.data());
+    glDeleteQueries(1, &fragmentQuery);
+}
+
+void SplatRenderer::Gl::releaseTargets() {
+    const GLuint textures[] = {image, heat, sheet, sheetHeat, depth, displayTex};
+    const GLuint fbos[] = {frameFbo, sheetFbo, displayFbo, depthFbo};
+    glDeleteTextures(6, textures);
+    glDeleteFramebuffers(4, fbos);
+    glDeleteBuffers(1, &opaqueTiles);
+    image = heat = sheet = sheetHeat = depth = displayTex = frameFbo = sheetFbo = displayFbo = depthFbo = 0;
+    opaqueTiles = 0;
+}
+
+GLuint SplatRenderer::Gl::makeTexture(GLenum format, int w, int h) {
+    GLuint texture = 0;
+    glCreateTextures(GL_TEXTURE_2D, 1, &texture);
+    glTextureStorage2D(texture, 1, format, w, h);
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    return texture;
+}
+
+GLuint SplatRenderer::Gl::makeFbo(std::initializer_list<GLuint> colours, GLuint depthTexture) {
+    GLuint fbo = 0;
+    glCreateFramebuffers(1, &fbo);
+    GLenum attachment = GL_COLOR_ATTACHMENT0;
+    for (GLuint c : colours) glNamedFramebufferTexture(fbo, attachment++, c, 0);
+    if (depthTexture) glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, depthTexture, 0);
+    if (colours.size() == 0) glNamedFramebufferDrawBuffer(fbo, GL_NONE);
+    if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw GlError("render target", "framebuffer incomplete");
+    return fbo;
+}
+
+void SplatRenderer::Gl::ensureTargets(int w, int h) {
+    if (w == width && h == height && image) return;
+    releaseTargets();
+    image = makeTexture(GL_RGBA32F, w, h);
+    heat = makeTexture(GL_RGBA32F, w, h);
+    sheet = makeTexture(GL_RGBA32F, w, h);
+    sheetHeat = makeTexture(GL_RGBA32F, w, h);
+    depth = makeTexture(GL_DEPTH_COMPONENT32F, w, h);
+    displayTex = makeTexture(GL_RGBA8, w, h);
+    glTextureParameteri(displayTex, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(displayTex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    frameFbo = makeFbo({image, heat}, depth);
+    sheetFbo = makeFbo({sheet, sheetHeat}, depth);
+    displayFbo = makeFbo({displayTex}, 0);
+    depthFbo = makeFbo({}, depth);   // the opaque mask of splat-every-sample: reads the image
+    tiles = glm::ivec2((w + kOpaqueTilePx - 1) / kOpaqueTilePx, (h + kOpaqueTilePx - 1) / kOpaqueTilePx);
+    glCreateBuffers(1, &opaqueTiles);
+    glNamedBufferStorage(opaqueTiles, GLsizeiptr(opaqueMapBytes()), nullptr, 0);
+    width = w;
+    height = h;
+}
+
+// Grows `buffer` to at least `bytes` (with headroom); its contents are not kept.
+void SplatRenderer::Gl::ensureBuffer(GLuint& buffer, size_t& capacity, size_t bytes) {
+    if (bytes <= capacity && buffer) return;
+    glDeleteBuffers(1, &buffer);
+    capacity = std::max<size_t>(bytes + bytes / 4, 64);
+    glCreateBuffers(1, &buffer);
+    glNamedBufferStorage(buffer, GLsizeiptr(capacity), nullptr, 0);
+}
+
+// Binds to `unit` the buffer texture `texture` (created on first use) over the first `bytes` of
+// `buffer`: llvmpipe fetches texels lane by lane as a gather, storage-buffer values component by
+// component, so the passes read what they do not write as texels.
+void SplatRenderer::Gl::bindTexels(GLuint& texture, GLenum format, GLuint buffer, GLsizeiptr bytes,
+                                   GLuint unit) {
+    if (!texture) glCreateTextures(GL_TEXTURE_BUFFER, 1, &texture);
+    glTextureBufferRange(texture, format, buffer, 0, bytes);
+    glBindTextureUnit(unit, texture);
+}
+
+} // namespace renderer
