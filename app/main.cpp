@@ -426,6 +426,27 @@ void printCounters(const SplatCounters& c) {
                 (unsigned long long)c.culledDegenerate, (unsigned long long)c.culledOccluded);
 }
 
+// What a guard left out of the image, on stderr: splats whose kernels reach the near plane (the ground truth
+// clips those at it instead) and, where SplatSettings::maxFootprintFraction is set, huge footprints.
+// Counted when the counters ran; otherwise the near plane is checked against the volume's nearest voxel.
+void reportDroppedSplats(const Scene& s, const SplatCounters* counted) {
+    if (counted) {
+        if (counted->culledNear > 0)
+            std::fprintf(stderr, "note: %llu splats whose kernels reach the near plane (%g from the eye) were not "
+                                 "drawn; the ground truth clips their kernels there\n",
+                         (unsigned long long)counted->culledNear, s.plane.nearDepth);
+        if (counted->culledHuge > 0)
+            std::fprintf(stderr, "note: %llu footprints wider than %g image diagonals were not drawn\n",
+                         (unsigned long long)counted->culledHuge, s.settings.maxFootprintFraction);
+        return;
+    }
+    const glm::dvec2 depths = s.plane.depthRange(s.scene.dims, s.scene.origin, s.scene.spacing);
+    if (!s.plane.orthographic && depths.x <= s.plane.nearDepth)
+        std::fprintf(stderr, "note: the near plane (%g from the eye) cuts the volume: voxels nearer are not drawn "
+                             "(the ground truth clips their kernels there); --counters counts them\n",
+                     s.plane.nearDepth);
+}
+
 // Milliseconds with three significant digits or more: 98.1, 5.02, 0.213.
 std::string formatMs(double ms) {
     char text[32];
@@ -501,6 +522,7 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
                 s.plane.width, s.plane.height, s.scene.visibleCount(), filterModeName(s.settings.filter),
                 compositingName(s.settings.compositing), ms[ms.size() / 2], frames, device.c_str());
     if (ra.counters) printCounters(counters);
+    reportDroppedSplats(s, ra.counters || ra.cpu ? &counters : nullptr);
     return 0;
 }
 

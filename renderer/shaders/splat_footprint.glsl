@@ -18,8 +18,8 @@ uniform vec3 uSigma;          // kernel sigma per object axis
 uniform vec2 uCentrePx, uViewport;
 uniform mat3 uVarCamera;      // W V'' W^T, shared by every voxel of a rectilinear grid
 uniform float uCutoff;        // in sigmas
-uniform float uExtinctionScale;   // density / mean spacing * voxel volume
-uniform float uMaxHalfExtent;     // huge-footprint guard, pixels
+uniform float uExtinctionScale;   // density / mean spacing * voxel volume / the footprint's mass within the cutoff
+uniform float uMaxHalfExtent;     // huge-footprint guard, pixels (+inf: none, the default)
 
 // Program variants (SplatRenderer::Gl::splatProgram) switch features with #defines: llvmpipe runs
 // both sides of a branch under a mask, so an unused feature would still cost every vertex/fragment.
@@ -84,6 +84,8 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
     bool surface = false;
     mat3 varCamera = uVarCamera;
 #endif
+    // A kernel whose cutoff ellipsoid reaches the near plane is not splatted, as splatGeometry() on the CPU.
+    if (!uOrtho && !(u.z - uCutoff * sqrt(varCamera[2][2]) > uNear)) { count(2); return false; }
     mat3 V = J * varCamera * transpose(J);
     mat2 vHat = mat2(V[0][0], V[0][1], V[1][0], V[1][1]);
 #ifdef ADAPTIVE   // the patch's filter, classified once per patch by the patch pass

@@ -564,6 +564,7 @@ TEST(ReferenceRenderer, NearPlaneAndHugeFootprintsAreCulledAndCounted) {
     EXPECT_GT(c.culledNear, 0u);
     EXPECT_EQ(c.visible, c.drawn + c.culledTransparent + c.culledNear + c.culledOffscreen + c.culledHuge + c.culledDegenerate);
     EXPECT_TRUE(imageStats(img).finite);
+    EXPECT_EQ(c.culledHuge, 0u) << "no huge-footprint guard unless one is set";
     s.maxFootprintFraction = 0.01;   // every footprint is now "huge"
     renderReference(scene, plane, s, &c);
     EXPECT_EQ(c.drawn, 0u);

@@ -3,6 +3,7 @@
 #include "splat_renderer_state.h"
 
 #include <cmath>
+#include <limits>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -66,8 +67,11 @@ void SplatRenderer::Gl::prepareFrame(FramePlan& f) {
     glUniformMatrix3fv(glGetUniformLocation(p, "uVarCamera"), 1, GL_FALSE, glm::value_ptr(varCamera));
     glUniform1f(glGetUniformLocation(p, "uCutoff"), float(settings.cutoffSigmas));
     glUniform1f(glGetUniformLocation(p, "uExtinctionScale"),
-                float(settings.density / meanSpacing * g.spacing.x * g.spacing.y * g.spacing.z));
-    glUniform1f(glGetUniformLocation(p, "uMaxHalfExtent"), float(settings.maxFootprintFraction * diagonal));
+                float(settings.density / meanSpacing * g.spacing.x * g.spacing.y * g.spacing.z /
+                      footprintMassWithin(settings.cutoffSigmas)));   // unit mass inside the cutoff (ewa.h)
+    glUniform1f(glGetUniformLocation(p, "uMaxHalfExtent"), settings.maxFootprintFraction > 0.0
+                                                                 ? float(settings.maxFootprintFraction * diagonal)
+                                                                 : std::numeric_limits<float>::infinity());
     glUniform1i(glGetUniformLocation(p, "uAdditive"), sheets || xray);
     glUniform1i(glGetUniformLocation(p, "uReverse"), reversed);
     glUniform1i(glGetUniformLocation(p, "uTilesX"), g.tiles.x);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace renderer {
 
@@ -128,7 +129,8 @@ void SplatRenderer::Gl::drawRasterised(const FramePlan& f, FrameStats& stats) {
     } else {
         // Per slice: clear the sheet, add the slice's splats into it, composite it into the image.
         // Everything is scissored to the slice's reach; slices without an active bucket are skipped.
-        const double hugeFootprint = settings.maxFootprintFraction * diagonal;
+        const double hugeFootprint = settings.maxFootprintFraction > 0.0 ? settings.maxFootprintFraction * diagonal
+                                                                         : std::numeric_limits<double>::infinity();
         const GLuint composite = g.compositePrograms[settings.heatmap ? 1 : 0];
         glBindTextureUnit(0, g.sheet);
         glBindTextureUnit(1, g.sheetHeat);

@@ -65,6 +65,13 @@ Footprint projectKernel(glm::dvec3 u, const glm::dmat3& varianceCamera, double f
     return f;
 }
 
+double footprintMassWithin(double cutoffSigmas) { return -std::expm1(-0.5 * cutoffSigmas * cutoffSigmas); }
+
+double kernelMassWithin(double cutoffSigmas) {
+    const double c = cutoffSigmas;
+    return std::erf(c / std::numbers::sqrt2) - std::sqrt(2.0 / std::numbers::pi) * c * std::exp(-0.5 * c * c);
+}
+
 double footprintRadius2(const Footprint& f, glm::dvec2 d) { return glm::dot(d, glm::inverse(f.variancePx) * d); }
 
 double footprintAt(const Footprint& f, glm::dvec2 d) { return f.peak * std::exp(-0.5 * footprintRadius2(f, d)); }

@@ -55,9 +55,11 @@ public:
     Integrator(const SplatScene& scene, const SplatSettings& settings) : m_scene(scene), m_settings(settings) {
         m_sigma = settings.kernelScale * scene.spacing;
         m_cut2 = settings.cutoffSigmas * settings.cutoffSigmas;
-        // r_k = voxel volume x unit-mass Gaussian: the kernels sum to ~1 over the grid.
+        // r_k = voxel volume x unit-mass Gaussian: the kernels sum to ~1 over the grid. Cut at the cutoff
+        // ellipsoid, each is scaled back to unit mass (kernelMassWithin), as the splats' footprints are.
         m_kernelPeak = (scene.spacing.x * scene.spacing.y * scene.spacing.z) /
-                       (std::pow(2.0 * std::numbers::pi, 1.5) * m_sigma.x * m_sigma.y * m_sigma.z);
+                       (std::pow(2.0 * std::numbers::pi, 1.5) * m_sigma.x * m_sigma.y * m_sigma.z *
+                        kernelMassWithin(settings.cutoffSigmas));
         m_reach = glm::ivec3(glm::ceil(glm::dvec3(settings.cutoffSigmas * settings.kernelScale)));
     }
 
@@ -313,7 +315,7 @@ bool hasGroundTruth(const SplatSettings& settings) { return !needsGradients(sett
 std::string groundTruthKey(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                            const GroundTruthOptions& options) {
     Fnv1a f;
-    f.value(uint32_t(2));   // integrator version: bump when its output changes
+    f.value(uint32_t(3));   // integrator version: bump when its output changes (3: kernels of unit mass)
     f.value(scene.dims);
     f.value(scene.spacing);
     f.value(scene.origin);

@@ -34,6 +34,14 @@ struct Footprint {
 // diag(fPx, fPx, 1) replaces the Jacobian (fPx is then pixels per object unit).
 Footprint projectKernel(glm::dvec3 u, const glm::dmat3& varianceCamera, double fPx, FilterMode mode,
                         const glm::dmat2& lowPassPx = glm::dmat2(1.0), bool orthographic = false);
+// Kernels are cut off at `cutoffSigmas` and scaled back to unit mass, so that the splats and the ground
+// truth integrate the same total (the audit found the 3D cut keeping 97.07 %, the 2D cut 98.89 %: the
+// splats' optical depth 2.8-3.7 % above the truth's). A footprint, cut at its 2D ellipse, keeps
+// 1 - exp(-c^2 / 2) of its mass; a kernel, cut at its 3D ellipsoid, keeps the chi-square(3) probability
+// erf(c / sqrt 2) - sqrt(2 / pi) c exp(-c^2 / 2). Each divides its truncated Gaussian.
+double footprintMassWithin(double cutoffSigmas);
+double kernelMassWithin(double cutoffSigmas);
+
 // q(p) = |J| G_V(p - centre) at an offset `d` from the projected centre.
 double footprintAt(const Footprint& f, glm::dvec2 d);
 // Squared Mahalanobis radius of offset d under the footprint's variance.

@@ -25,8 +25,10 @@ struct SplatSettings {
     double density = 1.0;       // extinction per voxel length (mean spacing) at TF opacity 1
     FilterMode filter = FilterMode::Ewa;
     Compositing compositing = Compositing::SplatEverySample;
-    double maxFootprintFraction = 2.0;  // footprints whose cutoff radius exceeds this times the
-                                        // image diagonal are culled (near-camera blow-up guard)
+    double maxFootprintFraction = 0.0;  // > 0: footprints whose cutoff radius exceeds this times the
+                                        // image diagonal are culled and counted as huge. 0 (default):
+                                        // none is; a footprint larger than the image covers it (its box
+                                        // is clipped to the image), as the truth does (audit issue 33)
     // Adaptive EWA (000 sec. 3.2): magnified patches use reconstruction only, minified ones low-pass
     // only. Paper defaults; cMax <= 0 means 2 (1 + tan^2(fovY/2) (1 + (W/H)^2)), the spread at the image corner.
     double cMin = 0.3;
