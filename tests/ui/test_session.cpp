@@ -1,6 +1,7 @@
 // Sessions: a saved session opens to the same state, a file that is wrong anywhere is refused naming
 // the field and leaves the state alone, and saving never costs the old file.
 #include "imgui_null.h"
+#include "file_size_limit.h"
 #include "test_paths.h"
 #include "ui/panels.h"
 #include "ui/session.h"
@@ -11,9 +12,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <sys/resource.h>
-
-#include <csignal>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -268,16 +266,10 @@ TEST(Session, AFailedSaveKeepsTheOldFile) {
     const auto dir = testing_support::testOutputDir("session");
     ui::saveSession(unusualState(), {}, dir / "keep.json");
     const std::string before = readText(dir / "keep.json");
-    {   // A full disk, made by a file-size limit: the temporary file cannot be written whole.
-        rlimit saved{};
-        ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
-        const auto previousSignal = std::signal(SIGXFSZ, SIG_IGN);   // a write past the limit fails, not kills
-        rlimit small = saved;
-        small.rlim_cur = 256;
-        ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+    {   // A full disk: the temporary file cannot be written whole.
+        const testing_support::FileSizeLimit fullDisk(256);
+        ASSERT_TRUE(fullDisk.active());
         EXPECT_THROW(ui::saveSession(ui::EditorState{}, {}, dir / "keep.json"), renderer::LoadError);
-        setrlimit(RLIMIT_FSIZE, &saved);
-        std::signal(SIGXFSZ, previousSignal);
     }
     EXPECT_EQ(readText(dir / "keep.json"), before);
     try {

@@ -5,16 +5,15 @@
 #include "renderer/model/procedural.h"
 #include "renderer/oracle/reference_renderer.h"
 #include "renderer/model/splat_scene.h"
+#include "file_size_limit.h"
 #include "test_paths.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
-#include <csignal>
 #include <fstream>
 #include <map>
 #include <numbers>
@@ -301,20 +300,16 @@ TEST(ImageFiles, AWriteTheDiskRefusesFailsAndKeepsTheOldFile) {
         const auto path = dir / name;
         writeImage(old, path);
         const Image before = readImage(path);
-        rlimit saved{};
-        ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
-        const auto previousSignal = std::signal(SIGXFSZ, SIG_IGN);   // a write past the limit fails, not kills
-        rlimit small = saved;
-        small.rlim_cur = 2048;
-        ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
         std::string error;
-        try {
-            writeImage(noise, path);
-        } catch (const LoadError& e) {
-            error = e.what();
+        {
+            const testing_support::FileSizeLimit fullDisk(2048);
+            ASSERT_TRUE(fullDisk.active());
+            try {
+                writeImage(noise, path);
+            } catch (const LoadError& e) {
+                error = e.what();
+            }
         }
-        setrlimit(RLIMIT_FSIZE, &saved);
-        std::signal(SIGXFSZ, previousSignal);
         EXPECT_THAT(error, HasSubstr(path.string())) << name;
         EXPECT_EQ(readImage(path).rgba, before.rgba) << name;
         EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp")) << name;
