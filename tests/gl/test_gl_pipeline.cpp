@@ -559,3 +559,28 @@ TEST_F(GlTest, AdaptiveFramesTheViewDecidesRunThatFilterLikeTheCpu) {
         previous = &cpuModes;
     }
 }
+
+// An editor drops a frame a newer edit superseded: the interrupt is asked between chunks (tiled) and
+// between slices (rasterised), the frame stops at the first yes, and the next frame is whole again.
+TEST_F(GlTest, AnInterruptedFrameStopsAtItsNextChunkAndTheNextFrameIsWhole) {
+    const Frame f = frame(makeMarschnerLobb(24), ramp(), Camera{.azimuthDeg = 40, .elevationDeg = 30}, 64, 64);
+    SplatRenderer r;
+    r.setScene(f.scene);
+    r.setListChunkSlices(4);   // several chunks in the tiled frames
+    for (Compositing c : {Compositing::SheetBackToFront, Compositing::SheetFrontToBack, Compositing::SplatEverySample}) {
+        for (auto primitive : {SplatSettings::Primitive::Tiles, SplatSettings::Primitive::Quads}) {
+            SCOPED_TRACE(std::string(compositingName(c)) + (primitive == SplatSettings::Primitive::Tiles ? " tiles" : " quads"));
+            if (c == Compositing::SplatEverySample && primitive == SplatSettings::Primitive::Tiles) continue;
+            SplatSettings s;
+            s.compositing = c;
+            s.primitive = primitive;
+            int asked = 0;
+            r.setInterrupt([&] { return ++asked >= 2; });
+            EXPECT_THROW(r.render(f.plane, s), Cancelled);
+            EXPECT_EQ(asked, 2) << "asked again after it said stop";
+            r.setInterrupt({});
+            r.render(f.plane, s);
+            EXPECT_IMAGES_CLOSE(r.readback(), renderReference(f.scene, f.plane, s), kGlVsCpu, "gl_after_interrupt");
+        }
+    }
+}

@@ -80,7 +80,7 @@ void SplatRenderer::Gl::drawRasterised(const FramePlan& f, FrameStats& stats) {
                                       reinterpret_cast<const void*>(size_t(asPoints ? first : runCount + first) * 16),
                                       GLsizei(last - first), 0);
         };
-        for (uint32_t k = k0; k < k1; ++k) {
+        for (uint32_t k = k0; k < k1 && !g.stopHere(); ++k) {
             const uint32_t slice = sliceAt(k);
             const auto [f, n] = sliceCommands(slice);
             if (n == 0) continue;
@@ -104,7 +104,7 @@ void SplatRenderer::Gl::drawRasterised(const FramePlan& f, FrameStats& stats) {
         glDepthFunc(GL_LESS);
         glDepthMask(GL_FALSE);
         auto sliceAt = [&](uint32_t k) { return descending ? k : slices - 1 - k; };   // BTF's reverse
-        for (uint32_t k0 = 0; k0 < slices; k0 += uint32_t(refresh)) {
+        for (uint32_t k0 = 0; k0 < slices && !g.stopHere(); k0 += uint32_t(refresh)) {
             const uint32_t k1 = std::min(slices, k0 + uint32_t(refresh));
             bool any = false;
             for (uint32_t k = k0; k < k1 && !any; ++k) any = sliceCommands(sliceAt(k)).second > 0;
@@ -141,7 +141,7 @@ void SplatRenderer::Gl::drawRasterised(const FramePlan& f, FrameStats& stats) {
         const bool occlusion = variant & kOcclusion;
         uint32_t chunk = uint32_t(occlusionSlices(settings)), chunkEnd = chunk;
         bool anyOpaque = false, drawnSinceMap = false;
-        for (uint32_t k = 0; k < slices; ++k) {
+        for (uint32_t k = 0; k < slices && !g.stopHere(); ++k) {
             const uint32_t slice = descending ? slices - 1 - k : k;
             stale = stale || (earlyTermination && k > 0 && k % uint32_t(refresh) == 0);
             for (; occlusion && k == chunkEnd; chunkEnd += chunk) {

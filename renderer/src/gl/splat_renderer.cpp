@@ -58,6 +58,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     // 1. Decide the frame: the view's axis (made resident), variant, tiles or raster, each slice's
     //    primitive (frame_plan.cpp). Throws on what it cannot draw, before anything is issued.
     FramePlan f = g.planFrame(plane, settings, rasterise);
+    g.interrupted = false;
     // 2. Start the timers and the fragment query. Nothing below throws before they end: a query left
     //    active would break the next frame (NVIDIA keeps a deleted active query running).
     collectTimers();
@@ -78,6 +79,7 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlErrors("SplatRenderer::render");
     if (!refused.empty()) return refused;   // found mid-frame: reported once the queries ended
+    if (g.interrupted) throw Cancelled("SplatRenderer::render: interrupted; the image is incomplete");
 
     // 6. What was drawn; with counters, wait for the frame and read them back.
     m_stats.splatsDrawn = f.submitted;
@@ -154,5 +156,6 @@ uint64_t SplatRenderer::workingBytes() const {
 void SplatRenderer::setMemoryLimit(uint64_t bytes) { m_gl->memoryLimit = bytes; }
 void SplatRenderer::setTexelBufferLimit(uint64_t texels) { m_gl->texelLimit = texels; }
 void SplatRenderer::setListChunkSlices(uint32_t slices) { m_gl->listChunkSlicesSet = slices; }
+void SplatRenderer::setInterrupt(std::function<bool()> interrupted) { m_gl->interrupt = std::move(interrupted); }
 
 } // namespace renderer

@@ -15,6 +15,7 @@
 #include <initializer_list>
 #include <map>
 #include <optional>
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -192,6 +193,14 @@ struct SplatRenderer::Gl {
     uint64_t sceneBytes = 0;
     uint64_t uploadedSinceFrame = 0;   // by setScene, setGradients and setLut since the last render
     uint64_t memoryLimit = 0;   // setMemoryLimit(); 0: none beyond what the driver reports
+    // setInterrupt(): asked between chunks (tiled) and between slices (rasterised); once it says yes the
+    // frame issues nothing more and render() throws Cancelled.
+    std::function<bool()> interrupt;
+    bool interrupted = false;
+    bool stopHere() {
+        if (!interrupted && interrupt && interrupt()) interrupted = true;
+        return interrupted;
+    }
 
     // == Methods, grouped by the file that defines them.
     // gpu_resources.cpp: render targets, growable buffers, buffer textures, teardown.

@@ -125,7 +125,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
     glBindImageTexture(0, g.image, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(1, g.heat, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     // 3. Chunk by chunk, in parts where its lists do not fit: record, offsets and bases, scatter, composite.
-    for (uint32_t k0 = 0; k0 < slices && refused.empty(); advance(k0)) {
+    for (uint32_t k0 = 0; k0 < slices && refused.empty() && !g.stopHere(); advance(k0)) {
         const uint32_t chunkEnd = std::min(slices, k0 + chunk);
         // The chunk goes whole unless its lists do not fit; then in parts of ranks j0 .. j1 - 1, each
         // as many slices as fit the last time. The parts cull against the map the chunk started with,

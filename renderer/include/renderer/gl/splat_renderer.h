@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -108,6 +109,10 @@ public:
     // Slices a tiled frame bins at once where nothing is culled (back to front, X-ray, no early
     // termination; 0: this driver's choice, 16 on llvmpipe and 64 elsewhere). For tests, and to compare.
     void setListChunkSlices(uint32_t slices);
+    // Asked between chunks of slices (tiled) and between slices (rasterised) while a frame is issued: once it
+    // returns true the frame stops there, and render() throws Cancelled (the image is incomplete). An editor
+    // drops a frame that a newer edit superseded this way. Empty: frames always finish.
+    void setInterrupt(std::function<bool()> interrupted);
 
 private:
     // One attempt at render(): the reason when only drawing it told that it cannot be drawn (one
