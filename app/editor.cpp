@@ -5,6 +5,18 @@
 #include "editor_loop.h"
 #include "editor_window.h"
 
+#include <csignal>
+#include <cstdio>
+#include <memory>
+
+namespace {
+
+// SIGINT or SIGTERM: the loop closes the window after the frame under way (and --session-out is written).
+volatile std::sig_atomic_t g_closeRequested = 0;
+void requestClose(int) { g_closeRequested = 1; }
+
+} // namespace
+
 int runEditor(const EditorOptions& options) {
     const bool scripted = options.frames > 0; // runs N frames and exits; errors end it with code 1
 
@@ -14,10 +26,21 @@ int runEditor(const EditorOptions& options) {
     if (!window.open(options.width, options.height, /*vsync=*/!scripted)) return 1;
 
     // 2. The editor's state from the flags, then the session file they name; the volume starts loading.
-    EditorLoop editor(options, window);
+    //    The renderer starts on its own thread with its own GL context.
+    std::unique_ptr<EditorLoop> started;
+    try {
+        started = std::make_unique<EditorLoop>(options, window);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "splatlab editor: %s\n", e.what());
+        return 1;
+    }
+    EditorLoop& editor = *started;
     if (!editor.start()) return editor.exitCode();
     if (!editor.checkTabs()) return 1;
     editor.connectSpaceMouse();
+
+    std::signal(SIGINT, requestClose);
+    std::signal(SIGTERM, requestClose);
 
     // 3. Frame loop. Edits made in frame N are rendered at the top of frame N+1, at the viewport size
     //    frame N measured; the first frame only measures.
@@ -29,6 +52,8 @@ int runEditor(const EditorOptions& options) {
         editor.drawPanels(frame);       // e. ImGui frame: the panels and modals record edits
         editor.noteEdits();             // f. what the edits ask of the next frame: probe, render
         editor.presentFrame(frame);     // g. UI to the back buffer, on screen; scripted outputs
+        if (g_closeRequested) window.close();
     }
+    if (!options.sessionOutPath.empty()) editor.saveSessionTo(options.sessionOutPath);
     return editor.exitCode();
 }

@@ -28,10 +28,12 @@ struct EditorOptions {
     std::vector<std::string> tabs;        // panels brought to the front of their regions (--tab)
     bool continuous = false;              // render every frame (Performance panel)
     double spinDegPerS = 0.0;             // and turn the camera this fast (implies continuous)
-    bool preview = false;                 // always show the preview drawn while the view moves (--preview)
+    bool preview = false;                 // show the preview level alone (--preview)
+    std::filesystem::path sessionOutPath; // non-empty: the session is written here when the editor closes
 };
 
 // Runs the editor until the window closes, or for `frames` frames. Returns the process exit code:
 // 0, or 1 after printing one line to stderr (no window, or any error while running scripted frames).
+// SIGINT and SIGTERM close the window as its close button does.
 // The first frame measures the viewport and the second renders it, so a screenshot needs frames >= 2.
 int runEditor(const EditorOptions& options);

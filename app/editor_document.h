@@ -1,7 +1,6 @@
 // What the editor's viewport shows: the loaded volume, its classified scene and the half-resolution
-// preview drawn while the view moves. The frame steps that change them are in editor_loop.h.
+// preview level. The frame steps that change them are in editor_loop.h.
 #pragma once
-#include "renderer/gl/splat_renderer.h"
 #include "renderer/model/gradients.h"
 #include "renderer/model/splat_scene.h"
 #include "renderer/model/transfer_function.h"
@@ -15,13 +14,12 @@ renderer::SplatScene classifiedScene(const renderer::Volume& volume, const rende
                                      renderer::ValueRange window,
                                      const std::optional<renderer::GradientField>& gradients);
 
-// The preview drawn while the view moves (ui::PreviewSettings): the volume at half resolution with its
-// own scene and renderer, classified with the document's TF and window (the window of the full
-// volume's values: the means span a narrower range).
+// The preview level, drawn first while the full frame misses the frame budget (ui::PreviewSettings): the
+// volume at half resolution with its own scene, classified with the document's TF and window (the window
+// of the full volume's values: the means span a narrower range). Its renderer is the render thread's.
 struct Preview {
     renderer::Volume volume;
     renderer::SplatScene scene;
-    renderer::SplatRenderer splats;
     std::optional<renderer::GradientField> gradients;
 
     explicit Preview(const renderer::Volume& full);
@@ -41,3 +39,6 @@ struct Document {
     std::optional<renderer::GradientField> gradients; // once computed (for shading, a later issue)
     std::unique_ptr<Preview> preview;                 // volumes of PreviewSettings::kMinVoxels or more
 };
+
+// A copy of the preview level's scene for the render thread; null when the document has no preview.
+std::shared_ptr<const renderer::SplatScene> previewScene(const Document& doc);

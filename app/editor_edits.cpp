@@ -3,6 +3,7 @@
 #include "editor_loop.h"
 
 #include <cstdio>
+#include <memory>
 #include <stdexcept>
 #include <system_error>
 
@@ -46,9 +47,8 @@ bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& pa
                          ui::PreviewSettings::kMinMegaVoxels);
         }
         next.volume = std::move(loaded.volume);
-        auto fresh = m_splats ? nullptr : std::make_unique<renderer::SplatRenderer>();
-        (m_splats ? *m_splats : *fresh).setScene(next.scene);
-        if (fresh) m_splats = std::move(fresh);
+        m_render->setScenes(std::make_shared<const renderer::SplatScene>(next.scene), previewScene(next));
+        m_hasScene = true;
         m_gradientJob.reset(); // cancels the gradients of the volume going away
         m_doc = std::move(next);
         m_state.preview.available = m_doc.preview != nullptr;
@@ -66,10 +66,9 @@ void EditorLoop::reclassify() {
     m_renderPending = true;
     guarded([&] {
         const renderer::ValueRange window = renderer::windowFor(*m_doc.volume, m_state.window);
-        renderer::SplatScene scene = classifiedScene(*m_doc.volume, m_doc.tf, window, m_doc.gradients);
-        m_splats->setScene(scene);
-        m_doc.scene = std::move(scene);
+        m_doc.scene = classifiedScene(*m_doc.volume, m_doc.tf, window, m_doc.gradients);
         if (m_doc.preview) m_doc.preview->classify(m_doc.tf, window);
+        m_render->setScenes(std::make_shared<const renderer::SplatScene>(m_doc.scene), previewScene(m_doc));
     });
 }
 
@@ -92,7 +91,8 @@ void EditorLoop::applySettingsActions() {
         openVolume(m_state.volumeFile);
         m_renderPending = true;
     }
-    if (m_settingsChanges.saveImage) saveView(m_state.imageFile);
+    if (m_settingsChanges.saveImage) startSaveView(m_state.imageFile);
+    finishSaveView(m_scripted); // written once the render thread has drawn it
     if (m_settingsChanges.sessionOpened) {
         // Another volume: load it with the session's window and TF; the same one: re-classify it.
         const std::filesystem::path& v = m_settingsChanges.sessionVolume;
@@ -106,24 +106,26 @@ void EditorLoop::applySettingsActions() {
 }
 
 void EditorLoop::applyTransferFunction() {
-    if (!m_splats || !m_tfPending) return;
+    if (!m_hasScene || !m_tfPending) return;
     m_tfPending = false;
     guarded([&] {
         m_doc.tf = m_state.tf;
         renderer::setTransferFunction(m_doc.scene, m_doc.tf);
-        m_splats->setLut(m_doc.scene.lut); // the lists stay; only the LUT travels
         if (m_doc.preview) m_doc.preview->setTransferFunction(m_doc.tf);
+        // The lists stay; only the LUTs travel.
+        m_render->setLuts(m_doc.scene.lut, m_doc.preview ? std::optional(m_doc.preview->scene.lut) : std::nullopt);
     });
 }
 
 void EditorLoop::applyWindow() {
-    if (m_splats && m_windowChanged) {
+    if (m_hasScene && m_windowChanged) {
         m_windowChanged = false;
         m_renderPending = true;
         if (m_windowDragged && m_doc.preview &&
             m_state.preview.whileMoving) { // the preview's eighth of the voxels now
             guarded([&] {
                 m_doc.preview->classify(m_doc.tf, renderer::windowFor(*m_doc.volume, m_state.window));
+                m_render->setPreviewScene(previewScene(m_doc));
             });
             m_fullWindowStale = true;
         } else {
@@ -140,11 +142,12 @@ void EditorLoop::takeGradients() {
     m_doc.gradients = std::move(m_gradientJob->result);
     if (!m_gradientJob->error.empty()) m_state.errorMessage = "gradients: " + m_gradientJob->error;
     m_gradientJob.reset();
-    if (m_splats && m_doc.gradients) { // shading and surface splats become available
+    if (m_hasScene && m_doc.gradients) { // shading and surface splats become available
         guarded([&] {
             renderer::addGradients(m_doc.scene, *m_doc.gradients);
-            m_splats->setGradients(m_doc.scene); // the rest of the scene is on the GPU already
             if (m_doc.preview) m_doc.preview->addGradients();
+            // Only the gradients travel: the rest of the scene is on the GPU already.
+            m_render->setGradients(std::make_shared<const renderer::SplatScene>(m_doc.scene), previewScene(m_doc));
             m_state.gradientsReady = true;
         });
         m_renderPending = true;

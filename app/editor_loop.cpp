@@ -15,10 +15,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 EditorLoop::EditorLoop(const EditorOptions& options, EditorWindow& window)
     : m_options(options), m_window(window), m_scripted(options.frames > 0),
-      m_glRenderer(renderer::glRendererName()), m_framePending(options.fit), m_panels(makePanels()) {}
+      m_render(std::make_unique<RenderThread>()), m_framePending(options.fit), m_panels(makePanels()) {
+    m_glRenderer = m_render->glRenderer();
+    m_state.preview.defaultBudgetMs = m_render->defaultBudgetMs();
+    m_render->setOnImage([] { glfwPostEmptyEvent(); }); // wakes waitForInput to show it
+}
 
 bool EditorLoop::start() {
     std::filesystem::path volumePath = m_options.volumePath;
@@ -79,16 +84,16 @@ bool EditorLoop::knobDeflected() const {
 }
 
 void EditorLoop::waitForInput() {
-    // Idle: sleep until an event (or 50 ms for the GPU timer, 16 ms to read a 3D mouse); busy,
-    // scripted or the knob deflected: keep going.
-    if (m_scripted || m_renderPending || m_tfPending || knobDeflected() || m_state.perf.renderContinuously)
+    // Idle: sleep until an event (the render thread posts one with each image), or 50 ms for the GPU
+    // timers, 16 ms to read a 3D mouse; scripted, an edit to render, queued input or the knob deflected:
+    // keep going.
+    if (m_scripted || m_renderPending || m_tfPending || knobDeflected() || m_state.perf.renderContinuously ||
+        m_window.inputPending())
         glfwPollEvents();
     else
         glfwWaitEventsTimeout(m_spaceMouse->connected() ? 0.016 : 0.05);
-    if (m_splats) {
-        m_splats->collectTimers();
-        m_perfHistory.addTimes(m_splats->stats());
-    }
+    if (m_hasScene) m_perfHistory.addTimes(m_render->latestStats());
+    takeRenderErrors();
     m_pollTime = glfwGetTime();
     m_spaceMouse->poll(m_pollTime);
     m_state.spaceMouseStatus = m_spaceMouse->status();
@@ -113,9 +118,21 @@ void EditorLoop::presentFrame(int frame) {
     m_window.swapBuffers();
 }
 
+void EditorLoop::saveSessionTo(const std::filesystem::path& file) {
+    if (guarded([&] { ui::saveSession(m_state, m_state.loadedVolume, file); }))
+        std::printf("wrote %s\n", file.string().c_str());
+    else if (!m_scripted) // no modal left to show it in
+        std::fprintf(stderr, "splatlab editor: %s\n", m_state.errorMessage.c_str()), m_exitCode = 1;
+}
+
+void EditorLoop::takeRenderErrors() {
+    while (const auto error = m_render->takeError()) report(std::runtime_error(*error));
+}
+
 void EditorLoop::writeScriptedOutputs(int fbWidth, int fbHeight) {
     if (!m_options.saveImagePath.empty()) {
-        if (const auto written = saveView(m_options.saveImagePath))
+        startSaveView(m_options.saveImagePath);
+        if (const auto written = finishSaveView(true))
             std::printf("wrote %s, %s\n", m_options.saveImagePath.string().c_str(), written->c_str());
     }
     if (!m_options.screenshotPath.empty() && fbWidth > 0 && fbHeight > 0 &&

@@ -7,9 +7,9 @@
 #include "editor_document.h"
 #include "editor_jobs.h"
 #include "editor_window.h"
+#include "render_thread.h"
 
 #include "renderer/errors.h"
-#include "renderer/gl/splat_renderer.h"
 #include "ui/dock_layout.h"
 #include "ui/editor_state.h"
 #include "ui/panels.h"
@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <exception>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <optional>
 #include <string>
@@ -27,7 +28,8 @@
 
 class EditorLoop {
   public:
-    // Needs the window open, its context current and ImGui on it; both outlive the loop.
+    // Needs the window open, its context current and ImGui on it; both outlive the loop. Starts the render
+    // thread with its own GL context; throws GlError when it has none.
     EditorLoop(const EditorOptions& options, EditorWindow& window);
     EditorLoop(const EditorLoop&) = delete;
     EditorLoop& operator=(const EditorLoop&) = delete;
@@ -51,6 +53,8 @@ class EditorLoop {
     void presentFrame(int frame); // editor_loop.cpp: the UI into the back buffer; a scripted run's outputs
 
     int exitCode() const { return m_exitCode; } // 0, or 1 after a scripted run's error
+    // --session-out: what the editor shows, as Settings > Session > Save writes it; prints what it wrote.
+    void saveSessionTo(const std::filesystem::path& file);
 
   private:
     // == Errors (editor_loop.cpp): scripted runs print one line and exit 1; interactive ones show the modal
@@ -63,9 +67,9 @@ class EditorLoop {
     // Starts reading `path`, to be classified with state.tf over state.window, on the worker (a scripted
     // run waits for it: deterministic frames); the frame loop shows it once read (showVolume).
     void openVolume(const std::filesystem::path& path, const std::optional<renderer::RawOptions>& raw = {});
-    // A volume read by a VolumeJob, on screen: a new document and the renderer's scene (and the preview's,
-    // GL objects made on this thread); its gradients start on the worker. On failure the document shown
-    // stays.
+    // A volume read by a VolumeJob, on screen: a new document, its scenes (the full one's and the preview
+    // level's) handed to the render thread; its gradients start on the worker. On failure the document
+    // shown stays.
     bool showVolume(LoadedVolume loaded, const std::filesystem::path& path,
                     const renderer::TransferFunction& tf);
     // A new window re-classifies every voxel, the preview's too; the scenes keep the old one if this throws.
@@ -80,15 +84,19 @@ class EditorLoop {
     void takeGradients();         // gradients computed: shading and surface splats become available
 
     // == The view (editor_viewport.cpp)
-    // Renders the view into m_texture, the preview's renderer or the full one; false if it threw.
-    bool renderView(bool preview);
-    // Settings > Files > Save image (and --save-image): the view as the viewport shows it, at its size.
-    // Returns what was written ("955 x 545 (heatmap)"), or nothing after reporting the failure.
-    std::optional<std::string> saveView(const std::filesystem::path& path);
+    // What the render thread is asked to draw for the view as it stands.
+    ViewRequest viewRequest() const;
+    // Settings > Files > Save image (and --save-image): the view as the viewport shows it, at its size,
+    // rendered in full on the render thread; finishSaveView writes it once there (wait: at once).
+    void startSaveView(const std::filesystem::path& path);
+    // Returns what was written ("955 x 545 (heatmap)"), or nothing (not yet, or after reporting the failure).
+    std::optional<std::string> finishSaveView(bool wait);
     void frameIfAsked();        // --fit, Settings > Camera > Frame or a double-click: framedCamera()
     void spinIfContinuous();    // the Performance panel's continuous rendering, turning if asked
-    void renderIfPending();     // the full render, or the preview while the view moves
+    void renderIfPending();     // asks the render thread for the view (scripted runs wait for it)
+    void showRenderedView();    // the newest finished image into the viewport's texture
     void countPatchesIfShown(); // the Filters panel's patches per filter
+    void takeRenderErrors();    // what the render thread failed at, reported
 
     // == The panels (editor_panels.cpp)
     std::vector<ui::DockPanel> makePanels();
@@ -106,13 +114,14 @@ class EditorLoop {
     const EditorOptions& m_options;
     EditorWindow& m_window;
     const bool m_scripted; // runs N frames and exits; errors end it with code 1
-    const std::string m_glRenderer;
+    std::string m_glRenderer; // the render thread's GL_RENDERER
     ui::EditorState m_state;
     int m_exitCode = 0;
 
     // Volume, transfer function, scene and renderer. A failure leaves the editor with no volume.
     Document m_doc;
-    std::unique_ptr<renderer::SplatRenderer> m_splats;
+    std::unique_ptr<RenderThread> m_render; // owns the renderers and their GL context
+    bool m_hasScene = false;                // a scene was handed to the render thread
     std::unique_ptr<GradientJob> m_gradientJob;
     std::unique_ptr<VolumeJob> m_volumeJob;
 
@@ -120,16 +129,26 @@ class EditorLoop {
     ui::DockLayout m_layout = ui::makeEditorLayout();
     ui::SettingsChanges m_settingsChanges;
     ui::ViewportResult m_viewport;
-    unsigned m_texture = 0; // the renderer's display texture; 0 until something was rendered
+    unsigned m_texture = 0; // the viewport's texture (the last finished image); 0 until one arrived
+    int m_textureWidth = 0, m_textureHeight = 0;
     int m_renderWidth = 0, m_renderHeight = 0;
+    std::optional<RenderedView> m_shown;    // what the viewport shows (its pixels dropped once uploaded)
+    uint64_t m_viewRequest = 0;             // the last view asked for
+    struct PendingSave {
+        std::filesystem::path path;
+        bool heatmap = false;
+        std::future<renderer::Image> image;
+    };
+    std::optional<PendingSave> m_save;
+    std::optional<std::future<std::vector<uint8_t>>> m_patchModes;
+    std::optional<std::future<renderer::FilterMeasurement>> m_measurement;
     bool m_tfPending = false, m_renderPending = true, m_windowChanged = false, m_tfChanged = false;
     bool m_framePending; // --fit, Settings > Camera > Frame or a double-click: framedCamera()
-    // The Performance panel: recent renders; back to back: this UI frame follows one that rendered.
+    // The Performance panel: recent full frames; the interval between them while rendering continuously.
     ui::PerfHistory m_perfHistory;
-    std::optional<std::chrono::steady_clock::time_point> m_lastRenderStart;
-    bool m_renderedLastFrame = false;
+    std::optional<std::chrono::steady_clock::time_point> m_lastFullFrame;
     // The Filters panel: the last render's view, and the patches per filter the classifier gives it
-    // (read back from the GPU after a render, while the panel is shown).
+    // (computed on the render thread after a full frame, while the panel is shown).
     std::optional<renderer::ImagePlane> m_lastPlane;
     std::optional<std::array<uint64_t, 3>> m_patchCounts;
     bool m_filtersShown = false, m_patchCountsStale = true;

@@ -5,7 +5,6 @@
 #include "renderer/oracle/probe.h"
 
 #include <imgui.h>
-#include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -26,20 +25,15 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
         {"Viewport", "viewport", [this] { m_viewport = ui::drawViewportPanel(m_state, m_texture); }},
         {"Stats", "bottom",
          [this] {
-             const bool preview =
-                 m_state.preview.shown && m_doc.preview; // the figures of what the viewport shows
+             // The figures of what the viewport shows: the preview level's, or the full frame's with
+             // its GPU times as they arrive.
+             const bool preview = m_shown && m_shown->preview && m_doc.preview;
              ui::drawStatsPanel(
-                 {.frame = preview    ? m_doc.preview->splats.stats()
-                           : m_splats ? m_splats->stats()
-                                      : renderer::FrameStats{},
+                 {.frame = preview ? m_shown->stats : m_render->latestStats(),
                   .volume = m_doc.volume ? &*m_doc.volume : nullptr,
                   .visibleSplats = (preview ? m_doc.preview->scene : m_doc.scene).visibleCount(),
-                  .sceneBytes = preview    ? m_doc.preview->splats.sceneBytes()
-                                : m_splats ? m_splats->sceneBytes()
-                                           : 0,
-                  .workingBytes = preview    ? m_doc.preview->splats.workingBytes()
-                                  : m_splats ? m_splats->workingBytes()
-                                             : 0,
+                  .sceneBytes = m_shown ? m_shown->sceneBytes : 0,
+                  .workingBytes = m_shown ? m_shown->workingBytes : 0,
                   .glRenderer = m_glRenderer});
          }},
         {"Performance", "bottom",
@@ -53,7 +47,7 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
                            .origin = m_doc.scene.origin,
                            .spacing = m_doc.scene.spacing,
                            .radius = m_doc.scene.radius,
-                           .frame = m_splats ? m_splats->stats() : renderer::FrameStats{},
+                           .frame = m_render->latestStats(),
                            .patches = m_patchCounts,
                            .measurements = m_measurements,
                            .cropPx = renderer::kComparisonCropPx,
@@ -66,9 +60,9 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
 }
 
 std::string EditorLoop::perfContext() const {
-    if (!m_doc.volume || !m_lastPlane || !m_splats) return "no volume, " + m_glRenderer;
+    if (!m_doc.volume || !m_lastPlane || !m_hasScene) return "no volume, " + m_glRenderer;
     return ui::renderContext(m_doc.volume->name, m_doc.volume->dims,
-                             {m_lastPlane->width, m_lastPlane->height}, m_state.settings, m_splats->stats(),
+                             {m_lastPlane->width, m_lastPlane->height}, m_state.settings, m_render->latestStats(),
                              m_glRenderer);
 }
 
@@ -76,7 +70,7 @@ void EditorLoop::drawPanels(int frame) {
     // 1. A fresh ImGui frame; the panels report this frame's edits afresh.
     m_state.openingVolume = m_volumeJob ? m_volumeJob->path : std::filesystem::path();
     ImGui_ImplOpenGL3_NewFrame();
-    ImGui_ImplGlfw_NewFrame();
+    m_window.newImGuiFrame(); // input from the queue: one button or key change a frame
     ImGui::NewFrame();
     m_settingsChanges = {};
     m_tfChanged = m_windowChanged = m_filtersShown = false;
@@ -130,7 +124,8 @@ void EditorLoop::noteEdits() {
         m_comparison.reset();
         m_measurementsStale = true;
     }
-    // 3. A drag or the wheel: the preview until it settles.
+    // 3. A drag or the wheel: when the last moving input was (a dragged window re-classifies in full once
+    //    it settles).
     const bool mouseDown = ImGui::IsMouseDown(ImGuiMouseButton_Left);
     m_windowDragged = m_windowChanged && mouseDown;
     if (m_viewport.cameraChanged || ((m_tfChanged || m_windowChanged) && mouseDown))

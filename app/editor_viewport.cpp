@@ -1,8 +1,11 @@
-// The viewport's render step: framing, the Performance panel's spin, the full render or the preview,
-// saving the view, and the Filters panel's figures (patch counts, the filter measurement).
+// The viewport's render step: framing, the Performance panel's spin, the view asked of the render thread
+// and its images shown, saving the view, and the Filters panel's figures (patch counts, the filter
+// measurement).
 #include "editor_loop.h"
 
 #include "renderer/io/image.h"
+
+#include <epoxy/gl.h>
 
 #include <algorithm>
 
@@ -11,42 +14,49 @@ void EditorLoop::renderViewport() {
     frameIfAsked();
     // 2. Continuous rendering (Performance panel): every frame renders, turning the camera if asked.
     spinIfContinuous();
-    // 3. The view: the preview while it moves, the full render once it settles.
+    // 3. The view asked of the render thread; the newest image it finished, on screen.
     renderIfPending();
-    // 4. The Filters panel's patches per filter, of the view just rendered.
+    showRenderedView();
+    // 4. The Filters panel's patches per filter, of the full frame shown.
     countPatchesIfShown();
 }
 
 void EditorLoop::stepFilterMeasurement() {
-    if (m_filtersChanges.cancel) m_comparison.reset();
-    if (m_filtersChanges.measure && m_splats && m_lastPlane && !m_comparison) {
+    if (m_filtersChanges.cancel) m_comparison.reset(), m_measurement.reset();
+    if (m_filtersChanges.measure && m_hasScene && m_lastPlane && !m_comparison) {
         m_measurements.clear();
         m_measurementsStale = false;
         m_comparison = std::make_unique<FilterComparisonJob>(m_doc.scene, *m_lastPlane, m_state.settings);
     }
-    if (m_comparison && m_comparison->truth.done) {
-        if (m_comparison->truth.thread.joinable()) m_comparison->truth.thread.join();
-        if (!m_comparison->truth.error.empty()) {
-            m_state.errorMessage = "measuring the filters: " + m_comparison->truth.error;
-            m_comparison.reset();
-        } else if (m_comparison->measured < FilterComparisonJob::kFilters.size()) {
-            guarded([&] {
-                m_measurements.push_back(renderer::measureFilter(
-                    *m_splats, m_comparison->view, m_comparison->crop, *m_comparison->truth.result,
-                    m_comparison->settings, FilterComparisonJob::kFilters[m_comparison->measured++], 3));
-            });
-            m_renderPending = true; // re-rendered below: the crop replaced the view's targets
-        } else {
-            m_comparison.reset();
-        }
+    if (!m_comparison) return m_measurement.reset();
+    if (!m_comparison->truth.done) return;
+    if (m_comparison->truth.thread.joinable()) m_comparison->truth.thread.join();
+    if (!m_comparison->truth.error.empty()) {
+        m_state.errorMessage = "measuring the filters: " + m_comparison->truth.error;
+        m_comparison.reset();
+        return;
     }
+    // One filter at a time on the render thread (timed on the whole view, compared on the crop).
+    if (m_measurement) {
+        if (!m_scripted && m_measurement->wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+        guarded([&] { m_measurements.push_back(m_measurement->get()); });
+        m_measurement.reset();
+        m_renderPending = true; // the crop replaced the view's targets: the view again
+    }
+    if (m_comparison->measured == FilterComparisonJob::kFilters.size()) return m_comparison.reset();
+    m_measurement = m_render->run(
+        [view = m_comparison->view, crop = m_comparison->crop, truth = *m_comparison->truth.result,
+         settings = m_comparison->settings,
+         filter = FilterComparisonJob::kFilters[m_comparison->measured++]](Renderers& r) {
+            return renderer::measureFilter(*r.full, view, crop, truth, settings, filter, 3);
+        });
 }
 
 void EditorLoop::frameIfAsked() {
     // Framing needs the viewport's aspect, known from the first frame on, and the scene's current LUT.
     // No volume, none being read: nothing to frame. One being read: framed once it is shown.
     m_framePending =
-        (m_framePending || m_settingsChanges.frame || m_viewport.frame) && (m_splats || m_volumeJob);
+        (m_framePending || m_settingsChanges.frame || m_viewport.frame) && (m_hasScene || m_volumeJob);
     if (m_framePending && m_renderWidth > 0 && !m_volumeJob) {
         m_framePending = false;
         m_state.camera = renderer::framedCamera(m_state.camera, m_doc.scene, m_state.settings, m_renderWidth,
@@ -69,79 +79,117 @@ void EditorLoop::spinIfContinuous() {
     m_renderPending |= continuous;
 }
 
+ViewRequest EditorLoop::viewRequest() const {
+    ViewRequest request;
+    request.plane = renderer::makeImagePlane(m_state.camera, m_doc.scene.centre, m_doc.scene.radius,
+                                             m_renderWidth, m_renderHeight, m_doc.scene.axes);
+    // Shading waits for the gradients (computed after a volume loads); until then, unshaded.
+    request.full = m_state.settings;
+    if (!m_state.gradientsReady)
+        request.full.shading = renderer::SplatSettings::Shading::None, request.full.surfaceFlatten = 1.0;
+    request.coarse = request.full;
+    if (m_doc.preview) // the same extinction per unit length from voxels twice the size
+        request.coarse.density = renderer::densityFor(m_doc.preview->volume, *m_doc.volume, request.full.density);
+    request.background = m_state.background;
+    request.heatmap = m_state.showHeatmap;
+    // Scripted runs draw exactly one image a frame: --preview's level, or the full frame.
+    using Levels = ViewRequest::Levels;
+    request.levels = m_options.preview                               ? Levels::PreviewOnly
+                     : m_scripted || !m_state.preview.whileMoving ? Levels::FullOnly
+                                                                      : Levels::Progressive;
+    // While the window is dragged only the preview level is re-classified: it alone shows the new window.
+    if (m_fullWindowStale && m_doc.preview) request.levels = Levels::PreviewOnly;
+    request.budgetMs = m_state.preview.budgetMs > 0.0 ? m_state.preview.budgetMs : m_state.preview.defaultBudgetMs;
+    return request;
+}
+
 void EditorLoop::renderIfPending() {
-    // While the view moves, the preview; once it settles, the full render.
-    const bool preview = m_doc.preview && m_state.preview.whileMoving &&
-                         (m_options.preview || m_state.preview.moving(m_pollTime));
-    m_renderPending |= m_state.preview.shown && !preview;
-    const bool renderNow = m_splats && m_renderPending && m_renderWidth > 0;
-    if (renderNow) {
-        m_renderPending = false;
-        const auto start = std::chrono::steady_clock::now();
-        const double intervalMs =
-            m_renderedLastFrame && m_lastRenderStart
-                ? std::chrono::duration<double, std::milli>(start - *m_lastRenderStart).count()
-                : 0.0;
-        m_lastRenderStart = start;
-        if (!renderView(preview))
-            m_texture = 0;
-        else if (!preview)
-            m_perfHistory.addRender(m_splats->stats(),
-                                    intervalMs); // the Performance panel's figures are of full renders
+    if (!m_hasScene || !m_renderPending || m_renderWidth <= 0) return;
+    // Continuous rendering asks for the next frame once the last finished: back to back, none superseded.
+    if (m_state.perf.renderContinuously && !m_scripted && m_render->busy()) return;
+    m_renderPending = false;
+    m_viewRequest = m_render->requestView(viewRequest());
+    if (m_scripted) { // deterministic frames: this frame shows this request's image
+        m_render->waitForView(m_viewRequest);
+        takeRenderErrors();
     }
-    m_renderedLastFrame = renderNow;
+}
+
+void EditorLoop::showRenderedView() {
+    std::optional<RenderedView> view = m_render->takeView();
+    if (!view) return;
+    if (view->width != m_textureWidth || view->height != m_textureHeight || m_texture == 0) {
+        if (m_texture) glDeleteTextures(1, &m_texture);
+        glCreateTextures(GL_TEXTURE_2D, 1, &m_texture);
+        glTextureStorage2D(m_texture, 1, GL_RGBA8, view->width, view->height);
+        glTextureParameteri(m_texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(m_texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        m_textureWidth = view->width, m_textureHeight = view->height;
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(m_texture, 0, 0, 0, view->width, view->height, GL_RGBA, GL_UNSIGNED_BYTE,
+                        view->rgba.data());
+    view->rgba = {};
+    m_state.preview.shown = view->preview;
+    if (!view->preview) { // the Performance and Filters panels' figures are of full frames
+        const auto now = std::chrono::steady_clock::now();
+        const double intervalMs = m_state.perf.renderContinuously && m_lastFullFrame
+                                      ? std::chrono::duration<double, std::milli>(now - *m_lastFullFrame).count()
+                                      : 0.0;
+        m_lastFullFrame = now;
+        m_perfHistory.addRender(view->stats, intervalMs);
+        m_lastPlane = view->plane;
+        m_patchCountsStale = true;
+    }
+    m_shown = std::move(view);
 }
 
 void EditorLoop::countPatchesIfShown() {
-    if (!m_splats || !m_lastPlane || !m_filtersShown || !m_patchCountsStale) return;
+    if (m_patchModes &&
+        (m_scripted || m_patchModes->wait_for(std::chrono::seconds(0)) == std::future_status::ready)) {
+        guarded([&] {
+            std::array<uint64_t, 3> counts{};
+            for (uint8_t mode : m_patchModes->get()) ++counts[std::min<size_t>(mode, 2)];
+            m_patchCounts = counts;
+        });
+        m_patchModes.reset();
+    }
+    if (!m_hasScene || !m_lastPlane || !m_filtersShown || !m_patchCountsStale || m_patchModes) return;
     m_patchCountsStale = false;
+    renderer::SplatSettings adaptive = m_state.settings;
+    adaptive.filter = renderer::FilterMode::Adaptive;
+    m_patchModes = m_render->run([plane = *m_lastPlane, adaptive](Renderers& r) {
+        return r.full->patchModes(plane, adaptive);
+    });
+}
+
+void EditorLoop::startSaveView(const std::filesystem::path& path) {
     guarded([&] {
-        renderer::SplatSettings adaptive = m_state.settings;
-        adaptive.filter = renderer::FilterMode::Adaptive;
-        std::array<uint64_t, 3> counts{};
-        for (uint8_t mode : m_splats->patchModes(*m_lastPlane, adaptive))
-            ++counts[std::min<size_t>(mode, 2)];
-        m_patchCounts = counts;
+        if (!m_hasScene || m_texture == 0)
+            throw renderer::LoadError(path.string(), "", "no view to save: open a volume first");
+        if (m_fullWindowStale) reclassify(); // the full scene, with the window on screen
+        ViewRequest view = viewRequest();
+        m_save = PendingSave{path, view.heatmap,
+                             m_render->run([plane = view.plane, settings = view.full, heatmap = view.heatmap](
+                                               Renderers& r) {
+                                 r.full->render(plane, settings);
+                                 return heatmap ? r.full->readbackHeatmap() : r.full->readback();
+                             })};
     });
 }
 
-bool EditorLoop::renderView(bool preview) {
-    return guarded([&] {
-        const renderer::ImagePlane plane =
-            renderer::makeImagePlane(m_state.camera, m_doc.scene.centre, m_doc.scene.radius, m_renderWidth,
-                                     m_renderHeight, m_doc.scene.axes);
-        // Shading waits for the gradients (computed after a volume loads); until then, unshaded.
-        renderer::SplatSettings drawn = m_state.settings;
-        if (!m_state.gradientsReady)
-            drawn.shading = renderer::SplatSettings::Shading::None, drawn.surfaceFlatten = 1.0;
-        m_state.preview.shown = preview;
-        if (preview) { // the same extinction per unit length from voxels twice the size
-            drawn.density = renderer::densityFor(m_doc.preview->volume, *m_doc.volume, drawn.density);
-            m_doc.preview->splats.render(plane, drawn);
-            m_texture = m_doc.preview->splats.displayTexture(m_state.background.data(), m_state.showHeatmap);
-            return;
-        }
-        m_splats->render(plane, drawn);
-        m_texture = m_splats->displayTexture(m_state.background.data(), m_state.showHeatmap);
-        m_lastPlane = plane;
-        m_patchCountsStale = true;
-    });
-}
-
-std::optional<std::string> EditorLoop::saveView(const std::filesystem::path& path) {
+std::optional<std::string> EditorLoop::finishSaveView(bool wait) {
+    if (!m_save || (!wait && m_save->image.wait_for(std::chrono::seconds(0)) != std::future_status::ready))
+        return std::nullopt;
+    PendingSave save = std::move(*m_save);
+    m_save.reset();
     std::optional<std::string> written;
     guarded([&] {
-        if (!m_splats || m_texture == 0)
-            throw renderer::LoadError(path.string(), "", "no view to save: open a volume first");
-        const bool behind = m_fullWindowStale || m_state.preview.shown; // the full renderer lacks this view
-        if (m_fullWindowStale) reclassify();
-        if (behind && !renderView(false)) return;
-        const renderer::Image image =
-            m_state.showHeatmap ? m_splats->readbackHeatmap() : m_splats->readback();
-        renderer::writeImage(image, path, m_state.background.data());
+        const renderer::Image image = save.image.get();
+        renderer::writeImage(image, save.path, m_state.background.data());
         written = std::to_string(image.width) + " x " + std::to_string(image.height) +
-                  (m_state.showHeatmap ? " (heatmap)" : "");
-        m_state.imageSaved = "wrote " + path.filename().string() + ", " + *written;
+                  (save.heatmap ? " (heatmap)" : "");
+        m_state.imageSaved = "wrote " + save.path.filename().string() + ", " + *written;
     });
     return written;
 }

@@ -12,6 +12,7 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 
+#include <cfloat>
 #include <cstdio>
 #include <deque>
 #include <string>
@@ -56,6 +57,24 @@ void applyTheme() {
     c[ImGuiCol_TitleBgActive] = c[ImGuiCol_TitleBg];
 }
 
+// GLFW's input callbacks: each event goes into the window's queue (EditorWindow::newImGuiFrame hands it
+// to ImGui); focus and the pointer entering go to ImGui's backend, which tracks them.
+ui::InputQueue& queueOf(GLFWwindow* window) {
+    return *static_cast<ui::InputQueue*>(glfwGetWindowUserPointer(window));
+}
+void onCursorPos(GLFWwindow* w, double x, double y) { queueOf(w).push({.kind = ui::InputEvent::Kind::MouseMove, .x = x, .y = y}); }
+void onMouseButton(GLFWwindow* w, int button, int action, int) {
+    queueOf(w).push({.kind = ui::InputEvent::Kind::MouseButton, .code = button, .down = action == GLFW_PRESS});
+}
+void onKey(GLFWwindow* w, int key, int, int action, int) {
+    if (action == GLFW_REPEAT) action = GLFW_PRESS; // held: ImGui repeats by itself
+    queueOf(w).push({.kind = ui::InputEvent::Kind::Key, .code = key, .down = action == GLFW_PRESS});
+}
+void onChar(GLFWwindow* w, unsigned c) { queueOf(w).push({.kind = ui::InputEvent::Kind::Char, .code = int(c)}); }
+void onScroll(GLFWwindow* w, double dx, double dy) {
+    queueOf(w).push({.kind = ui::InputEvent::Kind::Scroll, .x = dx, .y = dy});
+}
+
 } // namespace
 
 bool EditorWindow::open(int width, int height, bool vsync) {
@@ -90,7 +109,15 @@ bool EditorWindow::open(int width, int height, bool vsync) {
     m_imguiContext = true;
     ImGui::GetIO().IniFilename = nullptr; // the layout is ours (ui::DockLayout), nothing to persist
     applyTheme();
-    m_imguiGlfw = ImGui_ImplGlfw_InitForOpenGL(m_window, true);
+    m_imguiGlfw = ImGui_ImplGlfw_InitForOpenGL(m_window, false); // its input comes through m_input
+    glfwSetWindowUserPointer(m_window, &m_input);
+    glfwSetCursorPosCallback(m_window, onCursorPos);
+    glfwSetMouseButtonCallback(m_window, onMouseButton);
+    glfwSetKeyCallback(m_window, onKey);
+    glfwSetCharCallback(m_window, onChar);
+    glfwSetScrollCallback(m_window, onScroll);
+    glfwSetWindowFocusCallback(m_window, ImGui_ImplGlfw_WindowFocusCallback);
+    glfwSetCursorEnterCallback(m_window, ImGui_ImplGlfw_CursorEnterCallback);
     glfwSetDropCallback(m_window, onDrop);
     m_imguiGl = m_imguiGlfw && ImGui_ImplOpenGL3_Init("#version 450");
     if (!m_imguiGl) {
@@ -124,6 +151,27 @@ std::pair<int, int> EditorWindow::framebufferSize() const {
 }
 
 void EditorWindow::swapBuffers() { glfwSwapBuffers(m_window); }
+
+void EditorWindow::newImGuiFrame() {
+    ImGui_ImplGlfw_NewFrame(); // display size, time, cursor shape; the pointer where it is now
+    const ui::FrameInput in = m_input.takeFrame();
+    ImGuiIO& io = ImGui::GetIO();
+    // The queue's pointer, not the current one: with a change queued, where that change happened. The
+    // backend's -FLT_MAX (the pointer left the window) stays.
+    if (in.hasMouse && io.MousePos.x != -FLT_MAX) io.MousePos = ImVec2(float(in.mouseX), float(in.mouseY));
+    for (int b = 0; b < ui::FrameInput::kButtons; ++b)
+        io.MouseDown[b] = in.buttons[size_t(b)];
+    for (int k = 0; k < ui::FrameInput::kKeys && k < IM_ARRAYSIZE(io.KeysDown); ++k)
+        io.KeysDown[k] = in.keys[size_t(k)];
+    io.KeyCtrl = in.keys[GLFW_KEY_LEFT_CONTROL] || in.keys[GLFW_KEY_RIGHT_CONTROL];
+    io.KeyShift = in.keys[GLFW_KEY_LEFT_SHIFT] || in.keys[GLFW_KEY_RIGHT_SHIFT];
+    io.KeyAlt = in.keys[GLFW_KEY_LEFT_ALT] || in.keys[GLFW_KEY_RIGHT_ALT];
+    io.KeySuper = in.keys[GLFW_KEY_LEFT_SUPER] || in.keys[GLFW_KEY_RIGHT_SUPER];
+    io.MouseWheel += float(in.scrollY);
+    io.MouseWheelH += float(in.scrollX);
+    for (unsigned c : in.chars)
+        io.AddInputCharacter(c);
+}
 
 std::optional<std::filesystem::path> EditorWindow::takeDroppedFile() {
     if (g_dropped.empty()) return std::nullopt;

@@ -724,8 +724,9 @@ int main(int argc, char** argv) {
     editor->add_option("--save-image", e.saveImagePath,
                        "Save the view as Settings > Save image does (.png, or .exr for float RGBA), then exit");
     editor->add_flag("--preview", e.preview,
-                     "Show what dragging shows: large volumes (" +
+                     "Show the preview level alone: large volumes (" +
                          std::to_string(ui::PreviewSettings::kMinMegaVoxels) + " M voxels or more) at half resolution");
+    editor->add_option("--session-out", e.sessionOutPath, "When the editor closes, save the session (what it shows) here");
     editor->add_option("--spin", e.spinDegPerS, "Render continuously, turning the camera this many degrees a second");
 
     try {

@@ -295,8 +295,8 @@ TEST_F(SettingsCheckbox, CullHiddenSplatsTurnsOcclusionCullingOffAndOnFrontToBac
 TEST_F(SettingsCheckbox, PreviewWhileMovingIsOfferedOnlyForVolumesLargeEnoughToPreview) {
     ui::EditorState state;
     state.preview.available = true;
-    const float y = find(state, "Preview while moving");
-    ASSERT_GE(y, 0.0f) << "no Preview while moving checkbox";
+    const float y = find(state, "Preview level first");
+    ASSERT_GE(y, 0.0f) << "no Preview level first checkbox";
     click(state, y);
     EXPECT_FALSE(state.preview.whileMoving);
     click(state, y);

@@ -204,15 +204,20 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     changes.settingsChanged |= ImGui::Checkbox("GPU counters", &s.counters);
     hint("Count splats per filter and per cull on the GPU (waits for each frame)");
     ImGui::BeginDisabled(!state.preview.available);
-    ImGui::Checkbox("Preview while moving", &state.preview.whileMoving);
+    ImGui::Checkbox("Preview level first", &state.preview.whileMoving);
     ImGui::EndDisabled();
     static const std::string previewHint =
         "Volumes of " + std::to_string(PreviewSettings::kMinMegaVoxels) +
-        " M voxels or more: drawn at half resolution while you drag, zoom, move a TF\n"
-        "point or drag the window, in full a quarter second after";
+        " M voxels or more: after an edit, when the full frame took longer than the frame\n"
+        "budget, the view is drawn at half resolution first and the full frame replaces it";
     hint(previewHint.c_str());
     if (!state.preview.available)
         textDisabledWrapped("(under %zu M voxels: always drawn in full)", PreviewSettings::kMinMegaVoxels);
+    double budget = state.preview.budgetMs > 0.0 ? state.preview.budgetMs : state.preview.defaultBudgetMs;
+    if (sliderDouble("Frame budget", budget, 5.0, 2000.0, "%.0f ms", ImGuiSliderFlags_Logarithmic))
+        state.preview.budgetMs = budget;
+    hint("A first image within this after an edit; a newer edit stops a frame that overruns it.\n"
+         "Rendering never holds up the editor: the view shows the last finished image meanwhile");
 
     sectionTitle("Camera");
     changes.cameraChanged |= sliderDouble("Field of view", state.camera.fovYDeg, 10.0, 100.0, "%.0f deg");
@@ -309,11 +314,14 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
         draw->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture)), origin, end);
         if (state.preview.shown)
             draw->AddText(ImVec2(origin.x + 8.0f, origin.y + 6.0f), ImGui::GetColorU32(ImGuiCol_TextDisabled),
-                          "preview: half resolution while the view moves");
+                          "preview level: half resolution, the full frame follows");
     } else {
-        const std::string note = state.openingVolume.empty()
-                                     ? "No volume loaded: splatlab editor VOLUME"
-                                     : "Opening " + state.openingVolume.filename().string() + " ...";
+        // The render thread's first image of a volume shown: "Rendering" until it arrives.
+        const std::string note = !state.openingVolume.empty()
+                                     ? "Opening " + state.openingVolume.filename().string() + " ..."
+                                 : !state.loadedVolume.empty()
+                                     ? "Rendering " + state.loadedVolume.filename().string() + " ..."
+                                     : "No volume loaded: splatlab editor VOLUME";
         const ImVec2 size = ImGui::CalcTextSize(note.c_str());
         draw->AddText(ImVec2(origin.x + (extent.x - size.x) * 0.5f, origin.y + (extent.y - size.y) * 0.5f),
                       ImGui::GetColorU32(ImGuiCol_TextDisabled), note.c_str());
@@ -454,8 +462,8 @@ void drawHelpPanel() {
     bulletWrapped("Transfer function curve: drag a point, click empty space to add one, right-click to remove");
     bulletWrapped("3D mouse: twist to orbit, tilt to look from above or below, push or pull to zoom, slide to pan");
     bulletWrapped("Performance tab: render continuously (and spin) to watch frame times; hover the chart");
-    bulletWrapped("Volumes of %zu M voxels or more show a half-resolution preview while you move them "
-                  "(Settings > Inspect > Preview while moving)",
+    bulletWrapped("Volumes of %zu M voxels or more show a half-resolution preview level first when a frame "
+                  "is slow (Settings > Inspect > Preview level first, Frame budget)",
                   PreviewSettings::kMinMegaVoxels);
     bulletWrapped("Ctrl+Z, Ctrl+Y: undo, redo a transfer-function edit (while its panel has focus)");
     bulletWrapped("Drop a volume, a transfer function (.json) or a session on the window to open it");

@@ -28,14 +28,18 @@ struct PerfSettings {
     double spinDegPerS = 0.0;   // azimuth speed while rendering continuously (0: still)
 };
 
-// The preview while the view moves: large volumes are drawn at half resolution (8 times fewer splats)
-// during a drag, a wheel turn, a 3D-mouse move, a TF point's or the window's drag, and in full kSettleS
-// after the last.
+// The frame budget and the preview level. The renderer runs on a thread of its own: after any edit, large
+// volumes (kMinVoxels and more) whose full frame took longer than the budget last time show the preview
+// level first (half resolution, 8 times fewer splats), then the full frame replaces it; a newer edit
+// supersedes a frame in flight. While the window is dragged only the preview level is re-classified, and
+// the full scene kSettleS after the last move.
 struct PreviewSettings {
     static constexpr double kSettleS = 0.25;
     static constexpr size_t kMinVoxels = size_t(1) << 22;   // 4 M: smaller volumes render fast enough
     static constexpr size_t kMinMegaVoxels = kMinVoxels >> 20;   // for the text that names it
-    bool whileMoving = true;
+    bool whileMoving = true;           // progressive: the preview level first when the full frame is slow
+    double budgetMs = 0.0;             // a first image within this; 0: the driver's (150 ms llvmpipe, 16 GPU)
+    double defaultBudgetMs = 150.0;    // the driver's (set by the app)
     bool available = false;            // the volume shown is large enough to preview (set by the app)
     std::optional<double> lastInput;   // seconds (the app's clock) of the last moving input
     bool shown = false;                // the viewport shows the preview (set by the app)

@@ -1,0 +1,253 @@
+// The render thread (render_thread.h): its loop of tasks and views, the levels of a view, and when a newer
+// request supersedes the frame in flight.
+#include "render_thread.h"
+
+#include "renderer/errors.h"
+#include "renderer/gl/gl_context.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <utility>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+} // namespace
+
+RenderThread::RenderThread() {
+    if (const char* delay = std::getenv("SPLATLAB_RENDER_DELAY_MS")) m_delayMs = std::max(0, std::atoi(delay));
+    std::promise<std::string> started;
+    std::future<std::string> name = started.get_future();
+    m_thread = std::thread([this, p = std::move(started)]() mutable { loop(std::move(p)); });
+    try {
+        m_glRenderer = name.get();
+    } catch (...) {
+        m_thread.join();
+        throw;
+    }
+}
+
+RenderThread::~RenderThread() {
+    {
+        std::lock_guard lock(m_mutex);
+        m_stop = true;
+    }
+    m_wake.notify_all();
+    m_thread.join();
+}
+
+double RenderThread::defaultBudgetMs() const { return m_glRenderer.rfind("llvmpipe", 0) == 0 ? 150.0 : 16.0; }
+
+void RenderThread::post(std::function<void(Renderers&)> task, bool reportErrors) {
+    {
+        std::lock_guard lock(m_mutex);
+        m_tasks.emplace_back(std::move(task), reportErrors);
+    }
+    m_wake.notify_all();
+}
+
+void RenderThread::setScenes(std::shared_ptr<const renderer::SplatScene> full,
+                             std::shared_ptr<const renderer::SplatScene> preview) {
+    post(
+        [full, preview](Renderers& r) {
+            r.full->setScene(*full);
+            if (!preview) return r.preview.reset();
+            if (!r.preview) r.preview = std::make_unique<renderer::SplatRenderer>();
+            r.preview->setScene(*preview);
+        },
+        true);
+}
+
+void RenderThread::setLuts(const renderer::Lut& full, const std::optional<renderer::Lut>& preview) {
+    post(
+        [full, preview](Renderers& r) {
+            r.full->setLut(full);
+            if (preview && r.preview) r.preview->setLut(*preview);
+        },
+        true);
+}
+
+void RenderThread::setGradients(std::shared_ptr<const renderer::SplatScene> full,
+                                std::shared_ptr<const renderer::SplatScene> preview) {
+    post(
+        [full, preview](Renderers& r) {
+            r.full->setGradients(*full);
+            if (preview && r.preview) r.preview->setGradients(*preview);
+        },
+        true);
+}
+
+void RenderThread::setPreviewScene(std::shared_ptr<const renderer::SplatScene> preview) {
+    post(
+        [preview](Renderers& r) {
+            if (r.preview) r.preview->setScene(*preview);
+        },
+        true);
+}
+
+uint64_t RenderThread::requestView(const ViewRequest& request) {
+    uint64_t id = 0;
+    {
+        std::lock_guard lock(m_mutex);
+        id = m_nextId++;
+        m_pendingView.emplace(id, request);
+        m_pendingAsked = Clock::now();
+        m_newestId = id;
+    }
+    m_wake.notify_all();
+    return id;
+}
+
+std::optional<RenderedView> RenderThread::takeView() {
+    std::lock_guard lock(m_mutex);
+    return std::exchange(m_finished, std::nullopt);
+}
+
+void RenderThread::waitForView(uint64_t id) {
+    std::unique_lock lock(m_mutex);
+    m_viewDone.wait(lock, [&] { return m_doneId >= id || m_stop; });
+}
+
+bool RenderThread::busy() const {
+    std::lock_guard lock(m_mutex);
+    return m_pendingView || m_inFlight != 0;
+}
+
+renderer::FrameStats RenderThread::latestStats() const {
+    std::lock_guard lock(m_mutex);
+    return m_latestStats;
+}
+
+std::optional<std::string> RenderThread::takeError() {
+    std::lock_guard lock(m_mutex);
+    if (m_errors.empty()) return std::nullopt;
+    std::string error = std::move(m_errors.front());
+    m_errors.pop_front();
+    return error;
+}
+
+void RenderThread::loop(std::promise<std::string> started) {
+    // The context and the renderers live and die on this thread: GL objects go while it is current.
+    std::unique_ptr<renderer::HeadlessGl> gl;
+    Renderers r;
+    try {
+        gl = renderer::HeadlessGl::create();
+        r.full = std::make_unique<renderer::SplatRenderer>();
+        started.set_value(renderer::glRendererName());
+    } catch (...) {
+        started.set_exception(std::current_exception());
+        return;
+    }
+    std::unique_lock lock(m_mutex);
+    while (!m_stop) {
+        // Idle: collect the GPU timers every 50 ms for the Performance panel.
+        if (!m_wake.wait_for(lock, std::chrono::milliseconds(50),
+                             [&] { return m_stop || !m_tasks.empty() || m_pendingView; })) {
+            lock.unlock();
+            r.full->collectTimers();
+            lock.lock();
+            m_latestStats = r.full->stats();
+            continue;
+        }
+        if (m_stop) break;
+        if (!m_tasks.empty()) { // scene changes first: a view asked after them needs them
+            auto [task, report] = std::move(m_tasks.front());
+            m_tasks.pop_front();
+            lock.unlock();
+            try {
+                task(r);
+            } catch (const std::exception& e) {
+                lock.lock();
+                if (report) m_errors.push_back(e.what());
+                continue;
+            }
+            lock.lock();
+            continue;
+        }
+        auto [id, request] = std::move(*m_pendingView);
+        m_pendingView.reset();
+        const Clock::time_point asked = m_pendingAsked;
+        m_inFlight = id;
+        lock.unlock();
+        try {
+            // Progressive: the preview level first where the full frame missed the budget last time.
+            using Levels = ViewRequest::Levels;
+            const bool previewFirst =
+                r.preview && (request.levels == Levels::PreviewOnly ||
+                              (request.levels == Levels::Progressive && m_fullMs > request.budgetMs));
+            const bool fullToo = request.levels != Levels::PreviewOnly || !r.preview;
+            if ((!previewFirst || renderLevel(*r.preview, true, id, request, asked, false, !fullToo)) && fullToo)
+                renderLevel(*r.full, false, id, request, asked, previewFirst, true);
+        } catch (const std::exception& e) {
+            std::lock_guard errorLock(m_mutex);
+            m_errors.push_back(e.what());
+        }
+        lock.lock();
+        m_inFlight = 0;
+        m_doneId = std::max(m_doneId, id);
+        m_viewDone.notify_all();
+    }
+    m_stop = true;
+    m_viewDone.notify_all();
+    lock.unlock();
+    r = {}; // the renderers before the context
+}
+
+bool RenderThread::superseded(uint64_t id, Clock::time_point started, double budgetMs, bool refinement) const {
+    std::lock_guard lock(m_mutex);
+    if (m_stop) return true;
+    if (m_newestId <= id) return false;
+    // A refinement goes at once (its request already showed an image); a first image only once it has
+    // missed the budget, so that a stream of edits (a drag) still shows frames that fit it.
+    return refinement || msSince(started) > budgetMs;
+}
+
+bool RenderThread::renderLevel(renderer::SplatRenderer& which, bool preview, uint64_t id,
+                               const ViewRequest& request, Clock::time_point asked, bool refinement, bool last) {
+    const Clock::time_point started = Clock::now();
+    for (int waited = 0; waited < m_delayMs; waited += 10) { // SPLATLAB_RENDER_DELAY_MS: a slow scan
+        if (superseded(id, started, request.budgetMs, refinement)) return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    which.setInterrupt([&] { return superseded(id, started, request.budgetMs, refinement); });
+    try {
+        which.render(request.plane, preview ? request.coarse : request.full);
+    } catch (const renderer::Cancelled&) {
+        which.setInterrupt({});
+        return false;
+    }
+    which.setInterrupt({});
+    RenderedView view;
+    view.request = id;
+    view.preview = preview;
+    view.last = last;
+    view.width = request.plane.width, view.height = request.plane.height;
+    view.plane = request.plane;
+    view.rgba.resize(size_t(view.width) * size_t(view.height) * 4);
+    const unsigned texture = which.displayTexture(request.background.data(), request.heatmap);
+    glGetTextureImage(texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(view.rgba.size()), view.rgba.data());
+    renderer::checkGlErrors("render thread: the view's pixels");
+    view.stats = which.stats();
+    view.sceneBytes = which.sceneBytes();
+    view.workingBytes = which.workingBytes();
+    view.sinceRequestMs = msSince(asked);
+    std::function<void()> onImage;
+    {
+        std::lock_guard lock(m_mutex);
+        if (!preview) {
+            m_fullMs = msSince(started);
+            m_latestStats = view.stats;
+        }
+        m_finished = std::move(view);
+        onImage = m_onImage;
+    }
+    if (onImage) onImage();
+    return true;
+}

@@ -1,0 +1,127 @@
+// The editor's renderer on a thread of its own, with its own headless GL context (EGL), so the UI thread
+// never waits for a frame. It owns the splat renderers (the full scene's and the preview level's); the UI
+// hands it copies of the scenes and asks for views, and each UI frame takes the newest finished image.
+// A newer view request supersedes the frame in flight at its next chunk (SplatRenderer::setInterrupt).
+#pragma once
+#include "renderer/gl/splat_renderer.h"
+#include "renderer/model/splat_scene.h"
+
+#include <array>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+// The renderers the thread owns; tasks (RenderThread::run) get them.
+struct Renderers {
+    std::unique_ptr<renderer::SplatRenderer> full;
+    std::unique_ptr<renderer::SplatRenderer> preview; // null while the volume has no preview level
+};
+
+// What the viewport asks for.
+struct ViewRequest {
+    renderer::ImagePlane plane;     // the full frame's; the preview's is the same view
+    renderer::SplatSettings full;   // settings of the full frame
+    renderer::SplatSettings coarse; // of the preview level (the same extinction per unit length)
+    std::array<float, 3> background{};
+    bool heatmap = false;
+    enum class Levels { Progressive, FullOnly, PreviewOnly } levels = Levels::Progressive;
+    double budgetMs = 150.0; // a first image within this: the preview level first when the full frame's
+                             // last measured time exceeds it
+};
+
+// One finished image of a request: the preview level's (then the full frame follows) or the full frame's.
+struct RenderedView {
+    uint64_t request = 0;
+    bool preview = false;
+    bool last = true;                 // no finer image of this request follows
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgba;        // over the background, 8 bits a channel, row 0 at the top
+    renderer::ImagePlane plane;
+    renderer::FrameStats stats;
+    uint64_t sceneBytes = 0, workingBytes = 0;
+    double sinceRequestMs = 0.0;      // from the request to this image, read back
+};
+
+class RenderThread {
+  public:
+    // Starts the thread and its GL context; throws GlError (from the thread) when there is none.
+    RenderThread();
+    ~RenderThread(); // the frame in flight stops at its next chunk; queued tasks are dropped
+    RenderThread(const RenderThread&) = delete;
+    RenderThread& operator=(const RenderThread&) = delete;
+
+    const std::string& glRenderer() const { return m_glRenderer; }
+    // The budget for a first image on this driver: 150 ms on llvmpipe, 16 ms on a GPU.
+    double defaultBudgetMs() const;
+
+    // Scene changes, run in order before any view asked for after them. Errors come back through takeError.
+    void setScenes(std::shared_ptr<const renderer::SplatScene> full,
+                   std::shared_ptr<const renderer::SplatScene> preview);
+    void setLuts(const renderer::Lut& full, const std::optional<renderer::Lut>& preview);
+    void setGradients(std::shared_ptr<const renderer::SplatScene> full,
+                      std::shared_ptr<const renderer::SplatScene> preview);
+    void setPreviewScene(std::shared_ptr<const renderer::SplatScene> preview); // the window dragged
+
+    // Asks for a view; replaces a request not yet started and supersedes the frame in flight. Returns its id.
+    uint64_t requestView(const ViewRequest& request);
+    // The newest image finished since the last call, if any.
+    std::optional<RenderedView> takeView();
+    // Waits until request `id` gave its last image or failed (scripted runs: deterministic frames).
+    void waitForView(uint64_t id);
+    bool busy() const; // a view is queued or in flight
+    // The full renderer's stats, with GPU times collected since (the Performance panel's per UI frame).
+    renderer::FrameStats latestStats() const;
+    // A failure of a scene change or a view, oldest first.
+    std::optional<std::string> takeError();
+
+    // Runs `task(renderers)` on the thread after what is queued; its result or exception in the future.
+    template <class Task> auto run(Task task) -> std::future<decltype(task(std::declval<Renderers&>()))> {
+        using Result = decltype(task(std::declval<Renderers&>()));
+        auto packaged = std::make_shared<std::packaged_task<Result(Renderers&)>>(std::move(task));
+        std::future<Result> result = packaged->get_future();
+        post([packaged](Renderers& r) { (*packaged)(r); }, false);
+        return result;
+    }
+
+    // Called on the render thread after each finished image (the editor wakes its event loop with it).
+    void setOnImage(std::function<void()> onImage) {
+        std::lock_guard lock(m_mutex);
+        m_onImage = std::move(onImage);
+    }
+
+  private:
+    void post(std::function<void(Renderers&)> task, bool reportErrors);
+    void loop(std::promise<std::string> started);
+    // A frame of `which` renderer: false when a newer request superseded it.
+    bool renderLevel(renderer::SplatRenderer& which, bool preview, uint64_t id, const ViewRequest& request,
+                     std::chrono::steady_clock::time_point asked, bool refinement, bool last);
+    bool superseded(uint64_t id, std::chrono::steady_clock::time_point started, double budgetMs,
+                    bool refinement) const;
+
+    mutable std::mutex m_mutex;
+    std::condition_variable m_wake, m_viewDone;
+    std::deque<std::pair<std::function<void(Renderers&)>, bool>> m_tasks; // task, report its errors
+    std::optional<std::pair<uint64_t, ViewRequest>> m_pendingView;
+    std::chrono::steady_clock::time_point m_pendingAsked;
+    uint64_t m_nextId = 1, m_newestId = 0, m_doneId = 0, m_inFlight = 0;
+    std::optional<RenderedView> m_finished;
+    std::deque<std::string> m_errors;
+    renderer::FrameStats m_latestStats;
+    bool m_stop = false;
+    double m_fullMs = 0.0; // the last full frame, request to pixels (0: none yet)
+    // Tests and benchmarks: every level of a view waits this long first, in steps a newer request
+    // interrupts (SPLATLAB_RENDER_DELAY_MS), standing for a scan whose frames take that long.
+    int m_delayMs = 0;
+    std::function<void()> m_onImage;
+    std::string m_glRenderer;
+    std::thread m_thread; // last: started after every member it reads
+};
