@@ -24,6 +24,10 @@ constexpr double kPhantomCalcificationHu = 200.0;
 // (0.5 mm at 512), so a 512x512x400 phantom has thicker slices, not a shorter head.
 constexpr double kPhantomFieldMm = 256.0;
 
+// With the ct-skin-bone preset (`--window -1140,2860`), the skin shows as a surface and the skull inside
+// it: the preset's skin band falls on the air-skin edge (-660..-340 HU), its bone ramp on 300..620 HU.
+constexpr ValueRange kPhantomSkinBoneWindow{-1140.0f, 2860.0f};
+
 struct PhantomOptions {
     glm::ivec3 dims{512};   // voxels along x (left-right), y (front-back), z (up: the neck at the z = 0 face)
     uint32_t seed = 1;      // the noise's seed; a seed and dims give the same voxels on any thread count
