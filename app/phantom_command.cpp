@@ -21,10 +21,12 @@ namespace fs = std::filesystem;
 glm::ivec3 parseDims(const std::string& text) {
     std::vector<std::string> parts;
     std::stringstream in(text);
-    for (std::string p; std::getline(in, p, 'x');) parts.push_back(p);
+    for (std::string p; std::getline(in, p, 'x');)
+        parts.push_back(p);
     const auto bad = [&] {
-        return CLI::ValidationError("--size", "'" + text + "': expected N or WxHxD of positive integers, e.g. 512 or "
-                                              "512x512x400");
+        return CLI::ValidationError("--size", "'" + text +
+                                                  "': expected N or WxHxD of positive integers, e.g. 512 or "
+                                                  "512x512x400");
     };
     if (parts.size() != 1 && parts.size() != 3) throw bad();
     glm::ivec3 dims(0);
@@ -44,11 +46,13 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 } // namespace
 
 CLI::App* addPhantomCommand(CLI::App& app, PhantomArgs& a) {
-    auto* cmd = app.add_subcommand("phantom", "Write a CT-like head phantom (int16 HU: air, skin, soft tissue, "
-                                              "skull, brain, noise) as NRRD test data");
+    auto* cmd =
+        app.add_subcommand("phantom", "Write a CT-like head phantom (int16 HU: air, skin, soft tissue, "
+                                      "skull, brain, noise) as NRRD test data");
     cmd->add_option("--size", a.size, "N (a cube) or WxHxD voxels; the head fills a 256 mm cube at any size")
         ->capture_default_str();
-    cmd->add_option("--seed", a.seed, "Seed of the noise (same seed and size: same voxels)")->capture_default_str();
+    cmd->add_option("--seed", a.seed, "Seed of the noise (same seed and size: same voxels)")
+        ->capture_default_str();
     cmd->add_option("--noise", a.noiseHu, "Standard deviation of the Gaussian noise, HU (0: none)")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1000.0));
@@ -85,10 +89,13 @@ int runPhantom(const PhantomArgs& a) {
         onDisk += fs::file_size(f);
     }
     const glm::dvec3 s = phantom.spacing;
-    std::printf("%s: phantom %d x %d x %d int16 HU, spacing %g x %g x %g mm (a %g mm cube), seed %u, noise %g HU\n",
-                names.c_str(), phantom.dims.x, phantom.dims.y, phantom.dims.z, s.x, s.y, s.z, kPhantomFieldMm,
-                options.seed, options.noiseHu);
-    std::printf("  HU %g .. %g, %zu bytes of voxels, %ju bytes on disk; generated in %.2f s, written in %.2f s\n",
-                phantom.range.lo, phantom.range.hi, phantom.voxelCount() * sizeof(int16_t), onDisk, generateS, writeS);
+    std::printf(
+        "%s: phantom %d x %d x %d int16 HU, spacing %g x %g x %g mm (a %g mm cube), seed %u, noise %g HU\n",
+        names.c_str(), phantom.dims.x, phantom.dims.y, phantom.dims.z, s.x, s.y, s.z, kPhantomFieldMm,
+        options.seed, options.noiseHu);
+    std::printf(
+        "  HU %g .. %g, %zu bytes of voxels, %ju bytes on disk; generated in %.2f s, written in %.2f s\n",
+        phantom.range.lo, phantom.range.hi, phantom.voxelCount() * sizeof(int16_t), onDisk, generateS,
+        writeS);
     return 0;
 }

@@ -7,10 +7,10 @@
 #include <string>
 
 struct PhantomArgs {
-    std::string size = "512";   // N (a cube) or WxHxD
+    std::string size = "512"; // N (a cube) or WxHxD
     uint32_t seed = 1;
     double noiseHu = 20.0;
-    std::string out;            // .nhdr (header + NAME.raw[.gz]) or .nrrd (one file)
+    std::string out; // .nhdr (header + NAME.raw[.gz]) or .nrrd (one file)
     bool gzip = false;
 };
 

@@ -39,7 +39,7 @@ std::string sizeName(glm::ivec3 d) {
 constexpr float kBoneThresholdHu = 570.0f;
 
 struct TissueFractions {
-    double air = 0, skin = 0, soft = 0, bone = 0;   // soft: soft tissue, CSF and brain
+    double air = 0, skin = 0, soft = 0, bone = 0; // soft: soft tissue, CSF and brain
 };
 
 // Voxels by value, each class boundary halfway between the tissues on either side (air -1000 | skin -70 |
@@ -48,10 +48,14 @@ struct TissueFractions {
 TissueFractions fractionsByValue(const Volume& v) {
     TissueFractions f;
     for (float hu : v.values) {
-        if (hu < -535.0f) ++f.air;
-        else if (hu < -15.0f) ++f.skin;
-        else if (hu < kBoneThresholdHu) ++f.soft;
-        else ++f.bone;
+        if (hu < -535.0f)
+            ++f.air;
+        else if (hu < -15.0f)
+            ++f.skin;
+        else if (hu < kBoneThresholdHu)
+            ++f.soft;
+        else
+            ++f.bone;
     }
     const double n = double(v.voxelCount());
     return {f.air / n, f.skin / n, f.soft / n, f.bone / n};
@@ -122,7 +126,8 @@ TEST(Phantom, TheSameSeedGivesTheSameVoxelsOnAnyThreadCount) {
     const Volume a = phantom(dims, 20.0, 7);
     Volume oneThread;
     tbb::task_arena(1).execute([&] { oneThread = phantom(dims, 20.0, 7); });
-    EXPECT_TRUE(a.values == oneThread.values) << "the noise of a voxel must not depend on which thread made it";
+    EXPECT_TRUE(a.values == oneThread.values)
+        << "the noise of a voxel must not depend on which thread made it";
     EXPECT_EQ(a.type, VoxelType::I16);
     EXPECT_EQ(a.dims, dims);
     EXPECT_EQ(a.spacing, glm::dvec3(256.0 / 48, 256.0 / 40, 256.0 / 32));
@@ -156,7 +161,8 @@ TEST(Phantom, TheSkullIsAClosedShell) {
                 bool skull = false;
                 for (glm::ivec3 p = start; p[axis] >= 0 && p[axis] < dims[axis]; p[axis] += step)
                     skull = skull || v.at(p.x, p.y, p.z) >= kSkullHu;
-                EXPECT_TRUE(skull) << "no skull from the head's middle along axis " << axis << ", step " << step;
+                EXPECT_TRUE(skull) << "no skull from the head's middle along axis " << axis << ", step "
+                                   << step;
             }
 
         std::vector<char> seen(v.voxelCount(), 0);
@@ -195,7 +201,7 @@ TEST(Phantom, ASizeOverTheMemoryBudgetIsRefusedBeforeAllocating) {
     const auto t0 = std::chrono::steady_clock::now();
     std::string error;
     try {
-        phantom(glm::ivec3(4096, 4096, 64));   // 4 GiB of floats: would take seconds to fill
+        phantom(glm::ivec3(4096, 4096, 64)); // 4 GiB of floats: would take seconds to fill
     } catch (const RenderError& e) {
         error = e.what();
     }

@@ -24,26 +24,33 @@ namespace fs = std::filesystem;
 // Names loadNrrd reads (and teem writes).
 const char* nrrdTypeName(VoxelType type) {
     switch (type) {
-    case VoxelType::U8: return "uint8";
-    case VoxelType::U16: return "uint16";
-    case VoxelType::I16: return "int16";
-    case VoxelType::F32: return "float";
+    case VoxelType::U8:
+        return "uint8";
+    case VoxelType::U16:
+        return "uint16";
+    case VoxelType::I16:
+        return "int16";
+    case VoxelType::F32:
+        return "float";
     }
     return "float";
 }
 
-template <class T>
-bool fitsInteger(float v) {
+template <class T> bool fitsInteger(float v) {
     return std::isfinite(v) && v == std::round(v) && v >= float(std::numeric_limits<T>::min()) &&
            v <= float(std::numeric_limits<T>::max());
 }
 
 bool fitsType(float v, VoxelType type) {
     switch (type) {
-    case VoxelType::U8: return fitsInteger<uint8_t>(v);
-    case VoxelType::U16: return fitsInteger<uint16_t>(v);
-    case VoxelType::I16: return fitsInteger<int16_t>(v);
-    case VoxelType::F32: return true;   // NaN and infinities are floats too
+    case VoxelType::U8:
+        return fitsInteger<uint8_t>(v);
+    case VoxelType::U16:
+        return fitsInteger<uint16_t>(v);
+    case VoxelType::I16:
+        return fitsInteger<int16_t>(v);
+    case VoxelType::F32:
+        return true; // NaN and infinities are floats too
     }
     return true;
 }
@@ -53,7 +60,8 @@ void checkValuesFitTheType(const Volume& volume) {
     const auto bad = std::find_if(volume.values.begin(), volume.values.end(),
                                   [&](float v) { return !fitsType(v, volume.type); });
     if (bad == volume.values.end()) return;
-    const size_t i = size_t(bad - volume.values.begin()), dx = size_t(volume.dims.x), dy = size_t(volume.dims.y);
+    const size_t i = size_t(bad - volume.values.begin()), dx = size_t(volume.dims.x),
+                 dy = size_t(volume.dims.y);
     char text[160];
     std::snprintf(text, sizeof text, "voxel (%zu, %zu, %zu) is %g: not a whole number within %s", i % dx,
                   i / dx % dy, i / (dx * dy), double(*bad), voxelTypeName(volume.type));
@@ -90,15 +98,24 @@ void appendSliceBytes(const Volume& volume, int z, std::string& bytes) {
     const auto put = [&](auto value, size_t i) {
         std::memcpy(&bytes[i * size], &value, size);
         if constexpr (std::endian::native == std::endian::big)
-            std::reverse(bytes.begin() + std::ptrdiff_t(i * size), bytes.begin() + std::ptrdiff_t((i + 1) * size));
+            std::reverse(bytes.begin() + std::ptrdiff_t(i * size),
+                         bytes.begin() + std::ptrdiff_t((i + 1) * size));
     };
     for (size_t i = 0; i < count; ++i) {
         const float v = volume.values[first + i];
         switch (volume.type) {
-        case VoxelType::U8: put(uint8_t(v), i); break;
-        case VoxelType::U16: put(uint16_t(v), i); break;
-        case VoxelType::I16: put(int16_t(v), i); break;
-        case VoxelType::F32: put(v, i); break;
+        case VoxelType::U8:
+            put(uint8_t(v), i);
+            break;
+        case VoxelType::U16:
+            put(uint16_t(v), i);
+            break;
+        case VoxelType::I16:
+            put(int16_t(v), i);
+            break;
+        case VoxelType::F32:
+            put(v, i);
+            break;
         }
     }
 }
@@ -108,11 +125,14 @@ void writeFile(const fs::path& file, const fs::path& path, const std::string& he
                bool gzip) {
     std::ofstream out(file, std::ios::binary);
     out << header;
-    const auto fail = [&](const std::string& why) { throw LoadError(path.string(), "", "cannot write: " + why); };
+    const auto fail = [&](const std::string& why) {
+        throw LoadError(path.string(), "", "cannot write: " + why);
+    };
     if (voxels) {
         z_stream zs{};
         // windowBits 15 + 16: a gzip stream (the NRRD "gzip" encoding); level 1 for speed.
-        if (gzip && deflateInit2(&zs, 1, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK) fail("zlib: out of memory");
+        if (gzip && deflateInit2(&zs, 1, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+            fail("zlib: out of memory");
         std::string slice, packed(size_t(1) << 18, '\0');
         for (int z = 0; z < voxels->dims.z && out; ++z) {
             appendSliceBytes(*voxels, z, slice);
@@ -160,7 +180,8 @@ std::vector<fs::path> saveNrrd(const Volume& volume, const fs::path& path, const
         });
         return {path};
     }
-    replaceFileAtomically(dataPath, [&](const fs::path& tmp) { writeFile(tmp, dataPath, "", &volume, options.gzip); });
+    replaceFileAtomically(dataPath,
+                          [&](const fs::path& tmp) { writeFile(tmp, dataPath, "", &volume, options.gzip); });
     replaceFileAtomically(path, [&](const fs::path& tmp) {
         writeFile(tmp, path, headerText(volume, options.gzip, dataPath.filename().string()), nullptr, false);
     });

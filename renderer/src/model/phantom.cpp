@@ -32,15 +32,16 @@ struct Shape {
 constexpr Shape kHead{{0.0, 0.0, 18.0}, {74.0, 92.0, 100.0}};
 constexpr Shape kNeck{{0.0, 12.0, 0.0}, {50.0, 56.0, 0.0}, 18.0};
 // Depths below the head's surface where each layer starts (the skull is 7 mm: 2 + 3 + 2).
-constexpr double kSkinMm = 2.5;          // skin, then soft tissue
-constexpr double kSkullMm = 6.0;         // outer table
+constexpr double kSkinMm = 2.5;  // skin, then soft tissue
+constexpr double kSkullMm = 6.0; // outer table
 constexpr double kDiploeMm = 8.0;
 constexpr double kInnerTableMm = 11.0;
-constexpr double kCsfMm = 13.0;          // the skull ends; a CSF gap, then brain
+constexpr double kCsfMm = 13.0; // the skull ends; a CSF gap, then brain
 constexpr double kBrainMm = 14.5;
 // Inside the brain, clear of the cube's middle (tests measure the brain there): two lateral ventricles,
 // a haemorrhage and a calcification.
-constexpr Shape kVentricles[] = {{{-11.0, 8.0, 38.0}, {6.0, 24.0, 11.0}}, {{11.0, 8.0, 38.0}, {6.0, 24.0, 11.0}}};
+constexpr Shape kVentricles[] = {{{-11.0, 8.0, 38.0}, {6.0, 24.0, 11.0}},
+                                 {{11.0, 8.0, 38.0}, {6.0, 24.0, 11.0}}};
 constexpr Shape kBleed{{30.0, -35.0, 45.0}, {9.0, 9.0, 9.0}};
 constexpr Shape kCalcification{{0.0, 32.0, 28.0}, {3.5, 3.5, 3.5}};
 
@@ -50,8 +51,8 @@ struct Layer {
     glm::dvec3 centre, invSemiAxes;
     bool cylinder = false;
     double topZ = 0.0;
-    double halfVoxelMm = 0.0;                  // half the voxel's widest extent, sx + sy + sz over 2
-    double emptyBeyondSq = 0.0, fullWithinSq = 0.0;   // coverage 0 beyond this squared radius, 1 within
+    double halfVoxelMm = 0.0;                       // half the voxel's widest extent, sx + sy + sz over 2
+    double emptyBeyondSq = 0.0, fullWithinSq = 0.0; // coverage 0 beyond this squared radius, 1 within
 };
 
 Layer prepare(const Shape& shape, double insetMm, const glm::dvec3& spacing) {
@@ -79,17 +80,17 @@ double coverage(const Layer& layer, const glm::dvec3& p, const glm::dvec3& spaci
     glm::dvec3 d = p - layer.centre;
     if (layer.cylinder) d.z = 0.0;
     const glm::dvec3 q = d * layer.invSemiAxes;
-    const double radiusSq = glm::dot(q, q);   // 1 on the surface
+    const double radiusSq = glm::dot(q, q); // 1 on the surface
     const double capMm = layer.cylinder ? layer.topZ - p.z : std::numeric_limits<double>::infinity();
     if (radiusSq >= layer.emptyBeyondSq || capMm <= -layer.halfVoxelMm) return 0.0;
     if (radiusSq <= layer.fullWithinSq && capMm >= layer.halfVoxelMm) return 1.0;
     const double radius = std::sqrt(radiusSq);
-    const glm::dvec3 gradient = q * layer.invSemiAxes;   // times |q|: that factor cancels below
+    const glm::dvec3 gradient = q * layer.invSemiAxes; // times |q|: that factor cancels below
     const double gradientLength = glm::length(gradient);
     double depthMm = gradientLength > 0.0 ? (1.0 - radius) * radius / gradientLength
-                                          : std::numeric_limits<double>::infinity();   // the centre
+                                          : std::numeric_limits<double>::infinity(); // the centre
     glm::dvec3 normal = gradientLength > 0.0 ? gradient / gradientLength : glm::dvec3(1.0, 0.0, 0.0);
-    if (capMm < depthMm) {   // nearer a cylinder's top than its side
+    if (capMm < depthMm) { // nearer a cylinder's top than its side
         depthMm = capMm;
         normal = {0.0, 0.0, 1.0};
     }
@@ -108,8 +109,8 @@ struct Anatomy {
           headBelowSkin(prepare(kHead, kSkinMm, s)), neckBelowSkin(prepare(kNeck, kSkinMm, s)),
           skull(prepare(kHead, kSkullMm, s)), diploe(prepare(kHead, kDiploeMm, s)),
           innerTable(prepare(kHead, kInnerTableMm, s)), csf(prepare(kHead, kCsfMm, s)),
-          brain(prepare(kHead, kBrainMm, s)),
-          ventricles{prepare(kVentricles[0], 0.0, s), prepare(kVentricles[1], 0.0, s)},
+          brain(prepare(kHead, kBrainMm, s)), ventricles{prepare(kVentricles[0], 0.0, s),
+                                                         prepare(kVentricles[1], 0.0, s)},
           bleed(prepare(kBleed, 0.0, s)), calcification(prepare(kCalcification, 0.0, s)) {}
 
     double cover(const Layer& layer, const glm::dvec3& p) const { return coverage(layer, p, spacing); }
@@ -121,11 +122,12 @@ struct Anatomy {
         const double body = std::max(cover(head, p), cover(neck, p));
         if (body == 0.0) return kPhantomAirHu;
         double hu = kPhantomAirHu + (kPhantomSkinHu - kPhantomAirHu) * body;
-        hu += (kPhantomSoftTissueHu - kPhantomSkinHu) * std::max(cover(headBelowSkin, p), cover(neckBelowSkin, p));
+        hu += (kPhantomSoftTissueHu - kPhantomSkinHu) *
+              std::max(cover(headBelowSkin, p), cover(neckBelowSkin, p));
         const double bone = cover(skull, p);
         if (bone == 0.0) return hu;
         const double inBrain = cover(brain, p);
-        if (inBrain < 1.0) {   // within a voxel of the skull: all its layers
+        if (inBrain < 1.0) { // within a voxel of the skull: all its layers
             hu += (kPhantomCorticalBoneHu - kPhantomSoftTissueHu) * bone;
             hu += (kPhantomDiploeHu - kPhantomCorticalBoneHu) * cover(diploe, p);
             hu += (kPhantomCorticalBoneHu - kPhantomDiploeHu) * cover(innerTable, p);
@@ -134,7 +136,8 @@ struct Anatomy {
         } else {
             hu = kPhantomBrainHu;
         }
-        for (const Layer& ventricle : ventricles) hu += (kPhantomCsfHu - kPhantomBrainHu) * cover(ventricle, p);
+        for (const Layer& ventricle : ventricles)
+            hu += (kPhantomCsfHu - kPhantomBrainHu) * cover(ventricle, p);
         hu += (kPhantomBleedHu - kPhantomBrainHu) * cover(bleed, p);
         hu += (kPhantomCalcificationHu - kPhantomBrainHu) * cover(calcification, p);
         return hu;
@@ -160,7 +163,8 @@ NormalPair normalPair(uint32_t seed, uint64_t pair) {
     const uint64_t h = hash64((uint64_t(seed) << 32 | pair) + 0x9e3779b97f4a7c15ull);
     // Two 24-bit uniforms in (0, 1), in float (twice as fast as double here; the noise needs no more):
     // the +0.5 keeps log() finite, and makes the largest |normal| 5.9.
-    const float u1 = (float(h >> 40) + 0.5f) * 0x1p-24f, u2 = (float((h >> 16) & 0xffffffu) + 0.5f) * 0x1p-24f;
+    const float u1 = (float(h >> 40) + 0.5f) * 0x1p-24f,
+                u2 = (float((h >> 16) & 0xffffffu) + 0.5f) * 0x1p-24f;
     const float r = std::sqrt(-2.0f * std::log(u1)), angle = 2.0f * std::numbers::pi_v<float> * u2;
     return {r * std::cos(angle), r * std::sin(angle)};
 }
@@ -178,13 +182,14 @@ void checkOptions(const PhantomOptions& o) {
     // In double so the product cannot wrap before it is compared.
     const double voxels = double(o.dims.x) * double(o.dims.y) * double(o.dims.z);
     if (voxels > double(kMaxVoxels))
-        throw RenderError("phantom: size " + sizeText(o.dims) + " is more than the " + std::to_string(kMaxVoxels) +
-                          " voxels a volume may have");
+        throw RenderError("phantom: size " + sizeText(o.dims) + " is more than the " +
+                          std::to_string(kMaxVoxels) + " voxels a volume may have");
     const uint64_t bytes = uint64_t(voxels) * sizeof(float), budget = volumeMemoryBudget();
     if (bytes > budget)
-        throw RenderError("phantom: size " + sizeText(o.dims) + " needs " + std::to_string((bytes + kMiB - 1) / kMiB) +
-                          " MiB as 32-bit floats, more than the memory budget of " + std::to_string(budget / kMiB) +
-                          " MiB (half of what this process may use; SPLATLAB_MEMORY_BUDGET_MB sets it)");
+        throw RenderError(
+            "phantom: size " + sizeText(o.dims) + " needs " + std::to_string((bytes + kMiB - 1) / kMiB) +
+            " MiB as 32-bit floats, more than the memory budget of " + std::to_string(budget / kMiB) +
+            " MiB (half of what this process may use; SPLATLAB_MEMORY_BUDGET_MB sets it)");
 }
 
 } // namespace
@@ -197,7 +202,7 @@ Volume makePhantom(const PhantomOptions& options) {
     volume.type = VoxelType::I16;
     volume.dims = options.dims;
     volume.spacing = kPhantomFieldMm / glm::dvec3(options.dims);
-    volume.origin = -0.5 * volume.spacing * glm::dvec3(options.dims - 1);   // (0,0,0) mid-cube
+    volume.origin = -0.5 * volume.spacing * glm::dvec3(options.dims - 1); // (0,0,0) mid-cube
     volume.values.resize(volume.voxelCount());
 
     // 2. Tissue plus noise, a slice per task. Tissues stay within [-1000, 1400] HU and the noise within
@@ -211,8 +216,10 @@ Volume makePhantom(const PhantomOptions& options) {
                 const size_t i = row + size_t(x);
                 if (options.noiseHu > 0.0 && (x == 0 || i % 2 == 0)) noise = normalPair(options.seed, i / 2);
                 const double n = i % 2 == 0 ? noise.first : noise.second;
-                const double hu = std::round(anatomy.tissueHu(volume.positionOf(x, y, z)) + options.noiseHu * n);
-                assert(hu >= -32768.0 && hu <= 32767.0 && "tissue and noise bounds keep every voxel within int16");
+                const double hu =
+                    std::round(anatomy.tissueHu(volume.positionOf(x, y, z)) + options.noiseHu * n);
+                assert(hu >= -32768.0 && hu <= 32767.0 &&
+                       "tissue and noise bounds keep every voxel within int16");
                 volume.values[i] = float(hu);
             }
         }

@@ -9,7 +9,7 @@
 namespace renderer {
 
 struct NrrdWriteOptions {
-    bool gzip = false;   // "encoding: gzip" (zlib level 1: noisy data barely shrinks, so spend little time)
+    bool gzip = false; // "encoding: gzip" (zlib level 1: noisy data barely shrinks, so spend little time)
 };
 
 // Writes `volume` in its own VoxelType, little-endian. A path ending in .nhdr gets a detached header and

@@ -11,13 +11,13 @@ namespace renderer {
 // The noise-free value of each tissue, HU. Layer thicknesses are in mm (phantom.cpp), so every size shows
 // the same head, sampled more or less finely.
 constexpr double kPhantomAirHu = -1000.0;
-constexpr double kPhantomSkinHu = -70.0;         // skin and the fat under it, as one thin layer
-constexpr double kPhantomSoftTissueHu = 40.0;    // scalp muscle, face and neck
+constexpr double kPhantomSkinHu = -70.0;          // skin and the fat under it, as one thin layer
+constexpr double kPhantomSoftTissueHu = 40.0;     // scalp muscle, face and neck
 constexpr double kPhantomCorticalBoneHu = 1400.0; // the skull's outer and inner tables
-constexpr double kPhantomDiploeHu = 700.0;       // the spongy bone between the tables
-constexpr double kPhantomCsfHu = 8.0;            // around the brain and in the ventricles
+constexpr double kPhantomDiploeHu = 700.0;        // the spongy bone between the tables
+constexpr double kPhantomCsfHu = 8.0;             // around the brain and in the ventricles
 constexpr double kPhantomBrainHu = 30.0;
-constexpr double kPhantomBleedHu = 70.0;         // a small haemorrhage (denser than brain)
+constexpr double kPhantomBleedHu = 70.0; // a small haemorrhage (denser than brain)
 constexpr double kPhantomCalcificationHu = 200.0;
 
 // The phantom fills a cube this wide on every axis, whatever its dims: spacing is kPhantomFieldMm / dims
@@ -29,9 +29,9 @@ constexpr double kPhantomFieldMm = 256.0;
 constexpr ValueRange kPhantomSkinBoneWindow{-1140.0f, 2860.0f};
 
 struct PhantomOptions {
-    glm::ivec3 dims{512};   // voxels along x (left-right), y (front-back), z (up: the neck at the z = 0 face)
-    uint32_t seed = 1;      // the noise's seed; a seed and dims give the same voxels on any thread count
-    double noiseHu = 20.0;  // standard deviation of the Gaussian noise added to every voxel, HU; 0: none
+    glm::ivec3 dims{512};  // voxels along x (left-right), y (front-back), z (up: the neck at the z = 0 face)
+    uint32_t seed = 1;     // the noise's seed; a seed and dims give the same voxels on any thread count
+    double noiseHu = 20.0; // standard deviation of the Gaussian noise added to every voxel, HU; 0: none
 };
 
 // The phantom as int16 HU (Volume::type I16; values are whole numbers within int16, stored as floats),
