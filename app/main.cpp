@@ -2,6 +2,7 @@
 // window. Errors from the renderer become one line on stderr and a non-zero exit.
 #include "accuracy.h"
 #include "editor.h"
+#include "phantom_command.h"
 
 #include "renderer/math/camera.h"
 #include "renderer/errors.h"
@@ -688,6 +689,8 @@ int main(int argc, char** argv) {
 
     AccuracyArgs acc;
     auto* accuracy = addAccuracyCommand(app, acc);
+    PhantomArgs phantomArgs;
+    auto* phantom = addPhantomCommand(app, phantomArgs);
 
     EditorOptions e;
     e.volumePath = std::filesystem::path(SPLATLAB_ASSET_DIR) / "volumes" / "bonsai.nhdr";
@@ -740,6 +743,7 @@ int main(int argc, char** argv) {
         if (*info) return runInfo(infoPath, infoRaw, infoGradients);
         if (*accuracy) return runAccuracy(acc);
         if (*tfCommand) return runTf(tfSpec, tfOut);
+        if (*phantom) return runPhantom(phantomArgs);
         // No volume and no session: the bundled bonsai (assets/volumes/MANIFEST.md) as it looks best, each
         // default giving way to its flag. Its trunk grows along +y. It is framed from a three-quarter view
         // a little above the rim (unless --camera says where), in its preset, lit per splat (once the

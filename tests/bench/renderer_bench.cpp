@@ -1,13 +1,15 @@
 // Frame time of the GL splatting path on real scans at 512x512 (or --resolution WxH), per filter and
 // compositing mode, the gain of each culling step and of point sprites, and TF-edit latency against a
 // scene rebuild.
-// Datasets: the bundled headsq always; bonsai and engine from SPLATLAB_DATA_DIR when it is set.
+// Datasets: the bundled headsq always; bonsai and engine from SPLATLAB_DATA_DIR when it is set; the CT head
+// phantom at N^3 when SPLATLAB_BENCH_PHANTOM=N (made in memory, as `splatlab phantom --size N` writes it).
 // Each benchmark times whole frames (render + glFinish) and reports splats/s, and beside them the error
 // of the view's centre crop against its ground truth (psnr_db, rmse); the context line names GL_RENDERER. On llvmpipe compare modes only as ratios measured in one run.
 #include "renderer/math/camera.h"
 #include "renderer/oracle/filter_comparison.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/model/gradients.h"
+#include "renderer/model/phantom.h"
 #include "renderer/oracle/ground_truth.h"
 #include "renderer/math/metrics.h"
 #include "renderer/oracle/reference_renderer.h"
@@ -34,9 +36,11 @@ using namespace renderer;
 namespace {
 
 struct Dataset {
-    const char* name;
+    std::string name;
     std::filesystem::path path;
     const char* preset;
+    std::optional<ValueRange> window = std::nullopt;   // none: the data's range
+    int phantomSize = 0;                               // > 0: the head phantom at this size^3 instead of a file
 };
 
 std::vector<Dataset> datasets() {
@@ -48,6 +52,9 @@ std::vector<Dataset> datasets() {
         d.push_back({"engine", std::filesystem::path(dir) / "engine.nhdr", "fire"});
     }
     d.push_back({"headsq", std::filesystem::path(SPLATLAB_ASSET_DIR) / "volumes" / "headsq.nhdr", "ct-skin-bone"});
+    if (const char* size = std::getenv("SPLATLAB_BENCH_PHANTOM"); size && std::atoi(size) > 0)
+        d.push_back({"phantom" + std::to_string(std::atoi(size)), {}, "ct-skin-bone", kPhantomSkinBoneWindow,
+                     std::atoi(size)});
     return d;
 }
 
@@ -73,9 +80,9 @@ const SplatScene& sceneOf(const Dataset& d, bool gradients = false, bool half = 
     auto& cache = scenes();
     const std::string key = std::string(d.name) + (gradients ? "+gradients" : "") + (half ? "+half" : "");
     if (!cache.count(key)) {
-        const Volume full = loadVolume(d.path);
+        const Volume full = d.phantomSize > 0 ? makePhantom({.dims = glm::ivec3(d.phantomSize)}) : loadVolume(d.path);
         const Volume volume = half ? halfResolution(full) : full;
-        SplatScene scene = buildSplatScene(volume, transferFunctionFromSpec(d.preset), full.range);
+        SplatScene scene = buildSplatScene(volume, transferFunctionFromSpec(d.preset), d.window.value_or(full.range));
         if (gradients) addGradients(scene, *computeGradients(volume));
         if (half) halfDensityScales()[d.name] = densityFor(volume, full, 1.0);
         cache.emplace(key, std::move(scene));

@@ -518,6 +518,49 @@ TEST(Cli, TfListsThePresetsAndWritesOneAsAFileTheEditorLoads) {
     EXPECT_THAT(notJson.output, HasSubstr("headsq.nhdr: not valid JSON"));
 }
 
+// `phantom` writes an int16 NRRD that info and the loader read back as it says; a size, a file name or
+// a budget it cannot honour is one line naming it, and nothing is written.
+TEST(Cli, PhantomWritesAnInt16NrrdThatInfoReadsBack) {
+    const auto dir = testing_support::testOutputDir("cli_phantom");
+    const auto header = dir / "head32.nhdr", data = dir / "head32.raw";
+    std::filesystem::remove(header);
+    std::filesystem::remove(data);
+    const CliRun made = splatlab("phantom --size 32 --seed 3 --noise 10 --out \"" + header.string() + "\"");
+    ASSERT_EQ(made.status, 0) << made.output;
+    EXPECT_THAT(made.output, HasSubstr("head32.raw: phantom 32 x 32 x 32 int16 HU, spacing 8 x 8 x 8 mm"));
+    EXPECT_THAT(made.output, HasSubstr("65536 bytes of voxels"));
+    EXPECT_EQ(std::filesystem::file_size(data), 32u * 32u * 32u * 2u);
+
+    const CliRun info = splatlab("info \"" + header.string() + "\"");
+    ASSERT_EQ(info.status, 0) << info.output;
+    EXPECT_THAT(info.output, HasSubstr("dims     32 x 32 x 32"));
+    EXPECT_THAT(info.output, HasSubstr("type     int16"));
+    EXPECT_THAT(info.output, HasSubstr("spacing  8 x 8 x 8"));
+    const renderer::Volume v = renderer::loadVolume(header);
+    EXPECT_EQ(v.type, renderer::VoxelType::I16);
+    EXPECT_LT(v.range.lo, -1000.0f) << "air with noise";
+    EXPECT_GT(v.range.hi, 500.0f) << "the skull";
+
+    const CliRun nonCubic = splatlab("phantom --size 24x20x16 --gzip --out \"" + (dir / "small.nrrd").string() + "\"");
+    ASSERT_EQ(nonCubic.status, 0) << nonCubic.output;
+    EXPECT_EQ(renderer::loadVolume(dir / "small.nrrd").dims, glm::ivec3(24, 20, 16));
+
+    const CliRun badSize = splatlab("phantom --size 32x32 --out \"" + header.string() + "\"");
+    EXPECT_NE(badSize.status, 0);
+    EXPECT_THAT(badSize.output, HasSubstr("--size: '32x32': expected N or WxHxD"));
+    const CliRun badName = splatlab("phantom --size 32 --out \"" + (dir / "head.raw").string() + "\"");
+    EXPECT_NE(badName.status, 0);
+    EXPECT_THAT(badName.output, HasSubstr("expected a .nhdr or .nrrd file name"));
+    const auto big = dir / "big.nrrd";
+    std::filesystem::remove(big);
+    const CliRun overBudget = run("SPLATLAB_MEMORY_BUDGET_MB=1 \"" SPLATLAB_EXE "\" phantom --size 128 --out \"" +
+                                  big.string() + "\" 2>&1");
+    EXPECT_NE(overBudget.status, 0);
+    EXPECT_THAT(overBudget.output, HasSubstr("size 128 x 128 x 128 needs 8 MiB as 32-bit floats, more than the "
+                                             "memory budget of 1 MiB"));
+    EXPECT_FALSE(std::filesystem::exists(big));
+}
+
 TEST(Cli, AccuracyWritesTheReportWithItsTablesAndThumbnails) {
     // The docs/accuracy.md generator at a tiny scale: one hard case, a 64-voxel board, 4^3 Marschner-Lobb.
     const auto dir = testing_support::testOutputDir() / "cli_accuracy";
