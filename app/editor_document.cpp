@@ -10,22 +10,46 @@ renderer::SplatScene classifiedScene(const renderer::Volume& volume, const rende
     return scene;
 }
 
-Preview::Preview(const renderer::Volume& full) : volume(renderer::halfResolution(full)) {}
+Preview::Preview(const renderer::Volume& full) {
+    levels.reserve(kMaxLevels);
+    const renderer::Volume* finer = &full;
+    for (int k = 0; k < kMaxLevels; ++k) {
+        renderer::Volume coarse = renderer::halfResolution(*finer);
+        if (coarse.voxelCount() < kMinLevelVoxels) break;
+        levels.push_back({std::move(coarse), {}, {}});
+        finer = &levels.back().volume;
+    }
+}
 
 void Preview::classify(const renderer::TransferFunction& tf, renderer::ValueRange window) {
-    scene = classifiedScene(volume, tf, window, gradients);
+    for (Level& level : levels)
+        level.scene = classifiedScene(level.volume, tf, window, level.gradients);
 }
 
 void Preview::setTransferFunction(const renderer::TransferFunction& tf) {
-    renderer::setTransferFunction(scene, tf);
+    for (Level& level : levels)
+        renderer::setTransferFunction(level.scene, tf);
 }
 
 void Preview::addGradients() {
-    gradients = renderer::computeGradients(volume);
-    if (!gradients) return;
-    renderer::addGradients(scene, *gradients);
+    for (Level& level : levels) {
+        level.gradients = renderer::computeGradients(level.volume);
+        if (level.gradients) renderer::addGradients(level.scene, *level.gradients);
+    }
 }
 
-std::shared_ptr<const renderer::SplatScene> previewScene(const Document& doc) {
-    return doc.preview ? std::make_shared<const renderer::SplatScene>(doc.preview->scene) : nullptr;
+std::vector<std::shared_ptr<const renderer::SplatScene>> levelScenes(const Document& doc) {
+    std::vector<std::shared_ptr<const renderer::SplatScene>> scenes;
+    if (doc.preview)
+        for (const Level& level : doc.preview->levels)
+            scenes.push_back(std::make_shared<const renderer::SplatScene>(level.scene));
+    return scenes;
+}
+
+std::vector<renderer::Lut> levelLuts(const Document& doc) {
+    std::vector<renderer::Lut> luts;
+    if (doc.preview)
+        for (const Level& level : doc.preview->levels)
+            luts.push_back(level.scene.lut);
+    return luts;
 }

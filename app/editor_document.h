@@ -8,24 +8,33 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 // The volume's scene classified over `window`, with its gradients once they are computed.
 renderer::SplatScene classifiedScene(const renderer::Volume& volume, const renderer::TransferFunction& tf,
                                      renderer::ValueRange window,
                                      const std::optional<renderer::GradientField>& gradients);
 
-// The preview level, drawn first while the full frame misses the frame budget (ui::PreviewSettings): the
-// volume at half resolution with its own scene, classified with the document's TF and window (the window
-// of the full volume's values: the means span a narrower range). Its renderer is the render thread's.
-struct Preview {
+// A coarser level of detail: the volume at 1/2, 1/4 or 1/8 resolution per axis (each 2x2x2 block of the
+// level before averaged) with its own scene, classified with the document's TF and window (the window of
+// the full volume's values: the means span a narrower range). Its renderer is the render thread's.
+struct Level {
     renderer::Volume volume;
     renderer::SplatScene scene;
     std::optional<renderer::GradientField> gradients;
+};
+
+// The levels drawn first while the full frame misses the frame budget (ui::PreviewSettings): 1/2, 1/4 and
+// 1/8 per axis, as many as keep kMinLevelVoxels voxels. levels[0], the finest, is "the preview".
+struct Preview {
+    static constexpr int kMaxLevels = 3;
+    static constexpr size_t kMinLevelVoxels = 4096;
+    std::vector<Level> levels;
 
     explicit Preview(const renderer::Volume& full);
     void classify(const renderer::TransferFunction& tf, renderer::ValueRange window);
     void setTransferFunction(const renderer::TransferFunction& tf);
-    // Once the full volume's gradients are ready; an eighth of the voxels, so computed right here.
+    // Once the full volume's gradients are ready; an eighth of the voxels and less, so computed right here.
     void addGradients();
 };
 
@@ -37,8 +46,10 @@ struct Document {
     renderer::Histogram histogram;                    // of the whole volume, for the Window section
     renderer::ValueRange percentile;                  // p1..p99
     std::optional<renderer::GradientField> gradients; // once computed (for shading, a later issue)
-    std::unique_ptr<Preview> preview;                 // volumes of PreviewSettings::kMinVoxels or more
+    std::unique_ptr<Preview> preview;                 // levels, for volumes of PreviewSettings::kMinVoxels or more
 };
 
-// A copy of the preview level's scene for the render thread; null when the document has no preview.
-std::shared_ptr<const renderer::SplatScene> previewScene(const Document& doc);
+// Copies of the levels' scenes for the render thread, finest first; none when the document has no levels.
+std::vector<std::shared_ptr<const renderer::SplatScene>> levelScenes(const Document& doc);
+// The levels' LUTs, finest first.
+std::vector<renderer::Lut> levelLuts(const Document& doc);

@@ -47,7 +47,7 @@ bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& pa
                          ui::PreviewSettings::kMinMegaVoxels);
         }
         next.volume = std::move(loaded.volume);
-        m_render->setScenes(std::make_shared<const renderer::SplatScene>(next.scene), previewScene(next));
+        m_render->setScenes(std::make_shared<const renderer::SplatScene>(next.scene), levelScenes(next));
         m_hasScene = true;
         m_gradientJob.reset(); // cancels the gradients of the volume going away
         m_doc = std::move(next);
@@ -68,12 +68,12 @@ void EditorLoop::reclassify() {
         const renderer::ValueRange window = renderer::windowFor(*m_doc.volume, m_state.window);
         m_doc.scene = classifiedScene(*m_doc.volume, m_doc.tf, window, m_doc.gradients);
         if (m_doc.preview) m_doc.preview->classify(m_doc.tf, window);
-        m_render->setScenes(std::make_shared<const renderer::SplatScene>(m_doc.scene), previewScene(m_doc));
+        m_render->setScenes(std::make_shared<const renderer::SplatScene>(m_doc.scene), levelScenes(m_doc));
     });
 }
 
 renderer::ValueRange EditorLoop::shownWindow() const {
-    return m_fullWindowStale && m_doc.preview ? m_doc.preview->scene.window : m_doc.scene.window;
+    return m_fullWindowStale && m_doc.preview ? m_doc.preview->levels[0].scene.window : m_doc.scene.window;
 }
 
 void EditorLoop::takeLoadedVolume() {
@@ -113,7 +113,7 @@ void EditorLoop::applyTransferFunction() {
         renderer::setTransferFunction(m_doc.scene, m_doc.tf);
         if (m_doc.preview) m_doc.preview->setTransferFunction(m_doc.tf);
         // The lists stay; only the LUTs travel.
-        m_render->setLuts(m_doc.scene.lut, m_doc.preview ? std::optional(m_doc.preview->scene.lut) : std::nullopt);
+        m_render->setLuts(m_doc.scene.lut, levelLuts(m_doc));
     });
 }
 
@@ -125,7 +125,7 @@ void EditorLoop::applyWindow() {
             m_state.preview.whileMoving) { // the preview's eighth of the voxels now
             guarded([&] {
                 m_doc.preview->classify(m_doc.tf, renderer::windowFor(*m_doc.volume, m_state.window));
-                m_render->setPreviewScene(previewScene(m_doc));
+                m_render->setLevelScenes(levelScenes(m_doc));
             });
             m_fullWindowStale = true;
         } else {
@@ -147,7 +147,7 @@ void EditorLoop::takeGradients() {
             renderer::addGradients(m_doc.scene, *m_doc.gradients);
             if (m_doc.preview) m_doc.preview->addGradients();
             // Only the gradients travel: the rest of the scene is on the GPU already.
-            m_render->setGradients(std::make_shared<const renderer::SplatScene>(m_doc.scene), previewScene(m_doc));
+            m_render->setGradients(std::make_shared<const renderer::SplatScene>(m_doc.scene), levelScenes(m_doc));
             m_state.gradientsReady = true;
         });
         m_renderPending = true;

@@ -102,6 +102,8 @@ class EditorLoop {
     std::vector<ui::DockPanel> makePanels();
     // What the Performance panel's figures are of, for its Copy: volume, image size, mode, GL_RENDERER.
     std::string perfContext() const;
+    // The Stats panel's levels: which is on screen, each one's last time and error against the full frame.
+    std::string levelsText() const;
     void probeHoveredVoxel();
 
     // == Input and output (editor_loop.cpp)

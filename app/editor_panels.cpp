@@ -5,6 +5,8 @@
 #include "renderer/oracle/probe.h"
 
 #include <imgui.h>
+
+#include <cstdio>
 #include <imgui_impl_opengl3.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -25,16 +27,18 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
         {"Viewport", "viewport", [this] { m_viewport = ui::drawViewportPanel(m_state, m_texture); }},
         {"Stats", "bottom",
          [this] {
-             // The figures of what the viewport shows: the preview level's, or the full frame's with
-             // its GPU times as they arrive.
-             const bool preview = m_shown && m_shown->preview && m_doc.preview;
+             // The figures of what the viewport shows: a level's, or the full frame's with its GPU times
+             // as they arrive.
+             const int level = m_shown && m_doc.preview ? m_shown->level : 0;
              ui::drawStatsPanel(
-                 {.frame = preview ? m_shown->stats : m_render->latestStats(),
+                 {.frame = level ? m_shown->stats : m_render->latestStats(),
                   .volume = m_doc.volume ? &*m_doc.volume : nullptr,
-                  .visibleSplats = (preview ? m_doc.preview->scene : m_doc.scene).visibleCount(),
+                  .visibleSplats =
+                      (level ? m_doc.preview->levels[size_t(level - 1)].scene : m_doc.scene).visibleCount(),
                   .sceneBytes = m_shown ? m_shown->sceneBytes : 0,
                   .workingBytes = m_shown ? m_shown->workingBytes : 0,
-                  .glRenderer = m_glRenderer});
+                  .glRenderer = m_glRenderer,
+                  .levels = levelsText()});
          }},
         {"Performance", "bottom",
          [this] { ui::drawPerformancePanel(m_state, m_perfHistory, [this] { return perfContext(); }); }},
@@ -57,6 +61,25 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
          }},
         {"Help", "bottom", [] { ui::drawHelpPanel(); }},
     };
+}
+
+std::string EditorLoop::levelsText() const {
+    if (!m_shown || !m_doc.preview) return {};
+    std::string text = "on screen: " + (m_shown->level ? "1/" + std::to_string(1 << m_shown->level) + " per axis"
+                                                       : std::string("full")) +
+                       "\nlevel  ms      RMSE vs full";
+    char line[64];
+    for (int k = 0; k <= int(m_doc.preview->levels.size()) && k < kMaxViewLevels; ++k) {
+        const double ms = m_shown->levelMs[size_t(k)], rmse = m_shown->levelRmse[size_t(k)];
+        if (ms <= 0.0) continue;
+        const std::string name = k ? "1/" + std::to_string(1 << k) : std::string("full");
+        if (k > 0 && rmse >= 0.0)
+            std::snprintf(line, sizeof line, "\n%-5s %7.1f  %.4f", name.c_str(), ms, rmse);
+        else
+            std::snprintf(line, sizeof line, "\n%-5s %7.1f", name.c_str(), ms);
+        text += line;
+    }
+    return text;
 }
 
 std::string EditorLoop::perfContext() const {

@@ -87,18 +87,20 @@ ViewRequest EditorLoop::viewRequest() const {
     request.full = m_state.settings;
     if (!m_state.gradientsReady)
         request.full.shading = renderer::SplatSettings::Shading::None, request.full.surfaceFlatten = 1.0;
-    request.coarse = request.full;
-    if (m_doc.preview) // the same extinction per unit length from voxels twice the size
-        request.coarse.density = renderer::densityFor(m_doc.preview->volume, *m_doc.volume, request.full.density);
+    if (m_doc.preview) // the same extinction per unit length from voxels 2, 4, 8 times the size
+        for (const Level& level : m_doc.preview->levels) {
+            request.coarse.push_back(request.full);
+            request.coarse.back().density = renderer::densityFor(level.volume, *m_doc.volume, request.full.density);
+        }
     request.background = m_state.background;
     request.heatmap = m_state.showHeatmap;
-    // Scripted runs draw exactly one image a frame: --preview's level, or the full frame.
+    // Scripted runs draw exactly one image a frame: --preview's level (1/2 per axis), or the full frame.
     using Levels = ViewRequest::Levels;
-    request.levels = m_options.preview                               ? Levels::PreviewOnly
+    request.levels = m_options.preview                               ? Levels::FinestOnly
                      : m_scripted || !m_state.preview.whileMoving ? Levels::FullOnly
                                                                       : Levels::Progressive;
-    // While the window is dragged only the preview level is re-classified: it alone shows the new window.
-    if (m_fullWindowStale && m_doc.preview) request.levels = Levels::PreviewOnly;
+    // While the window is dragged only the levels are re-classified: the finest shows the new window.
+    if (m_fullWindowStale && m_doc.preview) request.levels = Levels::FinestOnly;
     request.budgetMs = m_state.preview.budgetMs > 0.0 ? m_state.preview.budgetMs : m_state.preview.defaultBudgetMs;
     return request;
 }
@@ -130,8 +132,9 @@ void EditorLoop::showRenderedView() {
     glTextureSubImage2D(m_texture, 0, 0, 0, view->width, view->height, GL_RGBA, GL_UNSIGNED_BYTE,
                         view->rgba.data());
     view->rgba = {};
-    m_state.preview.shown = view->preview;
-    if (!view->preview) { // the Performance and Filters panels' figures are of full frames
+    m_state.preview.shown = view->level > 0;
+    m_state.preview.shownLevel = view->level;
+    if (view->level == 0) { // the Performance and Filters panels' figures are of full frames
         const auto now = std::chrono::steady_clock::now();
         const double intervalMs = m_state.perf.renderContinuously && m_lastFullFrame
                                       ? std::chrono::duration<double, std::milli>(now - *m_lastFullFrame).count()

@@ -8,6 +8,7 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <utility>
 
@@ -17,6 +18,19 @@ using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+// RMSE of two RGBA8 images' colour channels, in 0..1 units.
+double displayRmse(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+    double sum = 0.0;
+    size_t n = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+        if (i % 4 == 3) continue;
+        const double d = (double(a[i]) - double(b[i])) / 255.0;
+        sum += d * d;
+        ++n;
+    }
+    return n ? std::sqrt(sum / double(n)) : 0.0;
 }
 
 } // namespace
@@ -53,41 +67,43 @@ void RenderThread::post(std::function<void(Renderers&)> task, bool reportErrors)
     m_wake.notify_all();
 }
 
-void RenderThread::setScenes(std::shared_ptr<const renderer::SplatScene> full,
-                             std::shared_ptr<const renderer::SplatScene> preview) {
+void RenderThread::setScenes(std::shared_ptr<const renderer::SplatScene> full, Scenes levels) {
     post(
-        [full, preview](Renderers& r) {
+        [this, full, levels](Renderers& r) {
             r.full->setScene(*full);
-            if (!preview) return r.preview.reset();
-            if (!r.preview) r.preview = std::make_unique<renderer::SplatRenderer>();
-            r.preview->setScene(*preview);
+            r.levels.resize(levels.size());
+            for (size_t k = 0; k < levels.size(); ++k) {
+                if (!r.levels[k]) r.levels[k] = std::make_unique<renderer::SplatRenderer>();
+                r.levels[k]->setScene(*levels[k]);
+            }
+            m_levelMs = {}; // another volume: its times are still to measure
+            m_levelRmse = {-1, -1, -1, -1};
         },
         true);
 }
 
-void RenderThread::setLuts(const renderer::Lut& full, const std::optional<renderer::Lut>& preview) {
+void RenderThread::setLuts(const renderer::Lut& full, std::vector<renderer::Lut> levels) {
     post(
-        [full, preview](Renderers& r) {
+        [full, levels = std::move(levels)](Renderers& r) {
             r.full->setLut(full);
-            if (preview && r.preview) r.preview->setLut(*preview);
+            for (size_t k = 0; k < levels.size() && k < r.levels.size(); ++k) r.levels[k]->setLut(levels[k]);
         },
         true);
 }
 
-void RenderThread::setGradients(std::shared_ptr<const renderer::SplatScene> full,
-                                std::shared_ptr<const renderer::SplatScene> preview) {
+void RenderThread::setGradients(std::shared_ptr<const renderer::SplatScene> full, Scenes levels) {
     post(
-        [full, preview](Renderers& r) {
+        [full, levels](Renderers& r) {
             r.full->setGradients(*full);
-            if (preview && r.preview) r.preview->setGradients(*preview);
+            for (size_t k = 0; k < levels.size() && k < r.levels.size(); ++k) r.levels[k]->setGradients(*levels[k]);
         },
         true);
 }
 
-void RenderThread::setPreviewScene(std::shared_ptr<const renderer::SplatScene> preview) {
+void RenderThread::setLevelScenes(Scenes levels) {
     post(
-        [preview](Renderers& r) {
-            if (r.preview) r.preview->setScene(*preview);
+        [levels](Renderers& r) {
+            for (size_t k = 0; k < levels.size() && k < r.levels.size(); ++k) r.levels[k]->setScene(*levels[k]);
         },
         true);
 }
@@ -177,14 +193,9 @@ void RenderThread::loop(std::promise<std::string> started) {
         m_inFlight = id;
         lock.unlock();
         try {
-            // Progressive: the preview level first where the full frame missed the budget last time.
-            using Levels = ViewRequest::Levels;
-            const bool previewFirst =
-                r.preview && (request.levels == Levels::PreviewOnly ||
-                              (request.levels == Levels::Progressive && m_fullMs > request.budgetMs));
-            const bool fullToo = request.levels != Levels::PreviewOnly || !r.preview;
-            if ((!previewFirst || renderLevel(*r.preview, true, id, request, asked, false, !fullToo)) && fullToo)
-                renderLevel(*r.full, false, id, request, asked, previewFirst, true);
+            const std::vector<int> levels = levelsToDraw(request, int(r.levels.size()));
+            for (size_t i = 0; i < levels.size(); ++i)
+                if (!renderLevel(r, levels[i], id, request, asked, i > 0, i + 1 == levels.size())) break;
         } catch (const std::exception& e) {
             std::lock_guard errorLock(m_mutex);
             m_errors.push_back(e.what());
@@ -209,8 +220,33 @@ bool RenderThread::superseded(uint64_t id, Clock::time_point started, double bud
     return refinement || msSince(started) > budgetMs;
 }
 
-bool RenderThread::renderLevel(renderer::SplatRenderer& which, bool preview, uint64_t id,
-                               const ViewRequest& request, Clock::time_point asked, bool refinement, bool last) {
+std::vector<int> RenderThread::levelsToDraw(const ViewRequest& request, int levels) const {
+    using Levels = ViewRequest::Levels;
+    if (levels == 0 || request.levels == Levels::FullOnly) return {0};
+    if (request.levels == Levels::FinestOnly) return {1};
+    // The first image: the full frame if its last time fits the budget, else the finest level whose last
+    // time fits (not drawn yet: the full frame's over 8 per halving, or none known: the coarsest).
+    int first = 0;
+    if (!(m_levelMs[0] > 0.0 && m_levelMs[0] <= request.budgetMs)) {
+        first = levels;
+        for (int k = 1; k <= levels; ++k) {
+            const double estimate = m_levelMs[size_t(k)] > 0.0 ? m_levelMs[size_t(k)]
+                                    : m_levelMs[0] > 0.0       ? m_levelMs[0] / std::pow(8.0, k)
+                                                               : HUGE_VAL;
+            if (estimate <= request.budgetMs) {
+                first = k;
+                break;
+            }
+        }
+    }
+    std::vector<int> order; // then every finer level up to the full frame
+    for (int k = first; k >= 0; --k) order.push_back(k);
+    return order;
+}
+
+bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewRequest& request,
+                               Clock::time_point asked, bool refinement, bool last) {
+    renderer::SplatRenderer& which = level == 0 ? *r.full : *r.levels[size_t(level - 1)];
     const Clock::time_point started = Clock::now();
     for (int waited = 0; waited < m_delayMs; waited += 10) { // SPLATLAB_RENDER_DELAY_MS: a slow scan
         if (superseded(id, started, request.budgetMs, refinement)) return false;
@@ -218,7 +254,7 @@ bool RenderThread::renderLevel(renderer::SplatRenderer& which, bool preview, uin
     }
     which.setInterrupt([&] { return superseded(id, started, request.budgetMs, refinement); });
     try {
-        which.render(request.plane, preview ? request.coarse : request.full);
+        which.render(request.plane, level == 0 ? request.full : request.coarse[size_t(level - 1)]);
     } catch (const renderer::Cancelled&) {
         which.setInterrupt({});
         return false;
@@ -226,7 +262,7 @@ bool RenderThread::renderLevel(renderer::SplatRenderer& which, bool preview, uin
     which.setInterrupt({});
     RenderedView view;
     view.request = id;
-    view.preview = preview;
+    view.level = level;
     view.last = last;
     view.width = request.plane.width, view.height = request.plane.height;
     view.plane = request.plane;
@@ -238,13 +274,25 @@ bool RenderThread::renderLevel(renderer::SplatRenderer& which, bool preview, uin
     view.sceneBytes = which.sceneBytes();
     view.workingBytes = which.workingBytes();
     view.sinceRequestMs = msSince(asked);
+    m_levelMs[size_t(level)] = msSince(started);
+    // Each level's error against the full frame that follows it in the same request.
+    if (m_levelPixelsOf != id) {
+        for (auto& pixels : m_levelPixels) pixels.clear();
+        m_levelPixelsOf = id;
+    }
+    if (level > 0) {
+        m_levelPixels[size_t(level)] = view.rgba;
+    } else {
+        for (int k = 1; k < kMaxViewLevels; ++k)
+            if (m_levelPixels[size_t(k)].size() == view.rgba.size())
+                m_levelRmse[size_t(k)] = displayRmse(m_levelPixels[size_t(k)], view.rgba);
+    }
+    view.levelMs = m_levelMs;
+    view.levelRmse = m_levelRmse;
     std::function<void()> onImage;
     {
         std::lock_guard lock(m_mutex);
-        if (!preview) {
-            m_fullMs = msSince(started);
-            m_latestStats = view.stats;
-        }
+        if (level == 0) m_latestStats = view.stats;
         m_finished = std::move(view);
         onImage = m_onImage;
     }

@@ -1,7 +1,9 @@
 // The editor's renderer on a thread of its own, with its own headless GL context (EGL), so the UI thread
-// never waits for a frame. It owns the splat renderers (the full scene's and the preview level's); the UI
+// never waits for a frame. It owns the splat renderers (the full scene's and its coarser levels'); the UI
 // hands it copies of the scenes and asks for views, and each UI frame takes the newest finished image.
-// A newer view request supersedes the frame in flight at its next chunk (SplatRenderer::setInterrupt).
+// Progressive: a view's first image comes from the finest level whose measured time fits the frame
+// budget, then finer levels replace it up to the full frame. A newer view request supersedes the frame in
+// flight at its next chunk (SplatRenderer::setInterrupt).
 #pragma once
 #include "renderer/gl/splat_renderer.h"
 #include "renderer/model/splat_scene.h"
@@ -23,25 +25,28 @@
 // The renderers the thread owns; tasks (RenderThread::run) get them.
 struct Renderers {
     std::unique_ptr<renderer::SplatRenderer> full;
-    std::unique_ptr<renderer::SplatRenderer> preview; // null while the volume has no preview level
+    std::vector<std::unique_ptr<renderer::SplatRenderer>> levels; // 1/2, 1/4, 1/8 per axis; may be none
 };
+
+// Levels of detail a view can come from: 0 the full frame, k the level at 1/2^k per axis.
+constexpr int kMaxViewLevels = 4;
 
 // What the viewport asks for.
 struct ViewRequest {
-    renderer::ImagePlane plane;     // the full frame's; the preview's is the same view
-    renderer::SplatSettings full;   // settings of the full frame
-    renderer::SplatSettings coarse; // of the preview level (the same extinction per unit length)
+    renderer::ImagePlane plane;   // the same view at every level
+    renderer::SplatSettings full; // settings of the full frame
+    std::vector<renderer::SplatSettings> coarse; // of each level, finest first (the same extinction per
+                                                 // unit length: renderer::densityFor)
     std::array<float, 3> background{};
     bool heatmap = false;
-    enum class Levels { Progressive, FullOnly, PreviewOnly } levels = Levels::Progressive;
-    double budgetMs = 150.0; // a first image within this: the preview level first when the full frame's
-                             // last measured time exceeds it
+    enum class Levels { Progressive, FullOnly, FinestOnly } levels = Levels::Progressive;
+    double budgetMs = 150.0; // a first image within this, from the finest level whose last time fits
 };
 
-// One finished image of a request: the preview level's (then the full frame follows) or the full frame's.
+// One finished image of a request: a level's (then finer ones follow) or the full frame's.
 struct RenderedView {
     uint64_t request = 0;
-    bool preview = false;
+    int level = 0;                    // 0: the full frame; k: the level at 1/2^k per axis
     bool last = true;                 // no finer image of this request follows
     int width = 0, height = 0;
     std::vector<uint8_t> rgba;        // over the background, 8 bits a channel, row 0 at the top
@@ -49,6 +54,9 @@ struct RenderedView {
     renderer::FrameStats stats;
     uint64_t sceneBytes = 0, workingBytes = 0;
     double sinceRequestMs = 0.0;      // from the request to this image, read back
+    // Per level (0: full): its last render and read-back in ms (0: not drawn yet), and the RMSE of its
+    // last image against the full frame that replaced it (-1: none yet).
+    std::array<double, kMaxViewLevels> levelMs{}, levelRmse{-1, -1, -1, -1};
 };
 
 class RenderThread {
@@ -64,12 +72,11 @@ class RenderThread {
     double defaultBudgetMs() const;
 
     // Scene changes, run in order before any view asked for after them. Errors come back through takeError.
-    void setScenes(std::shared_ptr<const renderer::SplatScene> full,
-                   std::shared_ptr<const renderer::SplatScene> preview);
-    void setLuts(const renderer::Lut& full, const std::optional<renderer::Lut>& preview);
-    void setGradients(std::shared_ptr<const renderer::SplatScene> full,
-                      std::shared_ptr<const renderer::SplatScene> preview);
-    void setPreviewScene(std::shared_ptr<const renderer::SplatScene> preview); // the window dragged
+    using Scenes = std::vector<std::shared_ptr<const renderer::SplatScene>>;
+    void setScenes(std::shared_ptr<const renderer::SplatScene> full, Scenes levels); // forgets the times
+    void setLuts(const renderer::Lut& full, std::vector<renderer::Lut> levels);
+    void setGradients(std::shared_ptr<const renderer::SplatScene> full, Scenes levels);
+    void setLevelScenes(Scenes levels); // the window dragged: the levels alone re-classified
 
     // Asks for a view; replaces a request not yet started and supersedes the frame in flight. Returns its id.
     uint64_t requestView(const ViewRequest& request);
@@ -102,7 +109,9 @@ class RenderThread {
     void post(std::function<void(Renderers&)> task, bool reportErrors);
     void loop(std::promise<std::string> started);
     // A frame of `which` renderer: false when a newer request superseded it.
-    bool renderLevel(renderer::SplatRenderer& which, bool preview, uint64_t id, const ViewRequest& request,
+    // The levels a request draws, in order (0: the full frame).
+    std::vector<int> levelsToDraw(const ViewRequest& request, int levels) const;
+    bool renderLevel(Renderers& r, int level, uint64_t id, const ViewRequest& request,
                      std::chrono::steady_clock::time_point asked, bool refinement, bool last);
     bool superseded(uint64_t id, std::chrono::steady_clock::time_point started, double budgetMs,
                     bool refinement) const;
@@ -117,7 +126,12 @@ class RenderThread {
     std::deque<std::string> m_errors;
     renderer::FrameStats m_latestStats;
     bool m_stop = false;
-    double m_fullMs = 0.0; // the last full frame, request to pixels (0: none yet)
+    // Render thread only: each level's last time (0: not drawn since the scene changed) and last image
+    // of the request under way, and their RMSE against the full frame that replaced them.
+    std::array<double, kMaxViewLevels> m_levelMs{};
+    std::array<double, kMaxViewLevels> m_levelRmse{-1, -1, -1, -1};
+    std::array<std::vector<uint8_t>, kMaxViewLevels> m_levelPixels;
+    uint64_t m_levelPixelsOf = 0;
     // Tests and benchmarks: every level of a view waits this long first, in steps a newer request
     // interrupts (SPLATLAB_RENDER_DELAY_MS), standing for a scan whose frames take that long.
     int m_delayMs = 0;

@@ -314,7 +314,9 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
         draw->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture)), origin, end);
         if (state.preview.shown)
             draw->AddText(ImVec2(origin.x + 8.0f, origin.y + 6.0f), ImGui::GetColorU32(ImGuiCol_TextDisabled),
-                          "preview level: half resolution, the full frame follows");
+                          state.preview.shownLevel > 1 ? ("level 1/" + std::to_string(1 << state.preview.shownLevel) +
+                                                          " per axis: finer ones follow").c_str()
+                                                     : "preview level: half resolution, the full frame follows");
     } else {
         // The render thread's first image of a volume shown: "Rendering" until it arrives.
         const std::string note = !state.openingVolume.empty()
@@ -449,6 +451,12 @@ void drawStatsPanel(const StatsView& stats) {
     ImGui::TableNextColumn();
     textWrapped("GL_RENDERER  %s", stats.glRenderer.c_str());
     textWrapped("ui      %.1f fps", double(ImGui::GetIO().Framerate));
+    if (!stats.levels.empty()) {
+        ImGui::TextUnformatted(stats.levels.c_str());
+        hint("Levels of detail: after an edit the view comes first from the finest level whose last time\n"
+             "fits the frame budget (Settings > Inspect), then finer ones replace it up to the full frame.\n"
+             "RMSE: of the level's last image against the full frame that replaced it (0..1 colour units)");
+    }
     ImGui::EndTable();
 }
 

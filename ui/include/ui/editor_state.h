@@ -42,7 +42,8 @@ struct PreviewSettings {
     double defaultBudgetMs = 150.0;    // the driver's (set by the app)
     bool available = false;            // the volume shown is large enough to preview (set by the app)
     std::optional<double> lastInput;   // seconds (the app's clock) of the last moving input
-    bool shown = false;                // the viewport shows the preview (set by the app)
+    bool shown = false;                // the viewport shows a coarser level (set by the app)
+    int shownLevel = 0;                // which: 1/2^shownLevel per axis (set by the app)
     bool moving(double now) const { return lastInput && now - *lastInput < kSettleS; }
 };
 

@@ -150,7 +150,8 @@ struct StatsView {
     size_t visibleSplats = 0;                 // voxels the TF leaves visible
     uint64_t sceneBytes = 0;                  // GPU memory of the scene (SplatRenderer::sceneBytes)...
     uint64_t workingBytes = 0;                // ...and of the tiled passes' buffers (workingBytes)
-    std::string glRenderer;                   // GL_RENDERER of the editor's context
+    std::string glRenderer;                   // GL_RENDERER of the renderer's context
+    std::string levels;                       // the levels of detail: on screen, times, errors ("": none)
 };
 void drawStatsPanel(const StatsView& stats);
 
