@@ -11,7 +11,8 @@
 
 namespace {
 
-// SIGINT or SIGTERM: the loop closes the window after the frame under way (and --session-out is written).
+// SIGINT or SIGTERM: the loop closes the window once the input queued before it is taken (and writes
+// --session-out).
 volatile std::sig_atomic_t g_closeRequested = 0;
 void requestClose(int) { g_closeRequested = 1; }
 
@@ -52,7 +53,7 @@ int runEditor(const EditorOptions& options) {
         editor.drawPanels(frame);       // e. ImGui frame: the panels and modals record edits
         editor.noteEdits();             // f. what the edits ask of the next frame: probe, render
         editor.presentFrame(frame);     // g. UI to the back buffer, on screen; scripted outputs
-        if (g_closeRequested) window.close();
+        if (g_closeRequested && !window.inputPending()) window.close(); // input made before it, seen first
     }
     if (!options.sessionOutPath.empty()) editor.saveSessionTo(options.sessionOutPath);
     return editor.exitCode();

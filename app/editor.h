@@ -30,6 +30,7 @@ struct EditorOptions {
     double spinDegPerS = 0.0;             // and turn the camera this fast (implies continuous)
     bool preview = false;                 // show the preview level alone (--preview)
     std::filesystem::path sessionOutPath; // non-empty: the session is written here when the editor closes
+    int measureEdits = 0;                 // > 0: --measure-interactive (interactive_probe.h)
 };
 
 // Runs the editor until the window closes, or for `frames` frames. Returns the process exit code:

@@ -31,13 +31,6 @@ void Preview::setTransferFunction(const renderer::TransferFunction& tf) {
         renderer::setTransferFunction(level.scene, tf);
 }
 
-void Preview::addGradients() {
-    for (Level& level : levels) {
-        level.gradients = renderer::computeGradients(level.volume);
-        if (level.gradients) renderer::addGradients(level.scene, *level.gradients);
-    }
-}
-
 std::vector<std::shared_ptr<const renderer::SplatScene>> levelScenes(const Document& doc) {
     std::vector<std::shared_ptr<const renderer::SplatScene>> scenes;
     if (doc.preview)

@@ -34,8 +34,6 @@ struct Preview {
     explicit Preview(const renderer::Volume& full);
     void classify(const renderer::TransferFunction& tf, renderer::ValueRange window);
     void setTransferFunction(const renderer::TransferFunction& tf);
-    // Once the full volume's gradients are ready; an eighth of the voxels and less, so computed right here.
-    void addGradients();
 };
 
 // What the viewport shows. No volume (none given, or it failed to load) leaves `volume` empty.

@@ -56,7 +56,10 @@ bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& pa
         m_state.loadedVolume = path;
         m_state.volumeFile = path.string();
         m_window.setTitle(path);
-        m_gradientJob = std::make_unique<GradientJob>(*m_doc.volume);
+        std::vector<const renderer::Volume*> levels;
+        if (m_doc.preview)
+            for (const Level& level : m_doc.preview->levels) levels.push_back(&level.volume);
+        m_gradientJob = std::make_unique<GradientJob>(*m_doc.volume, levels);
         if (m_scripted) m_gradientJob->thread.join();
     });
 }
@@ -139,17 +142,23 @@ void EditorLoop::applyWindow() {
 void EditorLoop::takeGradients() {
     if (!m_gradientJob || !m_gradientJob->done) return;
     if (m_gradientJob->thread.joinable()) m_gradientJob->thread.join();
-    m_doc.gradients = std::move(m_gradientJob->result);
+    std::optional<Gradients> computed = std::move(m_gradientJob->result);
     if (!m_gradientJob->error.empty()) m_state.errorMessage = "gradients: " + m_gradientJob->error;
     m_gradientJob.reset();
-    if (m_hasScene && m_doc.gradients) { // shading and surface splats become available
-        guarded([&] {
-            renderer::addGradients(m_doc.scene, *m_doc.gradients);
-            if (m_doc.preview) m_doc.preview->addGradients();
-            // Only the gradients travel: the rest of the scene is on the GPU already.
-            m_render->setGradients(std::make_shared<const renderer::SplatScene>(m_doc.scene), levelScenes(m_doc));
-            m_state.gradientsReady = true;
-        });
-        m_renderPending = true;
-    }
+    if (!m_hasScene || !computed) return;
+    // Shading and surface splats become available: the packed gradients into the scenes (computed and
+    // packed on the worker), and to the render thread, where only they travel to the GPU.
+    guarded([&] {
+        m_doc.gradients = std::move(computed->field);
+        m_doc.scene.gradients = std::move(computed->packed);
+        if (m_doc.preview)
+            for (size_t k = 0; k < m_doc.preview->levels.size() && k < computed->levelFields.size(); ++k) {
+                Level& level = m_doc.preview->levels[k];
+                level.gradients = std::move(computed->levelFields[k]);
+                level.scene.gradients = std::move(computed->levelPacked[k]);
+            }
+        m_render->setGradients(std::make_shared<const renderer::SplatScene>(m_doc.scene), levelScenes(m_doc));
+        m_state.gradientsReady = true;
+    });
+    m_renderPending = true;
 }

@@ -3,6 +3,7 @@
 #pragma once
 #include "renderer/errors.h"
 #include "renderer/io/volume_io.h"
+#include "renderer/math/shading.h"
 #include "renderer/model/gradients.h"
 #include "renderer/model/splat_scene.h"
 #include "renderer/model/transfer_function.h"
@@ -16,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 // Work on a worker thread that the UI thread polls each frame: its progress (0..1), a cancel flag the
 // work's progress callback returns, and, once `done`, its result or the message of what it threw.
@@ -47,11 +49,30 @@ template <class T> struct WorkerJob {
     }
 };
 
-// Gradients computed after a volume loads; the UI shows the progress modal meanwhile.
-struct GradientJob : WorkerJob<renderer::GradientField> {
-    explicit GradientJob(const renderer::Volume& volume) {
-        start([&volume](const renderer::ProgressCallback& progress) {
-            return renderer::computeGradients(volume, progress);
+// Gradients computed after a volume loads, the full volume's and each level's, packed as the scenes keep
+// them; the UI shows the progress modal meanwhile (the levels take the last few percent).
+struct Gradients {
+    renderer::GradientField field;
+    std::vector<uint32_t> packed;
+    std::vector<std::optional<renderer::GradientField>> levelFields;
+    std::vector<std::vector<uint32_t>> levelPacked;
+};
+struct GradientJob : WorkerJob<Gradients> {
+    GradientJob(const renderer::Volume& volume, std::vector<const renderer::Volume*> levels) {
+        start([&volume, levels](const renderer::ProgressCallback& progress) -> std::optional<Gradients> {
+            std::optional<renderer::GradientField> field =
+                renderer::computeGradients(volume, [&](double f) { return progress(0.9 * f); });
+            if (!field) return std::nullopt;
+            Gradients out;
+            out.packed = renderer::packGradients(*field).texels;
+            out.field = std::move(*field);
+            for (const renderer::Volume* level : levels) {
+                out.levelFields.push_back(renderer::computeGradients(*level));
+                out.levelPacked.push_back(out.levelFields.back() ? renderer::packGradients(*out.levelFields.back()).texels
+                                                                 : std::vector<uint32_t>{});
+                if (!progress(0.95)) return std::nullopt;
+            }
+            return out;
         });
     }
 };

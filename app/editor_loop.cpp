@@ -23,6 +23,7 @@ EditorLoop::EditorLoop(const EditorOptions& options, EditorWindow& window)
     m_glRenderer = m_render->glRenderer();
     m_state.preview.defaultBudgetMs = m_render->defaultBudgetMs();
     m_render->setOnImage([] { glfwPostEmptyEvent(); }); // wakes waitForInput to show it
+    if (options.measureEdits > 0) m_probe.emplace(options.measureEdits);
 }
 
 bool EditorLoop::start() {
@@ -84,14 +85,18 @@ bool EditorLoop::knobDeflected() const {
 }
 
 void EditorLoop::waitForInput() {
-    // Idle: sleep until an event (the render thread posts one with each image), or 50 ms for the GPU
-    // timers, 16 ms to read a 3D mouse; scripted, an edit to render, queued input or the knob deflected:
-    // keep going.
+    // Idle: sleep until an event (the render thread posts one with each image); 16 ms to read a 3D mouse,
+    // 50 ms while a job's progress is shown, else half a second (for the GPU timers): a UI frame takes the
+    // same cores as the render in flight (llvmpipe), so frames nothing asked for slow it down. Scripted,
+    // an edit to render, queued input or the knob deflected: keep going.
     if (m_scripted || m_renderPending || m_tfPending || knobDeflected() || m_state.perf.renderContinuously ||
         m_window.inputPending())
         glfwPollEvents();
     else
-        glfwWaitEventsTimeout(m_spaceMouse->connected() ? 0.016 : 0.05);
+        glfwWaitEventsTimeout(m_spaceMouse->connected()                         ? 0.016
+                              : m_volumeJob || m_gradientJob || m_comparison ? 0.05
+                                                                              : 0.5);
+    m_frameStart = InteractiveProbe::Clock::now();
     if (m_hasScene) m_perfHistory.addTimes(m_render->latestStats());
     takeRenderErrors();
     m_pollTime = glfwGetTime();
@@ -116,6 +121,25 @@ void EditorLoop::presentFrame(int frame) {
     guarded([] { renderer::checkGlErrors("editor frame"); });
     if (m_scripted && frame >= m_options.frames && m_exitCode == 0) writeScriptedOutputs(fbWidth, fbHeight);
     m_window.swapBuffers();
+    if (m_probe) {
+        const auto now = InteractiveProbe::Clock::now();
+        m_probe->uiFrame(std::chrono::duration<double, std::milli>(now - m_frameStart).count(), m_render->busy());
+        if (m_probe->finished()) {
+            std::vector<double> ms, rmse;
+            if (m_shown) ms.assign(m_shown->levelMs.begin(), m_shown->levelMs.end()),
+                         rmse.assign(m_shown->levelRmse.begin(), m_shown->levelRmse.end());
+            std::printf("%s", m_probe->report(m_doc.volume ? m_doc.volume->name : "none", ms, rmse).c_str());
+            m_probe.reset();
+            m_window.close();
+        }
+    }
+}
+
+void EditorLoop::editForProbe() {
+    if (!m_probe || !m_hasScene || !m_probe->editDue(InteractiveProbe::Clock::now())) return;
+    ui::applyOrbitInput(m_state.camera, {.rotateDxPx = float(10.0 / ui::kOrbitDegPerPx)});
+    m_renderPending = true;
+    m_probe->editMade(InteractiveProbe::Clock::now());
 }
 
 void EditorLoop::saveSessionTo(const std::filesystem::path& file) {

@@ -7,6 +7,7 @@
 #include "editor_document.h"
 #include "editor_jobs.h"
 #include "editor_window.h"
+#include "interactive_probe.h"
 #include "render_thread.h"
 
 #include "renderer/errors.h"
@@ -161,6 +162,11 @@ class EditorLoop {
     std::vector<renderer::FilterMeasurement> m_measurements;
     bool m_measurementsStale = false;
     const std::vector<ui::DockPanel> m_panels;
+
+    // --measure-interactive: the probe's edits and records; this UI frame started (after its wait) then.
+    std::optional<InteractiveProbe> m_probe;
+    InteractiveProbe::Clock::time_point m_frameStart;
+    void editForProbe();
 
     // Scripted runs show the 3D mouse's status but never move with it: their frames stay reproducible.
     std::optional<ui::SpaceMouse> m_spaceMouse;

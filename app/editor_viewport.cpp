@@ -14,7 +14,9 @@ void EditorLoop::renderViewport() {
     frameIfAsked();
     // 2. Continuous rendering (Performance panel): every frame renders, turning the camera if asked.
     spinIfContinuous();
-    // 3. The view asked of the render thread; the newest image it finished, on screen.
+    // 3. The view asked of the render thread (after --measure-interactive's edit); the newest image it
+    //    finished, on screen.
+    editForProbe();
     renderIfPending();
     showRenderedView();
     // 4. The Filters panel's patches per filter, of the full frame shown.
@@ -111,6 +113,7 @@ void EditorLoop::renderIfPending() {
     if (m_state.perf.renderContinuously && !m_scripted && m_render->busy()) return;
     m_renderPending = false;
     m_viewRequest = m_render->requestView(viewRequest());
+    if (m_probe) m_probe->requested(m_viewRequest);
     if (m_scripted) { // deterministic frames: this frame shows this request's image
         m_render->waitForView(m_viewRequest);
         takeRenderErrors();
@@ -132,6 +135,7 @@ void EditorLoop::showRenderedView() {
     glTextureSubImage2D(m_texture, 0, 0, 0, view->width, view->height, GL_RGBA, GL_UNSIGNED_BYTE,
                         view->rgba.data());
     view->rgba = {};
+    if (m_probe) m_probe->imageShown(view->request, view->level, InteractiveProbe::Clock::now());
     m_state.preview.shown = view->level > 0;
     m_state.preview.shownLevel = view->level;
     if (view->level == 0) { // the Performance and Filters panels' figures are of full frames

@@ -730,6 +730,8 @@ int main(int argc, char** argv) {
                      "Show the preview level alone: large volumes (" +
                          std::to_string(ui::PreviewSettings::kMinMegaVoxels) + " M voxels or more) at half resolution");
     editor->add_option("--session-out", e.sessionOutPath, "When the editor closes, save the session (what it shows) here");
+    editor->add_option("--measure-interactive", e.measureEdits, "Turn the camera N times, print edit-to-image and UI "
+                                                                "frame times (docs/speed.md), close")->check(CLI::PositiveNumber);
     editor->add_option("--spin", e.spinDegPerS, "Render continuously, turning the camera this many degrees a second");
 
     try {

@@ -224,23 +224,27 @@ std::vector<int> RenderThread::levelsToDraw(const ViewRequest& request, int leve
     using Levels = ViewRequest::Levels;
     if (levels == 0 || request.levels == Levels::FullOnly) return {0};
     if (request.levels == Levels::FinestOnly) return {1};
-    // The first image: the full frame if its last time fits the budget, else the finest level whose last
-    // time fits (not drawn yet: the full frame's over 8 per halving, or none known: the coarsest).
-    int first = 0;
-    if (!(m_levelMs[0] > 0.0 && m_levelMs[0] <= request.budgetMs)) {
-        first = levels;
-        for (int k = 1; k <= levels; ++k) {
-            const double estimate = m_levelMs[size_t(k)] > 0.0 ? m_levelMs[size_t(k)]
-                                    : m_levelMs[0] > 0.0       ? m_levelMs[0] / std::pow(8.0, k)
-                                                               : HUGE_VAL;
-            if (estimate <= request.budgetMs) {
-                first = k;
-                break;
-            }
+    // A level's time: its last, or (not drawn since the scene came) the full frame's over 8 per halving.
+    auto estimate = [&](int k) {
+        return m_levelMs[size_t(k)] > 0.0 ? m_levelMs[size_t(k)]
+               : m_levelMs[0] > 0.0       ? m_levelMs[0] / std::pow(8.0, k)
+                                          : HUGE_VAL;
+    };
+    // The first image: the full frame if it fits the budget, else the finest level that fits (none known:
+    // the coarsest).
+    int first = levels;
+    for (int k = 0; k <= levels; ++k)
+        if (estimate(k) <= request.budgetMs) {
+            first = k;
+            break;
         }
-    }
-    std::vector<int> order; // then every finer level up to the full frame
-    for (int k = first; k >= 0; --k) order.push_back(k);
+    // Then finer levels up to the full frame, each only where it takes at most a quarter of the full
+    // frame's time: every frame has a fixed cost (clearing and compositing the image, reading it back), so
+    // a level near the full frame's time only delays it.
+    std::vector<int> order{first};
+    for (int k = first - 1; k >= 1; --k)
+        if (estimate(k) <= 0.25 * estimate(0)) order.push_back(k);
+    if (first > 0) order.push_back(0);
     return order;
 }
 

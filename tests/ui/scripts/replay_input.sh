@@ -39,6 +39,6 @@ else
   xdotool mousemove --window "$w" 120 327 click 1 key ctrl+a type --delay 5 typed_tf.json
   xdotool mousemove --window "$w" 75 354 click 1
 fi
-sleep 1
+sleep 2
 kill -TERM "$pid"
 wait "$pid"
