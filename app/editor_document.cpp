@@ -14,7 +14,8 @@ Preview::Preview(const renderer::Volume& full) {
     levels.reserve(kMaxLevels);
     const renderer::Volume* finer = &full;
     for (int k = 0; k < kMaxLevels; ++k) {
-        renderer::Volume coarse = renderer::halfResolution(*finer);
+        // One fine voxel's value each, not their mean: a sharp TF's thin features survive (Downsample).
+        renderer::Volume coarse = renderer::halfResolution(*finer, renderer::Downsample::PickOne);
         if (coarse.voxelCount() < kMinLevelVoxels) break;
         levels.push_back({std::move(coarse), {}, {}});
         finer = &levels.back().volume;

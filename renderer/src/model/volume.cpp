@@ -257,7 +257,7 @@ Volume resampledOntoWorldAxes(const Volume& volume) {
     return out;
 }
 
-Volume halfResolution(const Volume& volume) {
+Volume halfResolution(const Volume& volume, Downsample how) {
     const glm::ivec3 step = glm::clamp(volume.dims, 1, 2);   // 1 on an axis of one voxel (or none)
     Volume coarse;
     coarse.name = volume.name;
@@ -272,11 +272,20 @@ Volume halfResolution(const Volume& volume) {
             for (int x = 0; x < coarse.dims.x; ++x) {
                 double sum = 0.0;
                 int n = 0;
+                std::array<float, 8> finite{};
                 for (int k = z * step.z; k < std::min((z + 1) * step.z, volume.dims.z); ++k)
                     for (int j = y * step.y; j < std::min((y + 1) * step.y, volume.dims.y); ++j)
                         for (int i = x * step.x; i < std::min((x + 1) * step.x, volume.dims.x); ++i)
-                            if (const float v = volume.at(i, j, k); std::isfinite(v)) sum += v, ++n;
-                coarse.values[coarse.index(x, y, z)] = n > 0 ? float(sum / n) : std::nanf("");
+                            if (const float v = volume.at(i, j, k); std::isfinite(v)) sum += v, finite[size_t(n++)] = v;
+                float value = std::nanf("");
+                if (n > 0 && how == Downsample::Mean) value = float(sum / n);
+                if (n > 0 && how == Downsample::PickOne) { // a child chosen by a hash of the coarse index
+                    uint64_t h = uint64_t(coarse.index(x, y, z)) + 0x9E3779B97F4A7C15ull;
+                    h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
+                    h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
+                    value = finite[size_t((h ^ (h >> 31)) % uint64_t(n))];
+                }
+                coarse.values[coarse.index(x, y, z)] = value;
             }
     updateRange(coarse);
     return coarse;

@@ -88,11 +88,16 @@ Volume resampledOntoWorldAxes(const Volume& volume);
 // prints); throws as it does.
 Volume worldGrid(const Volume& volume);
 
-// The volume at half resolution, for the editor's preview while the view moves (8 times fewer splats):
-// voxel i is the mean of the finite values of fine voxels 2i and 2i + 1 on each axis (NaN where none
-// is), at their centre, spacing doubled. An axis of one voxel stays as it is. An odd axis's last coarse
-// voxel holds one fine layer and sits half a fine voxel beyond it (a preview's shortcut).
-Volume halfResolution(const Volume& volume);
+// How a coarse voxel gets its value from its (up to 8) finite fine voxels. Mean: their mean. PickOne: one
+// of them, chosen by a hash of the coarse voxel's index: then for any TF the coarse voxels' classified
+// extinction and extinction-weighted colour average those of the fine voxels (in expectation), where a
+// mean of values can leave a sharp TF's band and lose a thin feature.
+enum class Downsample { Mean, PickOne };
+// The volume at half resolution, for the editor's levels of detail (8 times fewer splats): voxel i from
+// the finite values of fine voxels 2i and 2i + 1 on each axis (NaN where none is), at their centre,
+// spacing doubled. An axis of one voxel stays as it is. An odd axis's last coarse voxel holds one fine
+// layer and sits half a fine voxel beyond it (a preview's shortcut).
+Volume halfResolution(const Volume& volume, Downsample how = Downsample::Mean);
 // The density that gives `coarse` the extinction per unit length that `density` gives `fine`: a TF
 // opacity is extinction per mean voxel spacing (SplatSettings::density).
 double densityFor(const Volume& coarse, const Volume& fine, double density);

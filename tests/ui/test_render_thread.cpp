@@ -1,0 +1,134 @@
+// The editor's render thread (app/render_thread.h) on its own: a newer view request supersedes the one in
+// flight, and a progressive request gives each level, coarsest first, then the full frame, with each
+// level's error against it. SPLATLAB_RENDER_DELAY_MS makes every frame slow, as a large scan's are.
+#include "render_thread.h"
+
+#include "renderer/model/procedural.h"
+#include "renderer/model/splat_scene.h"
+#include "renderer/model/transfer_function.h"
+#include "renderer/model/volume.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <memory>
+#include <thread>
+#include <vector>
+
+using namespace renderer;
+
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+ViewRequest request(const SplatScene& scene, double azimuth, ViewRequest::Levels levels) {
+    ViewRequest r;
+    r.plane = makeImagePlane(Camera{.azimuthDeg = azimuth, .elevationDeg = 20}, scene.centre, scene.radius, 96, 80);
+    r.levels = levels;
+    return r;
+}
+
+// The render thread needs a GL context of its own; without EGL the test skips (REQUIRE_GL=1: fails).
+std::unique_ptr<RenderThread> startOrSkip(std::string& why) {
+    try {
+        return std::make_unique<RenderThread>();
+    } catch (const std::exception& e) {
+        why = e.what();
+        return nullptr;
+    }
+}
+
+} // namespace
+
+// Request A, then B while A waits out its slow frame: A stops once it missed the budget and never shows;
+// B's image is the only one. Not superseded, the two would take two delays back to back.
+TEST(RenderThread, ANewerRequestSupersedesTheFrameInFlight) {
+    setenv("SPLATLAB_RENDER_DELAY_MS", "1000", 1);
+    std::string why;
+    auto thread = startOrSkip(why);
+    unsetenv("SPLATLAB_RENDER_DELAY_MS");
+    if (!thread) {
+        if (const char* r = std::getenv("REQUIRE_GL"); r && std::string(r) == "1") FAIL() << why;
+        GTEST_SKIP() << "no headless GL context: " << why;
+    }
+    std::atomic<int> images{0};
+    thread->setOnImage([&] { ++images; });
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(16), builtinPreset("grey-ramp"));
+    thread->setScenes(std::make_shared<const SplatScene>(scene), {});
+    const auto start = std::chrono::steady_clock::now();
+    thread->requestView(request(scene, 0, ViewRequest::Levels::FullOnly));
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const uint64_t b = thread->requestView(request(scene, 90, ViewRequest::Levels::FullOnly));
+    thread->waitForView(b);
+    const double ms = msSince(start);
+    const std::optional<RenderedView> shown = thread->takeView();
+    ASSERT_TRUE(shown);
+    EXPECT_EQ(shown->request, b);
+    EXPECT_EQ(images.load(), 1) << "the superseded request showed an image";
+    EXPECT_LT(ms, 1800.0) << "A was not superseded: its 1 s frame ran before B's";
+    EXPECT_FALSE(thread->takeError()) << "a superseded frame is not an error";
+}
+
+// A progressive request with a budget nothing fits: the coarsest level first, then each finer one and the
+// full frame last, every level within a stated RMSE of the full frame on a smooth blob.
+TEST(RenderThread, AProgressiveRequestGivesEachLevelThenTheFullFrame) {
+    std::string why;
+    auto thread = startOrSkip(why);
+    if (!thread) {
+        if (const char* r = std::getenv("REQUIRE_GL"); r && std::string(r) == "1") FAIL() << why;
+        GTEST_SKIP() << "no headless GL context: " << why;
+    }
+    Volume v;
+    v.name = "blob";
+    v.dims = {48, 48, 48};
+    for (int z = 0; z < 48; ++z)
+        for (int y = 0; y < 48; ++y)
+            for (int x = 0; x < 48; ++x) {
+                const glm::dvec3 d = glm::dvec3(x, y, z) - 23.5;
+                v.values.push_back(float(std::exp(-glm::dot(d, d) / (2.0 * 9.0 * 9.0))));
+            }
+    updateRange(v);
+    const TransferFunction ramp = builtinPreset("grey-ramp");
+    const SplatScene full = buildSplatScene(v, ramp, v.range);
+    std::vector<Volume> levels{halfResolution(v, Downsample::PickOne)};
+    levels.push_back(halfResolution(levels.back(), Downsample::PickOne));
+    RenderThread::Scenes scenes;
+    ViewRequest r = request(full, 30, ViewRequest::Levels::Progressive);
+    r.full.density = 0.2;
+    for (const Volume& level : levels) {
+        scenes.push_back(std::make_shared<const SplatScene>(buildSplatScene(level, ramp, v.range)));
+        r.coarse.push_back(r.full);
+        r.coarse.back().density = densityFor(level, v, r.full.density);
+    }
+    thread->setScenes(std::make_shared<const SplatScene>(full), scenes);
+    r.budgetMs = 1e-3;
+    std::vector<int> shown;
+    std::optional<RenderedView> last;
+    const uint64_t id = thread->requestView(r);
+    // Images replace each other in one slot: poll fast enough to see each (the test's frames take ms).
+    const auto start = std::chrono::steady_clock::now();
+    for (bool done = false; !done && msSince(start) < 30000.0;) {
+        if (auto view = thread->takeView()) {
+            shown.push_back(view->level);
+            done = view->last;
+            last = std::move(view);
+        }
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+    thread->waitForView(id);
+    ASSERT_TRUE(last) << (thread->takeError() ? "the render thread failed" : "no image in 30 s");
+    EXPECT_EQ(shown.back(), 0) << "the full frame comes last";
+    EXPECT_EQ(shown.front(), 2) << "the first image comes from the coarsest level";
+    for (size_t i = 1; i < shown.size(); ++i) EXPECT_LT(shown[i], shown[i - 1]) << "levels come coarse to fine";
+    std::printf("[ levels   ] RMSE against the full frame: 1/2 %.4f, 1/4 %.4f\n", last->levelRmse[1],
+                last->levelRmse[2]);
+    EXPECT_GE(last->levelRmse[2], 0.0);
+    EXPECT_LT(last->levelRmse[2], 0.05);
+    if (last->levelRmse[1] >= 0.0) {
+        EXPECT_LT(last->levelRmse[1], 0.03);
+    }
+}
