@@ -157,7 +157,7 @@ void EditorLoop::takeGradients() {
                 level.gradients = std::move(computed->levelFields[k]);
                 level.scene.gradients = std::move(computed->levelPacked[k]);
             }
-        m_render->setGradients(std::make_shared<const renderer::SplatScene>(m_doc.scene), levelScenes(m_doc));
+        m_render->setGradients(computed->forRender, computed->levelsForRender);
         m_state.gradientsReady = true;
     });
     m_renderPending = true;

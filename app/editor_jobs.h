@@ -14,6 +14,7 @@
 #include <array>
 #include <atomic>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <thread>
@@ -50,26 +51,37 @@ template <class T> struct WorkerJob {
 };
 
 // Gradients computed after a volume loads, the full volume's and each level's, packed as the scenes keep
-// them; the UI shows the progress modal meanwhile (the levels take the last few percent).
+// them, with a copy of each for the render thread (a scene of name, dims and gradients: all its
+// SplatRenderer::setGradients reads), so the UI thread only moves them; the UI shows the progress modal
+// meanwhile (the levels take the last few percent).
 struct Gradients {
     renderer::GradientField field;
     std::vector<uint32_t> packed;
     std::vector<std::optional<renderer::GradientField>> levelFields;
     std::vector<std::vector<uint32_t>> levelPacked;
+    std::shared_ptr<const renderer::SplatScene> forRender;
+    std::vector<std::shared_ptr<const renderer::SplatScene>> levelsForRender;
 };
 struct GradientJob : WorkerJob<Gradients> {
     GradientJob(const renderer::Volume& volume, std::vector<const renderer::Volume*> levels) {
         start([&volume, levels](const renderer::ProgressCallback& progress) -> std::optional<Gradients> {
+            const auto forRender = [](const renderer::Volume& v, const std::vector<uint32_t>& packed) {
+                auto scene = std::make_shared<renderer::SplatScene>();
+                scene->name = v.name, scene->dims = v.dims, scene->gradients = packed;
+                return std::shared_ptr<const renderer::SplatScene>(std::move(scene));
+            };
             std::optional<renderer::GradientField> field =
                 renderer::computeGradients(volume, [&](double f) { return progress(0.9 * f); });
             if (!field) return std::nullopt;
             Gradients out;
             out.packed = renderer::packGradients(*field).texels;
+            out.forRender = forRender(volume, out.packed);
             out.field = std::move(*field);
             for (const renderer::Volume* level : levels) {
                 out.levelFields.push_back(renderer::computeGradients(*level));
                 out.levelPacked.push_back(out.levelFields.back() ? renderer::packGradients(*out.levelFields.back()).texels
                                                                  : std::vector<uint32_t>{});
+                out.levelsForRender.push_back(forRender(*level, out.levelPacked.back()));
                 if (!progress(0.95)) return std::nullopt;
             }
             return out;

@@ -136,7 +136,9 @@ void EditorLoop::presentFrame(int frame) {
 }
 
 void EditorLoop::editForProbe() {
-    if (!m_probe || !m_hasScene || !m_probe->editDue(InteractiveProbe::Clock::now())) return;
+    // Steady state: the volume read and its gradients computed (their workers take the same cores).
+    if (!m_probe || !m_hasScene || m_volumeJob || m_gradientJob || !m_probe->editDue(InteractiveProbe::Clock::now()))
+        return;
     ui::applyOrbitInput(m_state.camera, {.rotateDxPx = float(10.0 / ui::kOrbitDegPerPx)});
     m_renderPending = true;
     m_probe->editMade(InteractiveProbe::Clock::now());

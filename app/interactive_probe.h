@@ -1,5 +1,6 @@
 // --measure-interactive N: the editor measures itself as a user meets it. N times it turns the camera by
-// 10 degrees (an edit) once the last edit's full frame is on screen, and records the time from the edit
+// 10 degrees (an edit) once the last edit's full frame is on screen (and the volume's gradients are
+// computed: steady state), and records the time from the edit
 // to its first image (and that image's level), to its full frame, and every UI frame's time while a
 // render is in flight. Then it prints medians with their spread and closes the window. The benchmark
 // tests/bench/interactive_bench.cpp runs it per volume.

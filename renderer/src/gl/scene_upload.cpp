@@ -175,7 +175,8 @@ void SplatRenderer::setGradients(const SplatScene& scene) {
     checkAllocation("gradients", scene.name, bytes, freeGpuMemoryBytes());
     g.sceneBytes += bytes - g.gradientBytes;
     g.gradientBytes = bytes;
-    g.hasGradients = scene.gradients.size() == scene.classes.size();
+    // Against the grid's voxels, not scene.classes: a scene holding only name, dims and gradients will do.
+    g.hasGradients = scene.gradients.size() == size_t(g.dims.x) * size_t(g.dims.y) * size_t(g.dims.z);
     m_stats.uploadBytes = bytes;
     g.uploadedSinceFrame += bytes;
 }

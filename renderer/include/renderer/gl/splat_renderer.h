@@ -75,7 +75,8 @@ public:
     // checked up front where the driver reports free memory (GL_NVX_gpu_memory_info, GL_ATI_meminfo) or
     // a limit is set, and after every allocation through GL_OUT_OF_MEMORY.
     void setScene(const SplatScene& scene);
-    // Gradients computed after setScene(scene) (addGradients): uploads them and nothing else.
+    // Gradients computed after setScene(scene) (addGradients): uploads them and nothing else. Reads only
+    // the scene's name, dims and gradients.
     void setGradients(const SplatScene& scene);
     // A TF edit: uploads the LUT (its bytes are all a TF edit costs); the next frame re-selects buckets.
     void setLut(const Lut& lut);
