@@ -36,6 +36,7 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
                   .visibleSplats =
                       (level ? m_doc.preview->levels[size_t(level - 1)].scene : m_doc.scene).visibleCount(),
                   .sceneBytes = m_shown ? m_shown->sceneBytes : 0,
+                  .sceneVoxels = level ? m_doc.preview->levels[size_t(level - 1)].volume.voxelCount() : 0,
                   .workingBytes = m_shown ? m_shown->workingBytes : 0,
                   .glRenderer = m_glRenderer,
                   .levels = levelsText()});

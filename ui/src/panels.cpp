@@ -386,10 +386,11 @@ void drawStatsPanel(const StatsView& stats) {
     textWrapped("upload  %.1f KiB", double(f.frameUploadBytes) / 1024.0);
     hint("Bytes this frame cost to upload, since the render before it: a TF edit, the 64 KiB table;\n"
          "a turn past a diagonal, that axis's lists; a new scene, all of it; otherwise nothing");
-    if (stats.sceneBytes > 0 && stats.volume && stats.volume->voxelCount() > 0) {
+    const size_t sceneVoxels = stats.sceneVoxels ? stats.sceneVoxels : stats.volume ? stats.volume->voxelCount() : 0;
+    if (stats.sceneBytes > 0 && sceneVoxels > 0) {
         constexpr double kMiB = 1024.0 * 1024.0;
-        textWrapped("memory  scene %.2f bytes a voxel (%.1f MiB)",
-                    double(stats.sceneBytes) / double(stats.volume->voxelCount()), double(stats.sceneBytes) / kMiB);
+        textWrapped("memory  scene %.2f bytes a voxel (%.1f MiB)", double(stats.sceneBytes) / double(sceneVoxels),
+                    double(stats.sceneBytes) / kMiB);
         textWrapped("        passes %.1f MiB", double(stats.workingBytes) / kMiB);
         hint("GPU memory: the scene (classes, the view axis's lists, gradients) and the buffers tiled\n"
              "frames work in (records and lists of the largest chunk of slices so far)");

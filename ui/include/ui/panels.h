@@ -149,6 +149,7 @@ struct StatsView {
     const renderer::Volume* volume = nullptr; // null when no volume is loaded
     size_t visibleSplats = 0;                 // voxels the TF leaves visible
     uint64_t sceneBytes = 0;                  // GPU memory of the scene (SplatRenderer::sceneBytes)...
+    size_t sceneVoxels = 0;                   // ...of this many voxels (0: the volume's; a level has fewer)
     uint64_t workingBytes = 0;                // ...and of the tiled passes' buffers (workingBytes)
     std::string glRenderer;                   // GL_RENDERER of the renderer's context
     std::string levels;                       // the levels of detail: on screen, times, errors ("": none)
