@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 EditorLoop::EditorLoop(const EditorOptions& options, EditorWindow& window)
@@ -121,6 +122,7 @@ void EditorLoop::presentFrame(int frame) {
     guarded([] { renderer::checkGlErrors("editor frame"); });
     if (m_scripted && frame >= m_options.frames && m_exitCode == 0) writeScriptedOutputs(fbWidth, fbHeight);
     m_window.swapBuffers();
+    noteReady();
     if (m_probe) {
         const auto now = InteractiveProbe::Clock::now();
         m_probe->uiFrame(std::chrono::duration<double, std::milli>(now - m_frameStart).count(), m_render->busy());
@@ -133,6 +135,13 @@ void EditorLoop::presentFrame(int frame) {
             m_window.close();
         }
     }
+}
+
+void EditorLoop::noteReady() {
+    const char* file = std::getenv("SPLATLAB_READY_FILE");
+    if (m_readyNoted || !file || !m_hasScene || m_volumeJob || m_gradientJob || !m_shown) return;
+    m_readyNoted = true;
+    if (std::FILE* f = std::fopen(file, "w")) std::fclose(f);
 }
 
 void EditorLoop::editForProbe() {

@@ -164,6 +164,10 @@ class EditorLoop {
     const std::vector<ui::DockPanel> m_panels;
 
     // --measure-interactive: the probe's edits and records; this UI frame started (after its wait) then.
+    // SPLATLAB_READY_FILE (scripts that drive the window): created once the volume is shown, its gradients
+    // computed and its first image on screen, when no progress modal holds the input any more.
+    bool m_readyNoted = false;
+    void noteReady();
     std::optional<InteractiveProbe> m_probe;
     InteractiveProbe::Clock::time_point m_frameStart;
     void editForProbe();
