@@ -16,7 +16,8 @@ void EditorLoop::applyEdits() {
     applySettingsActions();
     // 3. The TF edited: the scene's LUT (and the preview's).
     applyTransferFunction();
-    // 4. The window edited: re-classified, the preview only while dragged; every voxel once it settles.
+    // 4. The window edited: re-classified on the worker, the levels only while dragged; every voxel once it
+    //    settles.
     applyWindow();
     // 5. Gradients computed on the worker: shading and surface splats.
     takeGradients();
@@ -31,25 +32,23 @@ void EditorLoop::openVolume(const std::filesystem::path& path,
 bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& path,
                             const renderer::TransferFunction& tf) {
     return guarded([&] {
+        if (!loaded.preview && m_options.preview)
+            std::fprintf(stderr,
+                         "note: --preview: %s has %zu voxels, fewer than the %zu M that get a preview; it "
+                         "renders in full\n",
+                         path.string().c_str(), loaded.volume.voxelCount(), ui::PreviewSettings::kMinMegaVoxels);
+        // The jobs reading the document going away stop first.
+        m_gradientJob.reset();
+        m_classifyJob.reset(), m_classifyNext.reset(), m_fullWindowStale = false;
         Document next;
         next.tf = tf;
         next.histogram = std::move(loaded.histogram);
         next.percentile = loaded.percentile;
         next.scene = std::move(loaded.scene);
-        if (loaded.volume.voxelCount() >= ui::PreviewSettings::kMinVoxels) {
-            next.preview = std::make_unique<Preview>(loaded.volume);
-            next.preview->classify(next.tf, next.scene.window);
-        } else if (m_options.preview) {
-            std::fprintf(stderr,
-                         "note: --preview: %s has %zu voxels, fewer than the %zu M that get a preview; it "
-                         "renders in full\n",
-                         path.string().c_str(), loaded.volume.voxelCount(),
-                         ui::PreviewSettings::kMinMegaVoxels);
-        }
+        next.preview = std::move(loaded.preview); // levels built and classified on the worker
         next.volume = std::move(loaded.volume);
-        m_render->setScenes(std::make_shared<const renderer::SplatScene>(next.scene), levelScenes(next));
+        m_render->setScenes(std::move(loaded.sceneForRender), std::move(loaded.levelsForRender));
         m_hasScene = true;
-        m_gradientJob.reset(); // cancels the gradients of the volume going away
         m_doc = std::move(next);
         m_state.preview.available = m_doc.preview != nullptr;
         m_state.gradientsReady = false;
@@ -64,15 +63,63 @@ bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& pa
     });
 }
 
-void EditorLoop::reclassify() {
-    m_fullWindowStale = false;
-    m_renderPending = true;
+void EditorLoop::reclassify(bool levelsOnly) {
+    if (m_classifyJob) { // the last one asked starts when this one ends; a full one wins over levels only
+        m_classifyNext = m_classifyNext ? (*m_classifyNext && levelsOnly) : levelsOnly;
+        return;
+    }
+    m_fullWindowStale = levelsOnly && m_doc.preview;
     guarded([&] {
-        const renderer::ValueRange window = renderer::windowFor(*m_doc.volume, m_state.window);
-        m_doc.scene = classifiedScene(*m_doc.volume, m_doc.tf, window, m_doc.gradients);
-        if (m_doc.preview) m_doc.preview->classify(m_doc.tf, window);
-        m_render->setScenes(std::make_shared<const renderer::SplatScene>(m_doc.scene), levelScenes(m_doc));
+        m_classifyJob = std::make_unique<ClassifyJob>(m_doc, m_doc.tf, renderer::windowFor(*m_doc.volume, m_state.window),
+                                                      levelsOnly && m_doc.preview);
     });
+    if (m_scripted && m_classifyJob) { // deterministic frames: this frame shows it
+        m_classifyJob->thread.join();
+        takeClassified();
+    }
+}
+
+void EditorLoop::classifyNow() {
+    const auto finish = [&] {
+        while (m_classifyJob) { // takeClassified may start the one asked meanwhile
+            if (m_classifyJob->thread.joinable()) m_classifyJob->thread.join();
+            takeClassified();
+        }
+    };
+    finish();
+    if (m_fullWindowStale) reclassify(false);
+    finish();
+}
+
+void EditorLoop::takeClassified() {
+    if (!m_classifyJob || !m_classifyJob->done) return;
+    if (m_classifyJob->thread.joinable()) m_classifyJob->thread.join();
+    std::optional<Classified> done = std::move(m_classifyJob->result);
+    if (!m_classifyJob->error.empty()) report(std::runtime_error(m_classifyJob->error));
+    m_classifyJob.reset();
+    if (done) {
+        // Classified with the TF at its start: the TF as it is now, in the scenes and after them on the GPU.
+        if (!done->levelsOnly) {
+            m_doc.scene = std::move(done->full);
+            renderer::setTransferFunction(m_doc.scene, m_doc.tf);
+        }
+        if (m_doc.preview)
+            for (size_t k = 0; k < m_doc.preview->levels.size() && k < done->levels.size(); ++k) {
+                m_doc.preview->levels[k].scene = std::move(done->levels[k]);
+                renderer::setTransferFunction(m_doc.preview->levels[k].scene, m_doc.tf);
+            }
+        if (done->levelsOnly)
+            m_render->setLevelScenes(std::move(done->levelsForRender));
+        else
+            m_render->setScenes(std::move(done->fullForRender), std::move(done->levelsForRender));
+        m_render->setLuts(m_doc.scene.lut, levelLuts(m_doc));
+        m_renderPending = true;
+    }
+    if (m_classifyNext) {
+        const bool levelsOnly = *m_classifyNext;
+        m_classifyNext.reset();
+        reclassify(levelsOnly);
+    }
 }
 
 renderer::ValueRange EditorLoop::shownWindow() const {
@@ -121,26 +168,19 @@ void EditorLoop::applyTransferFunction() {
 }
 
 void EditorLoop::applyWindow() {
+    takeClassified();
     if (m_hasScene && m_windowChanged) {
         m_windowChanged = false;
-        m_renderPending = true;
-        if (m_windowDragged && m_doc.preview &&
-            m_state.preview.whileMoving) { // the preview's eighth of the voxels now
-            guarded([&] {
-                m_doc.preview->classify(m_doc.tf, renderer::windowFor(*m_doc.volume, m_state.window));
-                m_render->setLevelScenes(levelScenes(m_doc));
-            });
-            m_fullWindowStale = true;
-        } else {
-            reclassify();
-        }
+        // While dragged, the levels' voxels only (a finest level is an eighth of them); all once it settles.
+        reclassify(m_windowDragged && m_doc.preview && m_state.preview.whileMoving);
     }
-    if (m_fullWindowStale && !(m_state.preview.whileMoving && m_state.preview.moving(m_pollTime)))
-        reclassify(); // every voxel once the drag settles (or the preview is turned off)
+    if (m_fullWindowStale && !m_classifyJob && !(m_state.preview.whileMoving && m_state.preview.moving(m_pollTime)))
+        reclassify(false); // every voxel once the drag settles (or the preview is turned off)
 }
 
 void EditorLoop::takeGradients() {
-    if (!m_gradientJob || !m_gradientJob->done) return;
+    // Not while a classification reads the gradients it would replace: they come in after it.
+    if (!m_gradientJob || !m_gradientJob->done || m_classifyJob) return;
     if (m_gradientJob->thread.joinable()) m_gradientJob->thread.join();
     std::optional<Gradients> computed = std::move(m_gradientJob->result);
     if (!m_gradientJob->error.empty()) m_state.errorMessage = "gradients: " + m_gradientJob->error;

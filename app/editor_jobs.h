@@ -1,6 +1,8 @@
 // Work the editor hands to worker threads and polls each frame: reading a volume, its gradients, and the
 // Filters panel's ground truth. The UI thread joins each job and takes its result; nothing here draws.
 #pragma once
+#include "editor_document.h"
+
 #include "renderer/errors.h"
 #include "renderer/io/volume_io.h"
 #include "renderer/math/shading.h"
@@ -10,6 +12,7 @@
 #include "renderer/model/window.h"
 #include "renderer/oracle/filter_comparison.h"
 #include "renderer/oracle/ground_truth.h"
+#include "ui/editor_state.h"
 
 #include <array>
 #include <atomic>
@@ -89,18 +92,22 @@ struct GradientJob : WorkerJob<Gradients> {
     }
 };
 
-// A volume read on the worker: what the UI thread needs to show it (it makes the GL parts).
+// A volume read on the worker: what the UI thread needs to show it (it makes the GL parts), with copies
+// of the scenes for the render thread made there too.
 struct LoadedVolume {
     renderer::Volume volume;
     renderer::Histogram histogram;   // of the whole volume, for the Window section
     renderer::ValueRange percentile; // p1..p99
     renderer::SplatScene scene;      // classified with the job's TF over its window
+    std::unique_ptr<Preview> preview; // its levels, classified alike (volumes of kMinVoxels or more)
+    std::shared_ptr<const renderer::SplatScene> sceneForRender;
+    std::vector<std::shared_ptr<const renderer::SplatScene>> levelsForRender;
 };
 
-// Opening a volume: read, aligned to its world axes, its histogram taken and its scene classified on the
-// worker, since a large scan takes seconds; the UI shows the progress modal meanwhile. Cancel stops the
-// reading at once (volume_io.h), the rest between steps. The work holds its own copies: the
-// job's members are gone before the base joins the thread.
+// Opening a volume: read, aligned to its world axes, its histogram taken, its scene classified and its
+// levels built on the worker, since a large scan takes seconds; the UI shows the progress modal
+// meanwhile. Cancel stops the reading at once (volume_io.h), the rest between steps. The work holds its
+// own copies: the job's members are gone before the base joins the thread.
 struct VolumeJob : WorkerJob<LoadedVolume> {
     std::filesystem::path path;
     renderer::TransferFunction tf;
@@ -122,7 +129,45 @@ struct VolumeJob : WorkerJob<LoadedVolume> {
             if (!progress(0.7)) return std::nullopt;
             out.scene =
                 renderer::buildSplatScene(out.volume, classify, renderer::windowFor(out.volume, window));
+            out.sceneForRender = std::make_shared<const renderer::SplatScene>(out.scene);
+            if (!progress(0.9)) return std::nullopt;
+            if (out.volume.voxelCount() >= ui::PreviewSettings::kMinVoxels) {
+                out.preview = std::make_unique<Preview>(out.volume);
+                out.preview->classify(classify, out.scene.window);
+                for (const Level& level : out.preview->levels)
+                    out.levelsForRender.push_back(std::make_shared<const renderer::SplatScene>(level.scene));
+            }
             progress(1.0);
+            return out;
+        });
+    }
+};
+
+// Re-classifying over a new window on the worker: every voxel, or (while the window is dragged) the
+// levels' only. It reads the document's volume, levels and gradients, so the loop takes no gradients
+// while one runs and drops it before the document goes.
+struct Classified {
+    bool levelsOnly = false;
+    renderer::SplatScene full;        // empty when levelsOnly
+    std::vector<renderer::SplatScene> levels;
+    std::shared_ptr<const renderer::SplatScene> fullForRender;
+    std::vector<std::shared_ptr<const renderer::SplatScene>> levelsForRender;
+};
+struct ClassifyJob : WorkerJob<Classified> {
+    ClassifyJob(const Document& doc, const renderer::TransferFunction& tf, renderer::ValueRange window,
+                bool levelsOnly) {
+        start([&doc, tf, window, levelsOnly](const renderer::ProgressCallback&) -> std::optional<Classified> {
+            Classified out;
+            out.levelsOnly = levelsOnly;
+            if (!levelsOnly) {
+                out.full = classifiedScene(*doc.volume, tf, window, doc.gradients);
+                out.fullForRender = std::make_shared<const renderer::SplatScene>(out.full);
+            }
+            if (doc.preview)
+                for (const Level& level : doc.preview->levels) {
+                    out.levels.push_back(classifiedScene(level.volume, tf, window, level.gradients));
+                    out.levelsForRender.push_back(std::make_shared<const renderer::SplatScene>(out.levels.back()));
+                }
             return out;
         });
     }

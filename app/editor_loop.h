@@ -73,9 +73,12 @@ class EditorLoop {
     // shown stays.
     bool showVolume(LoadedVolume loaded, const std::filesystem::path& path,
                     const renderer::TransferFunction& tf);
-    // A new window re-classifies every voxel, the preview's too; the scenes keep the old one if this throws.
-    // While the window is dragged only the preview's are (m_fullWindowStale), and this follows.
-    void reclassify();
+    // A new window re-classifies every voxel, the levels' too, on the worker (scripted runs wait for it);
+    // while the window is dragged only the levels' (m_fullWindowStale), and the full scene once it
+    // settles. A classification asked while one runs starts when it ends (the last one asked).
+    void reclassify(bool levelsOnly);
+    void takeClassified(); // a classification done: its scenes into the document and to the render thread
+    void classifyNow();    // Save image: the full scene classified with the window on screen, waiting for it
     // The window the view is classified with: the preview's while a drag has left the full scene's behind.
     renderer::ValueRange shownWindow() const;
     void takeLoadedVolume();      // a volume read: show it, or say why it could not be
@@ -126,6 +129,8 @@ class EditorLoop {
     std::unique_ptr<RenderThread> m_render; // owns the renderers and their GL context
     bool m_hasScene = false;                // a scene was handed to the render thread
     std::unique_ptr<GradientJob> m_gradientJob;
+    std::unique_ptr<ClassifyJob> m_classifyJob; // reads m_doc: declared after it, so it goes first
+    std::optional<bool> m_classifyNext;         // asked while one ran: levels only?
     std::unique_ptr<VolumeJob> m_volumeJob;
 
     // What the panels returned last frame, read by this frame's steps.
@@ -157,7 +162,7 @@ class EditorLoop {
     bool m_filtersShown = false, m_patchCountsStale = true;
     ui::FiltersChanges m_filtersChanges;
     std::unique_ptr<FilterComparisonJob> m_comparison;
-    // The window dragged last frame; the full scene's window behind the preview's (see reclassify()).
+    // The window dragged last frame; the full scene's window behind the levels' (see reclassify()).
     bool m_windowDragged = false, m_fullWindowStale = false;
     std::vector<renderer::FilterMeasurement> m_measurements;
     bool m_measurementsStale = false;

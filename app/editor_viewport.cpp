@@ -174,7 +174,7 @@ void EditorLoop::startSaveView(const std::filesystem::path& path) {
     guarded([&] {
         if (!m_hasScene || m_texture == 0)
             throw renderer::LoadError(path.string(), "", "no view to save: open a volume first");
-        if (m_fullWindowStale) reclassify(); // the full scene, with the window on screen
+        classifyNow(); // the full scene, with the window on screen
         ViewRequest view = viewRequest();
         m_save = PendingSave{path, view.heatmap,
                              m_render->run([plane = view.plane, settings = view.full, heatmap = view.heatmap](

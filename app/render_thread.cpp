@@ -256,14 +256,17 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
         if (superseded(id, started, request.budgetMs, refinement)) return false;
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
+    // The interrupt reads this frame's locals: it goes when the frame ends, whatever ends it.
+    struct InterruptScope {
+        renderer::SplatRenderer& renderer;
+        ~InterruptScope() { renderer.setInterrupt({}); }
+    } scope{which};
     which.setInterrupt([&] { return superseded(id, started, request.budgetMs, refinement); });
     try {
         which.render(request.plane, level == 0 ? request.full : request.coarse[size_t(level - 1)]);
     } catch (const renderer::Cancelled&) {
-        which.setInterrupt({});
         return false;
     }
-    which.setInterrupt({});
     RenderedView view;
     view.request = id;
     view.level = level;
