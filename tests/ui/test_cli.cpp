@@ -18,10 +18,13 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <map>
+#include <sstream>
 #include <string>
 #include <sys/wait.h>
 
@@ -586,6 +589,38 @@ TEST(Cli, AccuracyWritesTheReportWithItsTablesAndThumbnails) {
     EXPECT_THAT(misspelt.output, HasSubstr("--only: no hard case 'one-voxle' (known: near-plane,"));
     std::ifstream again(dir / "accuracy.md");
     EXPECT_EQ(std::string((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>()), md);
+}
+
+// --measure-interactive on a phantom of 4.9 M voxels (levels of detail): the editor turns the camera,
+// waits for each full frame, prints its measurements and closes by itself; the figures hang together.
+TEST(Cli, EditorMeasuresEditToFirstImageAndUiFramesThenCloses) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    const std::filesystem::path phantom = testing_support::testOutputDir() / "phantom170.nhdr";
+    ASSERT_EQ(splatlab("phantom --size 170 --out \"" + phantom.string() + "\"").status, 0);
+    const CliRun r = run("LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE
+                         "\" editor \"" + phantom.string() + "\" --tf ct-skin-bone --window -1140,2860 --fit "
+                         "--size 1280x800 --measure-interactive 3 2>&1");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const size_t at = r.output.find("interactive_result ");
+    ASSERT_NE(at, std::string::npos) << r.output;
+    std::map<std::string, double> v;
+    std::istringstream line(r.output.substr(at, r.output.find('\n', at) - at));
+    for (std::string field; line >> field;)
+        if (const size_t eq = field.find('='); eq != std::string::npos && field.rfind("volume=", 0) != 0)
+            v[field.substr(0, eq)] = std::atof(field.c_str() + eq + 1);
+    EXPECT_EQ(v["edits"], 3.0);
+    EXPECT_GT(v["first_image_ms"], 0.0);
+    EXPECT_GE(v["full_ms"], v["first_image_ms"]);
+    EXPECT_GE(v["ui_frames"], 1.0);
+    EXPECT_GE(v["ui_p95_ms"], v["ui_p50_ms"]);
+    EXPECT_GT(v["level0_ms"], 0.0);
+    // Where the full frame misses the 150 ms budget, the first images come from a level, and each level
+    // drawn before a full frame has its error against it.
+    if (v["level0_ms"] > 180.0) {
+        EXPECT_GT(v["first_level_mean"], 0.0);
+        EXPECT_TRUE(v.count("level1_rmse") || v.count("level2_rmse") || v.count("level3_rmse")) << r.output;
+    }
 }
 
 TEST(Cli, EditorSavesTheViewAsRenderDrawsItAndNamesAFileItCannotWrite) {
