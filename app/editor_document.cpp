@@ -32,14 +32,6 @@ void Preview::setTransferFunction(const renderer::TransferFunction& tf) {
         renderer::setTransferFunction(level.scene, tf);
 }
 
-std::vector<std::shared_ptr<const renderer::SplatScene>> levelScenes(const Document& doc) {
-    std::vector<std::shared_ptr<const renderer::SplatScene>> scenes;
-    if (doc.preview)
-        for (const Level& level : doc.preview->levels)
-            scenes.push_back(std::make_shared<const renderer::SplatScene>(level.scene));
-    return scenes;
-}
-
 std::vector<renderer::Lut> levelLuts(const Document& doc) {
     std::vector<renderer::Lut> luts;
     if (doc.preview)

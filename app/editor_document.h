@@ -47,7 +47,5 @@ struct Document {
     std::unique_ptr<Preview> preview;                 // levels, for volumes of PreviewSettings::kMinVoxels or more
 };
 
-// Copies of the levels' scenes for the render thread, finest first; none when the document has no levels.
-std::vector<std::shared_ptr<const renderer::SplatScene>> levelScenes(const Document& doc);
 // The levels' LUTs, finest first.
 std::vector<renderer::Lut> levelLuts(const Document& doc);

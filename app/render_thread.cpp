@@ -114,7 +114,6 @@ uint64_t RenderThread::requestView(const ViewRequest& request) {
         std::lock_guard lock(m_mutex);
         id = m_nextId++;
         m_pendingView.emplace(id, request);
-        m_pendingAsked = Clock::now();
         m_newestId = id;
     }
     m_wake.notify_all();
@@ -189,13 +188,12 @@ void RenderThread::loop(std::promise<std::string> started) {
         }
         auto [id, request] = std::move(*m_pendingView);
         m_pendingView.reset();
-        const Clock::time_point asked = m_pendingAsked;
         m_inFlight = id;
         lock.unlock();
         try {
             const std::vector<int> levels = levelsToDraw(request, int(r.levels.size()));
             for (size_t i = 0; i < levels.size(); ++i)
-                if (!renderLevel(r, levels[i], id, request, asked, i > 0, i + 1 == levels.size())) break;
+                if (!renderLevel(r, levels[i], id, request, i > 0, i + 1 == levels.size())) break;
         } catch (const std::exception& e) {
             std::lock_guard errorLock(m_mutex);
             m_errors.push_back(e.what());
@@ -249,7 +247,7 @@ std::vector<int> RenderThread::levelsToDraw(const ViewRequest& request, int leve
 }
 
 bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewRequest& request,
-                               Clock::time_point asked, bool refinement, bool last) {
+                               bool refinement, bool last) {
     renderer::SplatRenderer& which = level == 0 ? *r.full : *r.levels[size_t(level - 1)];
     const Clock::time_point started = Clock::now();
     for (int waited = 0; waited < m_delayMs; waited += 10) { // SPLATLAB_RENDER_DELAY_MS: a slow scan
@@ -280,7 +278,6 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
     view.stats = which.stats();
     view.sceneBytes = which.sceneBytes();
     view.workingBytes = which.workingBytes();
-    view.sinceRequestMs = msSince(asked);
     m_levelMs[size_t(level)] = msSince(started);
     // Each level's error against the full frame that follows it in the same request.
     if (m_levelPixelsOf != id) {

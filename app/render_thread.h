@@ -53,7 +53,6 @@ struct RenderedView {
     renderer::ImagePlane plane;
     renderer::FrameStats stats;
     uint64_t sceneBytes = 0, workingBytes = 0;
-    double sinceRequestMs = 0.0;      // from the request to this image, read back
     // Per level (0: full): its last render and read-back in ms (0: not drawn yet), and the RMSE of its
     // last image against the full frame that replaced it (-1: none yet).
     std::array<double, kMaxViewLevels> levelMs{}, levelRmse{-1, -1, -1, -1};
@@ -111,8 +110,7 @@ class RenderThread {
     // A frame of `which` renderer: false when a newer request superseded it.
     // The levels a request draws, in order (0: the full frame).
     std::vector<int> levelsToDraw(const ViewRequest& request, int levels) const;
-    bool renderLevel(Renderers& r, int level, uint64_t id, const ViewRequest& request,
-                     std::chrono::steady_clock::time_point asked, bool refinement, bool last);
+    bool renderLevel(Renderers& r, int level, uint64_t id, const ViewRequest& request, bool refinement, bool last);
     bool superseded(uint64_t id, std::chrono::steady_clock::time_point started, double budgetMs,
                     bool refinement) const;
 
@@ -120,7 +118,6 @@ class RenderThread {
     std::condition_variable m_wake, m_viewDone;
     std::deque<std::pair<std::function<void(Renderers&)>, bool>> m_tasks; // task, report its errors
     std::optional<std::pair<uint64_t, ViewRequest>> m_pendingView;
-    std::chrono::steady_clock::time_point m_pendingAsked;
     uint64_t m_nextId = 1, m_newestId = 0, m_doneId = 0, m_inFlight = 0;
     std::optional<RenderedView> m_finished;
     std::deque<std::string> m_errors;
