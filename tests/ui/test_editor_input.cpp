@@ -37,7 +37,9 @@ nlohmann::json replay(const std::string& mode, std::filesystem::path& out) {
 // release and the pointer moving on, within one UI frame) followed by a second drag and one Ctrl+Z, ends
 // with the same curve: the burst's drag ended where the button was released, and one undo took back one
 // gesture. In the burst run a viewport drag turns the camera by exactly its pixels times the orbit gain,
-// and Ctrl+A with a typed name replaced the TF panel's file field: Save wrote that file.
+// and Ctrl+A with a typed name replaced the TF panel's file field: Save wrote that file. In both runs the
+// fifth point's Opacity slider, dragged past its left end and let go before the pointer moved on to the
+// right, ends at exactly 0 (read after the release, it would end at 1).
 TEST(EditorInput, SlowFramesNeitherLoseNorReinterpretInput) {
     if (std::system("command -v xvfb-run > /dev/null 2>&1 && command -v xdotool > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "xvfb-run or xdotool not found (On Debian/Ubuntu: apt install xvfb xauth xdotool)";
@@ -50,6 +52,9 @@ TEST(EditorInput, SlowFramesNeitherLoseNorReinterpretInput) {
     const nlohmann::json& points = slow["transfer_function"]["points"];
     ASSERT_EQ(points.size(), 6u);
     EXPECT_GT(points[3]["opacity"].get<double>(), 0.55) << "the slow drag did not move the point";
+    EXPECT_EQ(points[4]["opacity"].get<double>(), 0.0) << "the slow slider drag did not end at its left end";
+    EXPECT_EQ(burst["transfer_function"]["points"][4]["opacity"].get<double>(), 0.0)
+        << "the burst's slider drag did not end where the button was released";
     EXPECT_EQ(burst["transfer_function"]["points"], points)
         << "the burst's drag, second drag and Ctrl+Z left another curve than the slow drag";
 

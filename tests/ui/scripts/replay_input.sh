@@ -6,6 +6,8 @@
 # burst: the same drag with every event at once (press, moves, release, the pointer moving on), a second
 #        drag of the point and Ctrl+Z; a viewport drag; Ctrl+A and a file name typed into the TF panel's
 #        file field, then Save. Each burst falls within one UI frame, while a slow render is in flight.
+# Both: the TF's fifth point selected and its Opacity slider dragged past its left end (to 0), the
+# pointer moving on to the right after the release (slow: step by step; burst: at once).
 # The editor closes on SIGTERM and writes OUT_DIR/session.json (--session-out).
 set -euo pipefail
 exe=$1 out=$2 mode=$3
@@ -43,6 +45,21 @@ else
   # The TF panel's file field: click, select all, type a name; then Save.
   xdotool mousemove --window "$w" 120 327 click 1 key ctrl+a type --delay 5 typed_tf.json
   xdotool mousemove --window "$w" 75 354 click 1
+fi
+# The fifth point at (189, 121): a click selects it, and its fields appear with the Opacity slider at y 336
+# (x 9..244).
+xdotool mousemove --window "$w" 189 121 click 1 mousemove --window "$w" 1200 700
+sleep 0.5
+if [ "$mode" = slow ]; then
+  xdotool mousemove --window "$w" 150 336; sleep 0.3
+  xdotool mousedown 1; sleep 0.3
+  xdotool mousemove --window "$w" 60 336; sleep 0.3
+  xdotool mousemove --window "$w" 2 336; sleep 0.3
+  xdotool mouseup 1; sleep 0.3
+  xdotool mousemove --window "$w" 1200 700
+else
+  xdotool mousemove --window "$w" 150 336 mousedown 1 mousemove --window "$w" 60 336 \
+          mousemove --window "$w" 2 336 mouseup 1 mousemove --window "$w" 1200 700
 fi
 sleep 2
 kill -TERM "$pid"
