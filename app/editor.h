@@ -15,6 +15,9 @@ struct EditorOptions {
     std::filesystem::path volumePath;     // empty: start with no volume (or the session's)
     std::filesystem::path sessionPath;    // non-empty: open this session (after the flags, replacing them)
     std::string tfSpec = "ct-skin-bone";  // preset name or TF JSON file
+    std::string sceneName;                // --scene: a demo scene (volumePath is then "scene:NAME")
+    bool sceneLook = true, sceneCamera = true; // its own look and view, unless --tf, --density, --shading
+                                             // or --camera (--fit) said
     renderer::Camera camera;              // the starting view (its `up` is replaced by upAxis)
     bool fit = false;                     // start framed (--fit): as Settings > Camera > Frame
     std::string upAxis = "z";             // object axis shown upwards: x, y, z, -x, -y, -z (headsq: -z)

@@ -2,6 +2,8 @@
 // transfer function and window edits, gradients ready. Rendering the view is editor_viewport.cpp's.
 #include "editor_loop.h"
 
+#include "renderer/oracle/demo_scenes.h"
+
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -27,6 +29,22 @@ void EditorLoop::openVolume(const std::filesystem::path& path,
                             const std::optional<renderer::RawOptions>& raw) {
     m_volumeJob = std::make_unique<VolumeJob>(path, raw, m_state.tf, m_state.window);
     if (m_scripted) m_volumeJob->thread.join();
+}
+
+void EditorLoop::openDemoScene(const std::string& name, bool withLook, bool withCamera) {
+    guarded([&] {
+        if (withLook) {
+            m_state.tf = renderer::demoScene(name, 1).tf; // a TF does not depend on the image
+            m_state.tfSelected = -1;
+            m_state.window.mode = renderer::WindowMode::DataRange;
+            // Unlit at density 1, as the hard cases and their ground truth (the Filters panel's Measure).
+            m_state.settings.density = 1.0;
+            m_state.settings.shading = renderer::SplatSettings::Shading::None;
+            m_tfPending = m_windowChanged = true;
+        }
+        if (withCamera) m_sceneCameraPending = name;
+        openVolume(renderer::demoScenePath(name));
+    });
 }
 
 bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& path,
@@ -137,6 +155,10 @@ void EditorLoop::takeLoadedVolume() {
 }
 
 void EditorLoop::applySettingsActions() {
+    if (!m_settingsChanges.openScene.empty()) {
+        openDemoScene(m_settingsChanges.openScene, true, true);
+        m_renderPending = true;
+    }
     if (m_settingsChanges.openVolume) {
         openVolume(m_state.volumeFile);
         m_renderPending = true;

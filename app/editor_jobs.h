@@ -6,6 +6,7 @@
 #include "renderer/errors.h"
 #include "renderer/io/volume_io.h"
 #include "renderer/math/shading.h"
+#include "renderer/oracle/demo_scenes.h"
 #include "renderer/model/gradients.h"
 #include "renderer/model/splat_scene.h"
 #include "renderer/model/transfer_function.h"
@@ -118,8 +119,7 @@ struct VolumeJob : WorkerJob<LoadedVolume> {
                window](const renderer::ProgressCallback& progress) -> std::optional<LoadedVolume> {
             LoadedVolume out;
             try {
-                out.volume =
-                    renderer::loadVolumeInWorldFrame(file, raw, [&](double f) { return progress(0.6 * f); });
+                out.volume = renderer::loadVolumeOrScene(file, raw, [&](double f) { return progress(0.6 * f); });
             } catch (const renderer::Cancelled&) {
                 return std::nullopt;
             }

@@ -47,7 +47,10 @@ bool EditorLoop::start() {
         m_state.sessionFile = m_options.sessionPath.string();
         if (volumePath.empty()) volumePath = sessionVolume;
     });
-    if (m_exitCode == 0 && !volumePath.empty()) openVolume(volumePath, m_options.raw);
+    if (m_exitCode == 0 && !m_options.sceneName.empty())
+        openDemoScene(m_options.sceneName, m_options.sceneLook, m_options.sceneCamera);
+    else if (m_exitCode == 0 && !volumePath.empty())
+        openVolume(volumePath, m_options.raw);
     return m_exitCode == 0;
 }
 

@@ -68,6 +68,10 @@ class EditorLoop {
     // Starts reading `path`, to be classified with state.tf over state.window, on the worker (a scripted
     // run waits for it: deterministic frames); the frame loop shows it once read (showVolume).
     void openVolume(const std::filesystem::path& path, const std::optional<renderer::RawOptions>& raw = {});
+    // A demo scene (renderer/oracle/demo_scenes.h): its volume opened, and as asked its look (TF over the
+    // data range, density 1, unlit) and its view, placed once the viewport's height is known (the board's
+    // view is panned in pixels).
+    void openDemoScene(const std::string& name, bool withLook, bool withCamera);
     // A volume read by a VolumeJob, on screen: a new document, its scenes (the full one's and the preview
     // level's) handed to the render thread; its gradients start on the worker. On failure the document
     // shown stays.
@@ -152,6 +156,7 @@ class EditorLoop {
     std::optional<std::future<renderer::FilterMeasurement>> m_measurement;
     bool m_tfPending = false, m_renderPending = true, m_windowChanged = false, m_tfChanged = false;
     bool m_framePending; // --fit, Settings > Camera > Frame or a double-click: framedCamera()
+    std::optional<std::string> m_sceneCameraPending; // a demo scene's view, placed as framing is
     // The Performance panel: recent full frames; the interval between them while rendering continuously.
     ui::PerfHistory m_perfHistory;
     std::optional<std::chrono::steady_clock::time_point> m_lastFullFrame;

@@ -4,6 +4,7 @@
 #include "editor_loop.h"
 
 #include "renderer/io/image.h"
+#include "renderer/oracle/demo_scenes.h"
 
 #include <epoxy/gl.h>
 
@@ -63,6 +64,11 @@ void EditorLoop::frameIfAsked() {
         m_framePending = false;
         m_state.camera = renderer::framedCamera(m_state.camera, m_doc.scene, m_state.settings, m_renderWidth,
                                                 m_renderHeight, ui::kMinDistance, ui::kMaxDistance);
+        m_renderPending = true;
+    }
+    if (m_sceneCameraPending && m_renderHeight > 0 && !m_volumeJob) {
+        guarded([&] { m_state.camera = renderer::demoScene(*m_sceneCameraPending, m_renderHeight).camera; });
+        m_sceneCameraPending.reset();
         m_renderPending = true;
     }
 }

@@ -8,6 +8,7 @@
 #include "renderer/errors.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/model/gradients.h"
+#include "renderer/oracle/demo_scenes.h"
 #include "renderer/oracle/ground_truth.h"
 #include "renderer/math/metrics.h"
 #include "renderer/oracle/reference_renderer.h"
@@ -361,7 +362,7 @@ struct Scene {
 // The volume classified by `tf` over `window`, its gradients when the settings need them, and the view.
 void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFlags& raw, const TransferFunction& tf,
                  const WindowSettings& window, Camera camera, glm::ivec2 size, bool fit = false) {
-    const Volume volume = loadVolumeInWorldFrame(volumePath, rawOptions(raw));
+    const Volume volume = loadVolumeOrScene(volumePath, rawOptions(raw));
     if (volume.resampled)
         std::fprintf(stderr,
                      "note: %s: its axes are sheared (not orthogonal); the voxels are resampled (trilinear) onto "
@@ -700,13 +701,17 @@ int main(int argc, char** argv) {
     RawFlags editorRaw;
     auto* editor = app.add_subcommand("editor", "Open the editor window (default: the bundled bonsai, 128^3, "
                                                  "framed, with --tf bonsai, lit per splat)");
-    editor->add_option("volume", editorVolume, "Volume file");
+    std::vector<std::string> sceneNames;
+    for (const DemoSceneInfo& scene : demoSceneList()) sceneNames.push_back(scene.name);
+    auto* editorVolumeOption = editor->add_option("volume", editorVolume, "Volume file (or scene:NAME, a demo scene)");
     editor->add_option("--tf", e.tfSpec, "Transfer function: a preset name or a JSON file")
         ->capture_default_str()
         ->group(kSessionSetGroup);
-    editor->add_option("--session", editorSession,
+    auto* editorSessionOption = editor->add_option("--session", editorSession,
                        "Open a saved session (JSON): its volume, TF, window, camera and settings (a volume argument "
                        "replaces its volume)");
+    editor->add_option("--scene", e.sceneName, "Open a demo scene (Settings > Files > Demo scene) in its TF and view")
+        ->check(CLI::IsMember(sceneNames))->excludes(editorVolumeOption)->excludes(editorSessionOption);
     editor->add_option("--screenshot", screenshot, "Write a PNG of the window after --frames frames, then exit");
     editor->add_option("--frames", e.frames, "Exit after this many frames (0: run until closed)")
         ->check(CLI::NonNegativeNumber);
@@ -751,7 +756,7 @@ int main(int argc, char** argv) {
         // a little above the rim (unless --camera says where), in its preset, lit per splat (once the
         // gradients are in, a fraction of a second after it opens). Its voxels are twice as long as the
         // 256^3 scan's, so twice the density per voxel length keeps that scan's extinction per unit length.
-        const bool bundled = editorVolume.empty() && editorSession.empty();
+        const bool bundled = editorVolume.empty() && editorSession.empty() && e.sceneName.empty();
         const auto unset = [&](const char* flag) { return editor->get_option(flag)->count() == 0; };
         if (bundled) {
             e.upAxis = "y";
@@ -770,6 +775,9 @@ int main(int argc, char** argv) {
         if (!editorUp.empty()) e.upAxis = (axisFromName(editorUp), editorUp);
         if (!editorVolume.empty()) e.volumePath = editorVolume;
         else if (!editorSession.empty()) e.volumePath.clear();   // the session's volume
+        else if (!e.sceneName.empty()) e.volumePath = demoScenePath(e.sceneName);
+        e.sceneLook = unset("--tf") && unset("--density") && unset("--shading");
+        e.sceneCamera = unset("--camera") && !e.fit;
         e.sessionPath = editorSession;
         if (!screenshot.empty()) e.screenshotPath = screenshot;
         const glm::ivec2 s = parseSize(editorSize, "--size");

@@ -4,6 +4,7 @@
 
 #include "renderer/errors.h"
 #include "renderer/model/transfer_function.h"
+#include "renderer/oracle/demo_scenes.h"
 #include "ui/session.h"
 #include "widgets.h"
 
@@ -97,6 +98,19 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     hint("A volume file: .nrrd/.nhdr, .mhd/.mha, .nii(.gz), .slc, .dat, .tif, .raw (dims and type in the name),\n"
          "or a folder of slices");
     if (ImGui::Button("Open volume") || takePendingFile(state, FileAction::OpenVolume)) changes.openVolume = true;
+    const std::optional<std::string> shownScene = renderer::demoSceneOfPath(state.loadedVolume);
+    if (ImGui::BeginCombo("Demo scene", shownScene ? shownScene->c_str() : "(pick one)", ImGuiComboFlags_HeightLarge)) {
+        for (const renderer::DemoSceneInfo& scene : renderer::demoSceneList()) {
+            if (ImGui::Selectable(scene.name.c_str(), scene.name == shownScene)) changes.openScene = scene.name;
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", scene.lookFor.c_str());
+        }
+        ImGui::EndCombo();
+    }
+    hint("Scenes that show when each filter wins (the hard cases and 000 fig. 8's board), each in its own TF\n"
+         "and view; also `splatlab editor --scene NAME`");
+    if (shownScene)
+        for (const renderer::DemoSceneInfo& scene : renderer::demoSceneList())
+            if (scene.name == *shownScene) textWrapped("Look for: %s", scene.lookFor.c_str());
     inputPath("Session", state.sessionFile);
     hint("A session (JSON): the volume's path, transfer function, window, camera and every setting");
     if (ImGui::Button("Open session") || takePendingFile(state, FileAction::OpenSession)) {
@@ -264,8 +278,9 @@ bool applyOrbitInput(renderer::Camera& camera, const OrbitInput& input) {
                                          -kMaxElevationDeg, kMaxElevationDeg);
     camera.panPx += glm::dvec2(input.panDxPx, input.panDyPx);
     if (input.wheelNotches != 0.0f)
+        // A view placed beyond the range (a demo scene's) zooms from where it is, not from the range's end.
         camera.distance = std::clamp(camera.distance * std::pow(kZoomPerNotch, double(input.wheelNotches)),
-                                     kMinDistance, kMaxDistance);
+                                     std::min(kMinDistance, camera.distance), std::max(kMaxDistance, camera.distance));
     return camera.azimuthDeg != before.azimuthDeg || camera.elevationDeg != before.elevationDeg ||
            camera.panPx != before.panPx || camera.distance != before.distance;
 }

@@ -6,6 +6,7 @@
 #include "renderer/errors.h"
 #include "renderer/io/json_file.h"
 #include "renderer/model/splat_settings.h"
+#include "renderer/oracle/demo_scenes.h"
 
 #include <nlohmann/json.hpp>
 
@@ -97,7 +98,9 @@ class Section {
 void saveSession(const EditorState& state, const std::filesystem::path& volume, const std::filesystem::path& file) {
     json j;
     j["splatlab_session"] = kSessionVersion;
-    if (!volume.empty()) {
+    if (const std::optional<std::string> scene = renderer::demoSceneOfPath(volume)) {
+        j["scene"] = *scene;
+    } else if (!volume.empty()) {
         // Relative to the session's folder where the two share a root; else as it is.
         const auto base = std::filesystem::absolute(file).parent_path();
         const auto relative = std::filesystem::absolute(volume).lexically_relative(base);
@@ -168,6 +171,11 @@ std::filesystem::path loadSession(const std::filesystem::path& file, EditorState
             throw renderer::LoadError(name, "volume", "expected the volume's path (a string)");
         volume = j["volume"].get<std::string>();
         if (volume.is_relative()) volume = (std::filesystem::absolute(file).parent_path() / volume).lexically_normal();
+    }
+    if (j.contains("scene")) { // a demo scene instead of a volume file
+        if (!j["scene"].is_string() || !renderer::isDemoScene(j["scene"].get<std::string>()))
+            throw renderer::LoadError(name, "scene", "one of the demo scenes: " + renderer::demoSceneNames());
+        if (volume.empty()) volume = renderer::demoScenePath(j["scene"].get<std::string>());
     }
     if (j.contains("transfer_function")) {
         next.tf = renderer::transferFunctionFromJson(j["transfer_function"], name + " (transfer_function)",

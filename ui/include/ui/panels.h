@@ -24,6 +24,7 @@ struct SettingsChanges {
     bool settingsChanged = false; // a SplatSettings field changed
     bool cameraChanged = false;   // field of view, up axis or "Reset camera"
     bool openVolume = false;      // "Open" beside the volume's path: the app loads state.volumeFile
+    std::string openScene;        // a demo scene picked: the app opens it in its TF and view
     // A session was opened into the state: the app loads sessionVolume (when it is not the volume shown)
     // or re-classifies the one it has with the session's window and transfer function.
     bool sessionOpened = false;
@@ -33,7 +34,8 @@ struct SettingsChanges {
     bool any() const { return settingsChanged || cameraChanged; }
 };
 
-// Files (open a volume; open and save sessions; save the view as an image), kernel scale, cutoff, density, filter mode,
+// Files (open a volume or a demo scene, with what to look for in it; open and save sessions; save the
+// view as an image), kernel scale, cutoff, density, filter mode,
 // compositing, shading, heatmap, field of view, up axis, camera reset, 3D mouse. Session files that
 // fail to open or save set state.errorMessage and change nothing else.
 SettingsChanges drawSettingsPanel(EditorState& state);
