@@ -133,6 +133,9 @@ void EditorLoop::probeHoveredVoxel() {
                 renderer::probePixel(m_doc.scene, m_state.settings, *m_lastPlane, *m_viewport.hoverPx))
             m_state.probe = ui::EditorState::ProbedVoxel{
                 hit->voxel, m_doc.volume->at(hit->voxel.x, hit->voxel.y, hit->voxel.z)};
+    m_state.footprint.reset();
+    if (m_state.inspectFootprint && m_state.probe)
+        m_state.footprint = renderer::inspectFootprint(m_doc.scene, *m_lastPlane, m_state.settings, m_state.probe->voxel);
 }
 
 void EditorLoop::noteEdits() {

@@ -5,6 +5,7 @@
 #include "renderer/errors.h"
 #include "renderer/model/transfer_function.h"
 #include "renderer/oracle/demo_scenes.h"
+#include "ui/footprint_inspector.h"
 #include "ui/session.h"
 #include "widgets.h"
 
@@ -217,6 +218,10 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     sectionTitle("Inspect");
     changes.settingsChanged |= ImGui::Checkbox("GPU counters", &s.counters);
     hint("Count splats per filter and per cull on the GPU (waits for each frame)");
+    ImGui::Checkbox("Footprint inspector", &state.inspectFootprint);
+    hint("Point at the view: the voxel under the pointer shows its footprint, magnified on the pixel grid:\n"
+         "the projected kernel (red), the low-pass filter (green) and their sum, EWA (blue), at the cutoff,\n"
+         "with the filter its patch takes and the thresholds it was measured against");
     ImGui::BeginDisabled(!state.preview.available);
     ImGui::Checkbox("Preview level first", &state.preview.whileMoving);
     ImGui::EndDisabled();
@@ -315,7 +320,7 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
     if (ImGui::IsItemHovered() && !ImGui::IsAnyMouseDown()) {
         result.hoverPx = glm::dvec2((io.MousePos.x - origin.x) * io.DisplayFramebufferScale.x,
                                     (io.MousePos.y - origin.y) * io.DisplayFramebufferScale.y);
-        if (state.probe && texture != 0)
+        if (state.probe && texture != 0 && !(state.inspectFootprint && state.footprint)) // else the inset says it
             ImGui::SetTooltip("value %.5g at voxel (%d, %d, %d)", double(state.probe->value), state.probe->voxel.x,
                               state.probe->voxel.y, state.probe->voxel.z);
     }
@@ -327,6 +332,8 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
     draw->AddRectFilled(origin, end, ImGui::GetColorU32(ImVec4(bg[0], bg[1], bg[2], 1.0f)));
     if (texture != 0) {
         draw->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture)), origin, end);
+        if (state.inspectFootprint && state.footprint && state.probe)
+            drawFootprintInspector(*state.footprint, state.probe->value, end.x, origin.y);
         if (state.preview.shown)
             draw->AddText(ImVec2(origin.x + 8.0f, origin.y + 6.0f), ImGui::GetColorU32(ImGuiCol_TextDisabled),
                           state.preview.shownLevel > 1 ? ("level 1/" + std::to_string(1 << state.preview.shownLevel) +

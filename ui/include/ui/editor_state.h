@@ -1,6 +1,7 @@
 // What the editor's panels edit: plain data, no GL and no ImGui. The app owns one and hands it to the
 // panels each frame; the renderer reads the camera and settings from it.
 #pragma once
+#include "renderer/oracle/footprint_inspection.h"
 #include "renderer/math/camera.h"
 #include "renderer/model/splat_settings.h"
 #include "renderer/model/transfer_function.h"
@@ -71,6 +72,9 @@ struct EditorState {
         float value = 0.0f;
     };
     std::optional<ProbedVoxel> probe;
+    // Settings > Inspect > Footprint inspector: the probed voxel's footprint, set by the app (footprint_inspector.h).
+    bool inspectFootprint = false;
+    std::optional<renderer::FootprintInspection> footprint;
     renderer::WindowSettings window; // which data values map onto the TF (custom: data units)
     bool histogramLog = true;        // the Window section's histogram: log-scale counts
     bool gradientsReady = false;     // the scene has gradients: shading and surface splats can be on
