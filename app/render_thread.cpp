@@ -6,6 +6,8 @@
 #include "renderer/gl/gl_context.h"
 
 #include <epoxy/gl.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -152,6 +154,10 @@ void RenderThread::loop(std::promise<std::string> started) {
     // The context and the renderers live and die on this thread: GL objects go while it is current.
     std::unique_ptr<renderer::HeadlessGl> gl;
     Renderers r;
+    // Below the UI thread's priority, and so are the driver threads this thread starts (a new thread
+    // inherits its creator's nice value): on a CPU driver the render and the UI share the cores, and the
+    // UI's frame must stay short. Failing to lower it costs only that.
+    setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 10);
     try {
         gl = renderer::HeadlessGl::create();
         r.full = std::make_unique<renderer::SplatRenderer>();
