@@ -52,6 +52,39 @@ TEST(TfCurve, CanvasMappingRoundTripsAndClampsToTheDomain) {
     EXPECT_EQ(opacity, 0.0);
 }
 
+// Within kOpacitySnapPx of the baseline a drag gives exactly 0 (no voxel of that value is drawn), near
+// the top exactly 1; a little further it gives what the height says.
+TEST(TfCurve, TheBaselineSnapsToExactlyZeroAndTheTopToOne) {
+    const Rect canvas{10, 20, 300, 120};
+    double value = -1, opacity = -1;
+    ui::canvasToTf(canvas, {100, canvas.bottom() - 2.0f}, value, opacity);
+    EXPECT_EQ(opacity, 0.0);
+    ui::canvasToTf(canvas, {100, canvas.y + 2.0f}, value, opacity);
+    EXPECT_EQ(opacity, 1.0);
+    ui::canvasToTf(canvas, {100, canvas.bottom() - 12.0f}, value, opacity);
+    EXPECT_NEAR(opacity, 0.1, 1e-6);
+    ui::canvasToTf(canvas, {100, canvas.bottom() - 2.0f}, value, opacity, ui::OpacityAxis::Log);
+    EXPECT_EQ(opacity, 0.0);
+}
+
+// The log axis spans kLogOpacityDecades decades below 1: each decade a third of the height, the faint
+// values round-trip, and 0 (or anything under the floor) sits on the baseline.
+TEST(TfCurve, TheLogAxisOpensTheFaintRangeAndRoundTrips) {
+    const Rect canvas{10, 20, 300, 120};
+    const auto log = ui::OpacityAxis::Log;
+    EXPECT_NEAR(ui::tfToCanvas(canvas, 0.5, 0.01, log).y, canvas.bottom() - canvas.h / 3.0f, 1e-3);
+    EXPECT_NEAR(ui::tfToCanvas(canvas, 0.5, 0.1, log).y, canvas.bottom() - 2.0f * canvas.h / 3.0f, 1e-3);
+    EXPECT_EQ(ui::tfToCanvas(canvas, 0.5, 0.0, log).y, canvas.bottom());
+    EXPECT_EQ(ui::tfToCanvas(canvas, 0.5, 1e-4, log).y, canvas.bottom());
+    for (double a : {0.002, 0.005, 0.03, 0.3, 1.0}) {
+        double value = -1, opacity = -1;
+        ui::canvasToTf(canvas, ui::tfToCanvas(canvas, 0.5, a, log), value, opacity, log);
+        EXPECT_NEAR(opacity, a, 1e-5 * a) << a;
+    }
+    // On the linear axis 0.005 is under a pixel above the baseline; here it is 28 px up.
+    EXPECT_GT(canvas.bottom() - ui::tfToCanvas(canvas, 0.5, 0.005, log).y, 27.0f);
+}
+
 TEST(TfCurve, InsertingAPointOnTheCurveLeavesTheTableAsItWas) {
     for (double v : {0.0, 0.05, 0.3, 0.5, 0.77, 1.0}) {
         TransferFunction tf = threePoints();

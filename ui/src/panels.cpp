@@ -141,12 +141,12 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
 
     sectionTitle("Splatting");
     changes.settingsChanged |= sliderDouble("Kernel scale", s.kernelScale, 0.3, 2.0, "%.2f");
-    hint("Reconstruction sigma in voxel spacings; 0.7 keeps the kernels a partition of unity");
+    numberHint("Reconstruction sigma in voxel spacings; 0.7 keeps the kernels a partition of unity");
     changes.settingsChanged |= sliderDouble("Cutoff", s.cutoffSigmas, 1.0, 5.0, "%.1f sigmas");
-    hint("Footprints are evaluated out to this many standard deviations");
+    numberHint("Footprints are evaluated out to this many standard deviations");
     changes.settingsChanged |=
         sliderDouble("Density", s.density, 0.01, 100.0, "%.3g", ImGuiSliderFlags_Logarithmic);
-    hint("Extinction per voxel length at TF opacity 1");
+    numberHint("Extinction per voxel length at TF opacity 1");
     changes.settingsChanged |= enumCombo("Filter", s.filter,
                                          std::array{renderer::FilterMode::Reconstruction,
                                                     renderer::FilterMode::LowPass, renderer::FilterMode::Ewa,
@@ -156,12 +156,12 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
          "ewa: both convolved, the resampling filter\nadaptive: per patch, the cheapest that suffices");
     if (s.filter == renderer::FilterMode::Adaptive) {
         changes.settingsChanged |= sliderDouble("c_min", s.cMin, 0.05, 1.0, "%.2f");
-        hint("Reconstruction only where a kernel spans more than 1 px / c_min (paper: 0.3)");
+        numberHint("Reconstruction only where a kernel spans more than 1 px / c_min (paper: 0.3)");
         changes.settingsChanged |= sliderDouble("c_max", s.cMax, 0.0, 8.0, "%.2f");
-        hint("Low-pass only where a kernel spans less than 1 px / c_max (0: the paper's 2 (1 + tan^2(fovY/2) (1 + (W/H)^2)), from the image corner)");
+        numberHint("Low-pass only where a kernel spans less than 1 px / c_max (0: the paper's 2 (1 + tan^2(fovY/2) (1 + (W/H)^2)), from the image corner)");
         changes.settingsChanged |= ImGui::SliderInt("Patch size", &s.patchSize, 1, 32);
         changes.settingsChanged |= sliderDouble("Hysteresis", s.hysteresis, 0.0, 0.5, "%.2f");
-        hint("A patch changes filter only when a threshold is crossed by this factor (no flicker while orbiting)");
+        numberHint("A patch changes filter only when a threshold is crossed by this factor (no flicker while orbiting)");
     }
     changes.settingsChanged |= enumCombo("Compositing", s.compositing,
                                          std::array{renderer::Compositing::SplatEverySample,
@@ -187,10 +187,10 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     if (s.compositing == renderer::Compositing::SheetFrontToBack ||
         s.compositing == renderer::Compositing::SplatEverySample) {
         changes.settingsChanged |= sliderDouble("Opaque at", s.opaqueAlpha, 0.9, 1.0, "%.3f");
-        hint("Early termination: pixels this opaque take no more splats (1: never)");
+        numberHint("Early termination: pixels this opaque take no more splats (1: never)");
         changes.settingsChanged |= ImGui::SliderInt("Refresh every", &s.opaqueRefreshSlices, 0, 64,
                                                     s.opaqueRefreshSlices <= 0 ? "auto" : "%d slices");
-        hint("How often the opaque pixels are found again (auto: every slice with tiles, every 8 rasterised).\n"
+        numberHint("How often the opaque pixels are found again (auto: every slice with tiles, every 8 rasterised).\n"
              "Splats whose 8x8 pixel tiles were all opaque are culled before they are drawn; which tiles\n"
              "are opaque is taken at each refresh rasterised, once a chunk of 16 or more slices with tiles");
         changes.settingsChanged |= ImGui::Checkbox("Cull hidden splats", &s.occlusionCulling);
@@ -210,7 +210,7 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     changes.settingsChanged |= sliderDouble("Flatten", s.surfaceFlatten, 1.0, 50.0, "%.1f",
                                             ImGuiSliderFlags_Logarithmic);
     changes.settingsChanged |= sliderDouble("Surface at", s.surfaceGradient, 0.0, 1.0, "%.2f");
-    hint("Flatten: surface-splat kernels are this much thinner along the gradient (1: off)\n"
+    numberHint("Flatten: surface-splat kernels are this much thinner along the gradient (1: off)\n"
          "Surface at: gradient magnitude, as a fraction of the largest, from which a voxel is a surface");
     ImGui::EndDisabled();
     if (!state.gradientsReady) textDisabledWrapped("(gradients not computed yet)");
@@ -235,7 +235,7 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     double budget = state.preview.budgetMs > 0.0 ? state.preview.budgetMs : state.preview.defaultBudgetMs;
     if (sliderDouble("Frame budget", budget, 5.0, 2000.0, "%.0f ms", ImGuiSliderFlags_Logarithmic))
         state.preview.budgetMs = budget;
-    hint("A first image within this after an edit; a newer edit stops a frame that overruns it.\n"
+    numberHint("A first image within this after an edit; a newer edit stops a frame that overruns it.\n"
          "Rendering never holds up the editor: the view shows the last finished image meanwhile");
 
     sectionTitle("Camera");

@@ -114,7 +114,7 @@ void drawPerformancePanel(EditorState& state, PerfHistory& history, const std::f
     float spin = float(perf.spinDegPerS);
     ImGui::SetNextItemWidth(ImGui::GetFontSize() * 10.0f);
     if (ImGui::SliderFloat("Spin (deg/s)", &spin, -90.0f, 90.0f, "%.0f")) perf.spinDegPerS = double(spin);
-    hint("Turn the camera about the vertical while rendering continuously:\n"
+    numberHint("Turn the camera about the vertical while rendering continuously:\n"
          "every render is a new view (a turn past a diagonal uploads that axis's lists)");
     ImGui::EndDisabled();
 

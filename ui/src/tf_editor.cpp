@@ -6,20 +6,43 @@
 
 namespace ui {
 
-CanvasPoint tfToCanvas(const Rect& canvas, double value, double opacity) {
-    return {canvas.x + float(value) * canvas.w, canvas.bottom() - float(opacity) * canvas.h};
+namespace {
+
+// The height of `opacity` on the axis, 0 (baseline) .. 1 (top).
+double axisFraction(double opacity, OpacityAxis axis) {
+    if (axis == OpacityAxis::Linear) return opacity;
+    const double floor = std::pow(10.0, -kLogOpacityDecades);
+    return opacity <= floor ? 0.0 : std::min(1.0, 1.0 + std::log10(opacity) / kLogOpacityDecades);
 }
 
-void canvasToTf(const Rect& canvas, CanvasPoint p, double& value, double& opacity) {
+double opacityAt(double fraction, OpacityAxis axis) {
+    if (axis == OpacityAxis::Linear) return fraction;
+    return fraction <= 0.0 ? 0.0 : std::pow(10.0, (fraction - 1.0) * kLogOpacityDecades);
+}
+
+} // namespace
+
+CanvasPoint tfToCanvas(const Rect& canvas, double value, double opacity, OpacityAxis axis) {
+    return {canvas.x + float(value) * canvas.w, canvas.bottom() - float(axisFraction(opacity, axis)) * canvas.h};
+}
+
+void canvasToTf(const Rect& canvas, CanvasPoint p, double& value, double& opacity, OpacityAxis axis) {
     value = canvas.w > 0 ? std::clamp(double(p.x - canvas.x) / canvas.w, 0.0, 1.0) : 0.0;
-    opacity = canvas.h > 0 ? std::clamp(double(canvas.bottom() - p.y) / canvas.h, 0.0, 1.0) : 0.0;
+    if (!(canvas.h > 0) || canvas.bottom() - p.y <= kOpacitySnapPx) {
+        opacity = 0.0;
+    } else if (p.y - canvas.y <= kOpacitySnapPx) {
+        opacity = 1.0;
+    } else {
+        opacity = std::clamp(opacityAt(double(canvas.bottom() - p.y) / canvas.h, axis), 0.0, 1.0);
+    }
 }
 
-int pickControlPoint(const renderer::TransferFunction& tf, const Rect& canvas, CanvasPoint mouse, float radiusPx) {
+int pickControlPoint(const renderer::TransferFunction& tf, const Rect& canvas, CanvasPoint mouse, float radiusPx,
+                     OpacityAxis axis) {
     int best = -1;
     float bestD2 = radiusPx * radiusPx;
     for (size_t i = 0; i < tf.points.size(); ++i) {
-        const CanvasPoint c = tfToCanvas(canvas, tf.points[i].value, tf.points[i].opacity);
+        const CanvasPoint c = tfToCanvas(canvas, tf.points[i].value, tf.points[i].opacity, axis);
         const float dx = c.x - mouse.x, dy = c.y - mouse.y, d2 = dx * dx + dy * dy;
         if (d2 <= bestD2) best = int(i), bestD2 = d2;   // ties: the later point, drawn on top
     }

@@ -46,21 +46,42 @@ void drawHistogram(ImDrawList* draw, const Rect& canvas, const renderer::Histogr
 
 // The curve: the TF's colour filled up to its opacity, the polyline, and the points (the selected one
 // larger, outlined in the accent colour).
-void drawCurve(ImDrawList* draw, const Rect& canvas, const renderer::TransferFunction& tf, int selected) {
+void drawCurve(ImDrawList* draw, const Rect& canvas, const renderer::TransferFunction& tf, int selected,
+               OpacityAxis axis) {
+    std::vector<ImVec2> line;
     for (float x = 0.0f; x < canvas.w; x += 2.0f) {
-        const glm::dvec4 c = renderer::evaluate(tf, (double(x) + 1.0) / canvas.w);
-        const float top = canvas.bottom() - float(c.a) * canvas.h;
+        const double value = (double(x) + 1.0) / canvas.w;
+        const glm::dvec4 c = renderer::evaluate(tf, value);
+        const float top = tfToCanvas(canvas, value, c.a, axis).y;
         draw->AddRectFilled(ImVec2(canvas.x + x, top), ImVec2(canvas.x + std::min(x + 2.0f, canvas.w), canvas.bottom()),
                             colourOf(glm::dvec3(c), 0.55f));
+        line.emplace_back(canvas.x + x + 1.0f, top);
     }
     const auto& pts = tf.points;
-    for (size_t i = 0; i + 1 < pts.size(); ++i) {
+    // Linear: straight segments between the points; log: the segments (linear in opacity) bend, so the
+    // line follows the sampled curve.
+    if (axis == OpacityAxis::Log)
+        draw->AddPolyline(line.data(), int(line.size()), IM_COL32(235, 235, 240, 255), 0, 1.5f);
+    for (size_t i = 0; i + 1 < pts.size() && axis == OpacityAxis::Linear; ++i) {
         const CanvasPoint a = tfToCanvas(canvas, pts[i].value, pts[i].opacity);
         const CanvasPoint b = tfToCanvas(canvas, pts[i + 1].value, pts[i + 1].opacity);
         draw->AddLine(ImVec2(a.x, a.y), ImVec2(b.x, b.y), IM_COL32(235, 235, 240, 255), 1.5f);
     }
+    // The axis: what it measures, and on a log axis a line and a label a decade.
+    const ImU32 label = ImGui::GetColorU32(ImGuiCol_TextDisabled);
+    if (axis == OpacityAxis::Log)
+        for (int d = 1; d < int(kLogOpacityDecades); ++d) {
+            const double at = std::pow(10.0, -d);
+            const float y = tfToCanvas(canvas, 0.0, at, axis).y;
+            draw->AddLine(ImVec2(canvas.x, y), ImVec2(canvas.right(), y), IM_COL32(255, 255, 255, 30));
+            char text[16];
+            std::snprintf(text, sizeof text, "%g", at);
+            draw->AddText(ImVec2(canvas.x + 3.0f, y - ImGui::GetFontSize()), label, text);
+        }
+    draw->AddText(ImVec2(canvas.x + 3.0f, canvas.y + 2.0f), label,
+                  axis == OpacityAxis::Log ? "extinction / voxel length (log)" : "extinction / voxel length");
     for (size_t i = 0; i < pts.size(); ++i) {
-        const CanvasPoint p = tfToCanvas(canvas, pts[i].value, pts[i].opacity);
+        const CanvasPoint p = tfToCanvas(canvas, pts[i].value, pts[i].opacity, axis);
         const bool chosen = int(i) == selected;
         const float r = chosen ? kPointRadiusPx + 2.0f : kPointRadiusPx;
         draw->AddCircleFilled(ImVec2(p.x, p.y), r, colourOf(pts[i].colour));
@@ -107,28 +128,30 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
                            ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
     const ImGuiIO& io = ImGui::GetIO();
     const CanvasPoint mouse{io.MousePos.x, io.MousePos.y};
+    const OpacityAxis axis = state.tfLogOpacity ? OpacityAxis::Log : OpacityAxis::Linear;
     if (ImGui::IsItemActivated() && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
-        int picked = pickControlPoint(tf, canvas, mouse, kPickRadiusPx);
+        int picked = pickControlPoint(tf, canvas, mouse, kPickRadiusPx, axis);
         if (picked < 0) {   // empty space: a new point under the mouse
             double value = 0, opacity = 0;
-            canvasToTf(canvas, mouse, value, opacity);
+            canvasToTf(canvas, mouse, value, opacity, axis);
             picked = insertControlPoint(tf, value, opacity);
             state.tfEdited = changed = true;
         }
-        const CanvasPoint p = tfToCanvas(canvas, tf.points[size_t(picked)].value, tf.points[size_t(picked)].opacity);
+        const CanvasPoint p =
+            tfToCanvas(canvas, tf.points[size_t(picked)].value, tf.points[size_t(picked)].opacity, axis);
         state.tfSelected = picked;
         state.tfGrabDx = p.x - mouse.x, state.tfGrabDy = p.y - mouse.y;
     } else if (ImGui::IsItemActive() && ImGui::IsMouseDown(ImGuiMouseButton_Left) && state.tfSelected >= 0 &&
                (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f)) {
         double value = 0, opacity = 0;
-        canvasToTf(canvas, {mouse.x + state.tfGrabDx, mouse.y + state.tfGrabDy}, value, opacity);
+        canvasToTf(canvas, {mouse.x + state.tfGrabDx, mouse.y + state.tfGrabDy}, value, opacity, axis);
         const renderer::ControlPoint before = tf.points[size_t(state.tfSelected)];
         moveControlPoint(tf, state.tfSelected, value, opacity);
         const renderer::ControlPoint& after = tf.points[size_t(state.tfSelected)];
         if (after.value != before.value || after.opacity != before.opacity) state.tfEdited = changed = true;
     }
     if (ImGui::IsItemClicked(ImGuiMouseButton_Right)) {
-        const int picked = pickControlPoint(tf, canvas, mouse, kPickRadiusPx);
+        const int picked = pickControlPoint(tf, canvas, mouse, kPickRadiusPx, axis);
         if (removeControlPoint(tf, picked)) {
             state.tfSelected = -1;
             state.tfEdited = changed = true;
@@ -138,7 +161,7 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     draw->AddRectFilled(ImVec2(canvas.x, canvas.y), ImVec2(canvas.right(), canvas.bottom()),
                         ImGui::GetColorU32(ImGuiCol_FrameBg));
     if (view.histogram) drawHistogram(draw, canvas, *view.histogram, view.window);
-    drawCurve(draw, canvas, tf, state.tfSelected);
+    drawCurve(draw, canvas, tf, state.tfSelected, axis);
     // The value of the voxel the mouse points at in the viewport, where it falls on this axis; none
     // outside the window (fromDataUnits would clamp it to an end).
     if (state.probe && state.probe->value >= view.window.lo && state.probe->value <= view.window.hi) {
@@ -146,12 +169,13 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
         draw->AddLine(ImVec2(x, canvas.y), ImVec2(x, canvas.bottom()), kProbeMarkerColour, 2.0f);
     }
     if (ImGui::IsItemHovered()) {
-        const int over = pickControlPoint(tf, canvas, mouse, kPickRadiusPx);
+        const int over = pickControlPoint(tf, canvas, mouse, kPickRadiusPx, axis);
         double value = 0, opacity = 0;
-        canvasToTf(canvas, mouse, value, opacity);
+        canvasToTf(canvas, mouse, value, opacity, axis);
         if (over >= 0) value = tf.points[size_t(over)].value, opacity = tf.points[size_t(over)].opacity;
         else opacity = renderer::evaluate(tf, value).a;
-        ImGui::SetTooltip("%s %.5g (data units), opacity %.3f\n%s", over >= 0 ? "point at" : "value",
+        ImGui::SetTooltip("%s %.5g (data units), extinction %.4g per voxel length at density 1\n%s",
+                          over >= 0 ? "point at" : "value",
                           toDataUnits(value, view.window), opacity,
                           over >= 0 ? "drag to move, right-click to remove" : "click to add a point here");
     }
@@ -162,6 +186,13 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
                             colourOf(glm::dvec3(renderer::evaluate(tf, (double(x) + 1.0) / canvas.w))));
     ImGui::Dummy(ImVec2(canvas.w, barH + 3.0f));
     ImGui::TextDisabled("%.5g", double(view.window.lo));
+    // Between the window's ends, as tall as their text (no frame padding), so nothing below moves.
+    ImGui::SameLine(0.3f * canvas.w);
+    ImGui::PushStyleVar(ImGuiStyleVar_FramePadding, ImVec2(2.0f, 0.0f));
+    ImGui::Checkbox("log axis", &state.tfLogOpacity);
+    ImGui::PopStyleVar();
+    hint("The curve's axis in decades (1 down to 0.001): room for the faint values air and skin need.\n"
+         "A point dragged to the baseline is exactly 0, to the top exactly 1");
     const std::string hiText = [&] {
         char text[32];
         std::snprintf(text, sizeof text, "%.5g", double(view.window.hi));
@@ -171,7 +202,7 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     ImGui::TextDisabled("%s", hiText.c_str());
 
     // 3. The selected point's fields: value in data units, opacity, colour; remove.
-    ImGui::PushItemWidth(-ImGui::GetFontSize() * 5.0f);
+    ImGui::PushItemWidth(-ImGui::GetFontSize() * 6.0f); // room for "Extinction"
     if (state.tfSelected >= 0) {
         renderer::ControlPoint& p = tf.points[size_t(state.tfSelected)];
         ImGui::Text("Point %d of %zu", state.tfSelected + 1, tf.points.size());
@@ -181,14 +212,15 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
             moveControlPoint(tf, state.tfSelected, fromDataUnits(data, view.window), p.opacity);
             state.tfEdited = changed = true;
         }
-        hint("In the data's own units; a point stays between its neighbours");
+        numberHint("In the data's own units; a point stays between its neighbours");
         double opacity = p.opacity;
         const double zero = 0.0, one = 1.0;
-        if (ImGui::SliderScalar("Opacity", ImGuiDataType_Double, &opacity, &zero, &one, "%.3f")) {
+        if (ImGui::SliderScalar("Extinction", ImGuiDataType_Double, &opacity, &zero, &one, "%.4g",
+                                axis == OpacityAxis::Log ? ImGuiSliderFlags_Logarithmic : 0)) {
             moveControlPoint(tf, state.tfSelected, p.value, opacity);
             state.tfEdited = changed = true;
         }
-        hint("Extinction per voxel length at density 1; 0: voxels of this value are never drawn");
+        numberHint("Extinction per voxel length at density 1; 0: voxels of this value are never drawn");
         float colour[3] = {float(p.colour.r), float(p.colour.g), float(p.colour.b)};
         if (ImGui::ColorEdit3("Colour", colour, ImGuiColorEditFlags_Float)) {
             for (int c = 0; c < 3; ++c) p.colour[c] = std::clamp(double(colour[c]), 0.0, 1.0);

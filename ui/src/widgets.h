@@ -20,6 +20,13 @@ inline void hint(const char* text) {
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
 }
 
+// hint() for a slider or a drag field, saying how to type a value: a plain click sets the value where it
+// lands, which users do not expect.
+inline void numberHint(const char* text) {
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("%s\nCtrl+click to type a value", text);
+}
+
 // ImGui 1.86's InputText takes a fixed buffer; this grows the std::string as the user types.
 inline bool inputPath(const char* label, std::string& text) {
     auto resize = [](ImGuiInputTextCallbackData* data) {

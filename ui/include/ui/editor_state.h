@@ -60,6 +60,7 @@ struct EditorState {
     int tfSelected = -1;               // the control point the panel edits; -1: none
     float tfGrabDx = 0, tfGrabDy = 0;  // while dragging: point minus mouse at the press, pixels
     std::string tfFile = "transfer_function.json";   // the panel's Load / Save path
+    bool tfLogOpacity = false;                       // the curve's opacity axis in decades (tf_editor.h)
     TfHistory tfHistory;                             // undo / redo, a step per gesture
     std::optional<renderer::TransferFunction> tfGestureStart;   // the TF before the gesture under way
     std::array<float, 3> background{0.055f, 0.060f, 0.075f}; // linear RGB behind the volume

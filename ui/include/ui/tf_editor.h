@@ -14,12 +14,22 @@ struct CanvasPoint {
     float x = 0, y = 0;   // display pixels, y down
 };
 
-// (value, opacity) -> canvas pixels and back; canvasToTf clamps to the domain.
-CanvasPoint tfToCanvas(const Rect& canvas, double value, double opacity);
-void canvasToTf(const Rect& canvas, CanvasPoint p, double& value, double& opacity);
+// The curve's vertical axis: linear in opacity (the TF's extinction per voxel length at density 1), or
+// logarithmic over kLogOpacityDecades decades below 1, which opens up the faint range where a CT's air and
+// skin live; opacities below its floor sit on the baseline.
+enum class OpacityAxis { Linear, Log };
+constexpr double kLogOpacityDecades = 3.0;
+// Within this many pixels of the baseline (the top), a drag or click gives exactly 0 (1).
+constexpr float kOpacitySnapPx = 3.0f;
+
+// (value, opacity) -> canvas pixels and back; canvasToTf clamps to the domain and snaps to 0 and 1.
+CanvasPoint tfToCanvas(const Rect& canvas, double value, double opacity, OpacityAxis axis = OpacityAxis::Linear);
+void canvasToTf(const Rect& canvas, CanvasPoint p, double& value, double& opacity,
+                OpacityAxis axis = OpacityAxis::Linear);
 
 // The control point drawn nearest to `mouse`, if within radiusPx; -1 when none is.
-int pickControlPoint(const renderer::TransferFunction& tf, const Rect& canvas, CanvasPoint mouse, float radiusPx);
+int pickControlPoint(const renderer::TransferFunction& tf, const Rect& canvas, CanvasPoint mouse, float radiusPx,
+                     OpacityAxis axis = OpacityAxis::Linear);
 
 // Adds a point at `value` with `opacity` and the colour the TF already has there, so the colours do
 // not change; returns its index.
