@@ -86,10 +86,11 @@ void EditorLoop::spinIfContinuous() {
 }
 
 void EditorLoop::tourIfRunning() {
-    // Last frame's camera input of the user's ends the tour; scripted runs step 1/60 s a frame.
+    // Last frame's camera input of the user's ends the tour; scripted runs step 1/60 s a frame. A UI frame
+    // slower than 0.25 s (a loaded llvmpipe) slows the tour rather than jumping through the regimes.
     const bool userMoved = m_viewport.cameraChanged || m_viewport.frame || m_settingsChanges.cameraChanged ||
                            m_settingsChanges.frame || m_knobMoved;
-    const double dt = m_scripted ? 1.0 / 60.0 : std::min(m_pollTime - m_lastTourStep, 0.1);
+    const double dt = m_scripted ? 1.0 / 60.0 : std::min(m_pollTime - m_lastTourStep, 0.25);
     m_lastTourStep = m_pollTime;
     if (ui::stepRegimeTour(m_state, dt, userMoved)) {
         m_renderPending = true;
