@@ -13,6 +13,7 @@ inline renderer::Image blendHeatmap(renderer::Image image, renderer::Image heatm
     if (opacity >= 1.0) return heatmap;
     assert(image.rgba.size() == heatmap.rgba.size() && "the image and its heatmap come from one render");
     const float t = float(opacity);
-    for (size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] += t * (heatmap.rgba[i] - image.rgba[i]);
+    for (size_t i = 0; i < image.rgba.size(); ++i)
+        image.rgba[i] += t * (heatmap.rgba[i] - image.rgba[i]);
     return image;
 }

@@ -13,7 +13,7 @@ class ViewTexture {
 
     // Uploads `rgba` (width x height, row 0 at the top); the texture is remade when the size changes.
     void upload(int width, int height, const std::vector<uint8_t>& rgba);
-    unsigned id() const { return m_id; }   // 0 until an image arrived
+    unsigned id() const { return m_id; } // 0 until an image arrived
 
   private:
     unsigned m_id = 0;

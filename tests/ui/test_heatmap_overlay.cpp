@@ -63,7 +63,8 @@ TEST(HeatmapLegend, ThresholdsAreTheClassifiersInPixelsAndDepthsForAKnownCamera)
         EXPECT_EQ(legend.reconstructionAbovePx, t.reconstructionAbovePx);
         EXPECT_EQ(legend.lowPassBelowPx, t.lowPassBelowPx);
         // The depths are where the classifier itself changes its answer, in bounding radii.
-        const double nearer = legend.reconstructionNearer * kRadius, farther = legend.lowPassFarther * kRadius;
+        const double nearer = legend.reconstructionNearer * kRadius,
+                     farther = legend.lowPassFarther * kRadius;
         EXPECT_EQ(renderer::classifyDepth(nearer * 0.999, plane, t), renderer::FilterMode::Reconstruction);
         EXPECT_EQ(renderer::classifyDepth(nearer * 1.001, plane, t), renderer::FilterMode::Ewa);
         EXPECT_EQ(renderer::classifyDepth(farther * 0.999, plane, t), renderer::FilterMode::Ewa);
@@ -85,7 +86,7 @@ TEST_F(ImGuiNull, ViewportDrawsTheHeatmapOverTheImageWithTheOpacitySet) {
     ui::EditorState state;
     const renderer::ImagePlane plane = headsqPlane();
     ui::ViewportOverlay overlay;
-    overlay.heatmapTexture = 12;   // texture names the draw data carries; nothing samples them here
+    overlay.heatmapTexture = 12; // texture names the draw data carries; nothing samples them here
     overlay.legend = ui::heatmapLegend({1, 1, 1}, kRadius, plane, state.settings, 30.0);
     auto body = [&] { ui::drawViewportPanel(state, 11, overlay); };
     // Heatmap off: the image alone, opaque.
@@ -94,9 +95,9 @@ TEST_F(ImGuiNull, ViewportDrawsTheHeatmapOverTheImageWithTheOpacitySet) {
     // GL blends src x alpha + dst x (1 - alpha): at 0 the image alone, at 1 the heatmap alone, between
     // the heatmap at that alpha over the opaque image.
     state.showHeatmap = true;
-    for (const auto& [opacity, expected] :
-         {std::pair{0.0, std::map<intptr_t, int>{{11, 255}}}, std::pair{1.0, std::map<intptr_t, int>{{12, 255}}},
-          std::pair{0.5, std::map<intptr_t, int>{{11, 255}, {12, 128}}}}) {
+    for (const auto& [opacity, expected] : {std::pair{0.0, std::map<intptr_t, int>{{11, 255}}},
+                                            std::pair{1.0, std::map<intptr_t, int>{{12, 255}}},
+                                            std::pair{0.5, std::map<intptr_t, int>{{11, 255}, {12, 128}}}}) {
         state.heatmapOpacity = opacity;
         frame(body);
         EXPECT_EQ(alphaPerTexture(), expected) << "opacity " << opacity;
@@ -160,8 +161,8 @@ TEST(RegimeTour, DolliesFromTheStartToNearThenFarAndBackSmoothly) {
 
 TEST(RegimeTour, GoesFromTheReconstructionDepthToPastTheLowPassDepthWithinItsRange) {
     const ui::RegimeTour tour = ui::makeRegimeTour(2.5, 2.0, 6.0);
-    EXPECT_DOUBLE_EQ(tour.nearDistance(), 1.6);   // the centre at 0.8 x the reconstruction depth
-    EXPECT_DOUBLE_EQ(tour.farDistance(), 7.5);    // and at 1.25 x the low-pass depth
+    EXPECT_DOUBLE_EQ(tour.nearDistance(), 1.6); // the centre at 0.8 x the reconstruction depth
+    EXPECT_DOUBLE_EQ(tour.farDistance(), 7.5);  // and at 1.25 x the low-pass depth
     const ui::RegimeTour clamped = ui::makeRegimeTour(2.5, 0.1, 1e6);
     EXPECT_DOUBLE_EQ(clamped.nearDistance(), ui::kMinDistance);
     EXPECT_DOUBLE_EQ(clamped.farDistance(), ui::kMaxTourDistance);
@@ -179,7 +180,8 @@ TEST_F(ImGuiNull, RegimeTourStartsFromTheFiltersPanelMovesOutAndBackAndStopsAtAV
     auto filters = [&] { ui::drawFiltersPanel(state, view); };
     // 1. The button (the first column, under the heatmap's row) starts a tour and turns the heatmap on.
     frame(filters);
-    for (float y = 20.0f; y < 100.0f && !state.tour; y += 2.0f) click(30.0f, y, filters);
+    for (float y = 20.0f; y < 100.0f && !state.tour; y += 2.0f)
+        click(30.0f, y, filters);
     ASSERT_TRUE(state.tour) << "no Regime tour button";
     EXPECT_TRUE(state.showHeatmap);
     EXPECT_TRUE(state.settings.heatmap);

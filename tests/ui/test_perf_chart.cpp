@@ -40,14 +40,16 @@ void record(ui::PerfHistory& h, uint64_t k) {
 std::vector<std::string> split(const std::string& text, char by) {
     std::vector<std::string> parts;
     std::stringstream stream(text);
-    for (std::string part; std::getline(stream, part, by);) parts.push_back(part);
+    for (std::string part; std::getline(stream, part, by);)
+        parts.push_back(part);
     return parts;
 }
 
 double number(const std::string& text) {
     double v = 0.0;
     const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
-    EXPECT_TRUE(error == std::errc() && end == text.data() + text.size()) << "'" << text << "' is not a number";
+    EXPECT_TRUE(error == std::errc() && end == text.data() + text.size())
+        << "'" << text << "' is not a number";
     return v;
 }
 
@@ -59,23 +61,25 @@ class PerformanceChart : public ImGuiNull {
     ui::PerfHistory history;
     void SetUp() override {
         ImGuiNull::SetUp();
-        windowWidth = 955.0f, windowHeight = 260.0f;   // the bottom strip of a 1280x800 window
+        windowWidth = 955.0f, windowHeight = 260.0f; // the bottom strip of a 1280x800 window
     }
     void body() { ui::drawPerformancePanel(state, history); }
     // Clicks along the chart column's first row (under the fixture window's title bar) until `done`.
     template <class Done> void clickChartToolbar(Done done) {
         auto draw = [&] { body(); };
-        for (float x = 310.0f; x < 940.0f && !done(); x += 6.0f) click(x, 38.0f, draw);
+        for (float x = 310.0f; x < 940.0f && !done(); x += 6.0f)
+            click(x, 38.0f, draw);
     }
 };
 
 TEST_F(PerformanceChart, PauseKeepsTheRecordedRendersWhileRendersGoOn) {
-    for (uint64_t k = 1; k <= 30; ++k) record(history, k);
+    for (uint64_t k = 1; k <= 30; ++k)
+        record(history, k);
     frame([&] { body(); });
     clickChartToolbar([&] { return history.paused(); });
     ASSERT_TRUE(history.paused()) << "no Pause button over the chart";
     const std::deque<ui::PerfSample> before = history.samples();
-    for (uint64_t k = 31; k <= 60; ++k) {   // renders go on, a UI frame each
+    for (uint64_t k = 31; k <= 60; ++k) { // renders go on, a UI frame each
         record(history, k);
         frame([&] { body(); });
     }
@@ -94,7 +98,7 @@ TEST_F(PerformanceChart, PauseKeepsTheRecordedRendersWhileRendersGoOn) {
 TEST(PerfChartWindow, ZoomKeepsTheRenderUnderThePointerAndPanStaysOnTheRecordedRenders) {
     ui::PerfSettings perf;
     EXPECT_EQ(ui::chartWindow(perf, 0).count, 0u);
-    EXPECT_EQ(ui::chartWindow(perf, 100).first, 0u);   // fewer renders than columns: all of them
+    EXPECT_EQ(ui::chartWindow(perf, 100).first, 0u); // fewer renders than columns: all of them
     EXPECT_EQ(ui::chartWindow(perf, 100).count, 100u);
     // 240 renders, zoomed in 3 notches about the middle: 0.8^3 x 240 = 122.88 columns, centred where the
     // middle was (render 120 of 0..239).
@@ -116,7 +120,8 @@ TEST(PerfChartWindow, ZoomKeepsTheRenderUnderThePointerAndPanStaysOnTheRecordedR
 }
 
 TEST_F(PerformanceChart, WheelZoomsDragPansDoubleClickShowsAllAndHoverGivesARendersPasses) {
-    for (uint64_t k = 1; k <= ui::PerfHistory::kCapacity; ++k) record(history, k);
+    for (uint64_t k = 1; k <= ui::PerfHistory::kCapacity; ++k)
+        record(history, k);
     frame([&] { body(); });
     // The chart fills the panel's right column below its toolbar: (800, 150) is on it.
     mouse(800.0f, 150.0f, false);
@@ -134,7 +139,8 @@ TEST_F(PerformanceChart, WheelZoomsDragPansDoubleClickShowsAllAndHoverGivesARend
     frame([&] { body(); });
     mouse(900.0f, 150.0f, false);
     frame([&] { body(); });
-    EXPECT_LT(ui::chartWindow(state.perf, history.samples().size()).first, zoomed.first) << "the drag did not pan";
+    EXPECT_LT(ui::chartWindow(state.perf, history.samples().size()).first, zoomed.first)
+        << "the drag did not pan";
     EXPECT_GT(state.perf.newestOffset, 0.0);
     // Hovering a column opens a tooltip of its render's times and passes; the column under the pointer
     // is a render of the window shown, and moving the pointer along the chart changes it.
@@ -154,7 +160,7 @@ TEST_F(PerformanceChart, WheelZoomsDragPansDoubleClickShowsAllAndHoverGivesARend
     const ui::PerfSample& sample = history.samples()[size_t(hovered - history.samples().front().frame)];
     const std::string text = ui::renderBreakdownText(sample);
     EXPECT_THAT(text, HasSubstr("render " + std::to_string(hovered)));
-    EXPECT_THAT(text, HasSubstr(ui::passListText(sample.passMs, "\n  ")));   // splats and composite, in ms
+    EXPECT_THAT(text, HasSubstr(ui::passListText(sample.passMs, "\n  "))); // splats and composite, in ms
     EXPECT_THAT(text, HasSubstr(std::to_string(sample.splats) + " splats"));
     // A double-click shows every render again.
     click(800.0f, 150.0f, [&] { body(); });
@@ -165,7 +171,8 @@ TEST_F(PerformanceChart, WheelZoomsDragPansDoubleClickShowsAllAndHoverGivesARend
 
 TEST(PerfCsv, RowsEqualTheRecordedValues) {
     ui::PerfHistory history;
-    for (uint64_t k = 1; k <= 25; ++k) record(history, k);
+    for (uint64_t k = 1; k <= 25; ++k)
+        record(history, k);
     const std::vector<std::string> lines = split(ui::perfCsv(history.samples()), '\n');
     ASSERT_EQ(lines.size(), history.samples().size() + 1);
     const std::vector<std::string> header = split(lines[0], ',');
@@ -179,10 +186,11 @@ TEST(PerfCsv, RowsEqualTheRecordedValues) {
         const std::vector<std::string> row = split(lines[i + 1], ',');
         ASSERT_EQ(row.size(), header.size());
         EXPECT_EQ(number(row[0]), double(s.frame));
-        EXPECT_EQ(number(row[1]), s.intervalMs);   // exactly: the shortest text that reads back the same
+        EXPECT_EQ(number(row[1]), s.intervalMs); // exactly: the shortest text that reads back the same
         EXPECT_EQ(number(row[2]), s.cpuMs);
         EXPECT_EQ(number(row[3]), s.gpuMs);
-        for (int p = 0; p < renderer::kGpuPasses; ++p) EXPECT_EQ(number(row[4 + size_t(p)]), s.passMs[size_t(p)]);
+        for (int p = 0; p < renderer::kGpuPasses; ++p)
+            EXPECT_EQ(number(row[4 + size_t(p)]), s.passMs[size_t(p)]);
         EXPECT_EQ(number(row[4 + renderer::kGpuPasses]), double(s.splats));
         EXPECT_EQ(number(row[5 + renderer::kGpuPasses]), double(s.uploadBytes));
         EXPECT_EQ(number(row[6 + renderer::kGpuPasses]), double(s.firstUsePrograms));
@@ -190,7 +198,8 @@ TEST(PerfCsv, RowsEqualTheRecordedValues) {
 }
 
 TEST_F(PerformanceChart, ExportCsvWritesTheRecordedRendersAtomicallyToThePathField) {
-    for (uint64_t k = 1; k <= 12; ++k) record(history, k);
+    for (uint64_t k = 1; k <= 12; ++k)
+        record(history, k);
     const std::filesystem::path dir = testing_support::testOutputDir("perf_csv");
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
@@ -215,10 +224,12 @@ TEST_F(PerformanceChart, ExportCsvWritesTheRecordedRendersAtomicallyToThePathFie
 // the Performance chart, without scrolling or resizing.
 TEST_F(ImGuiNull, BottomStripShowsMeasuresTableAndTheChartAt1280x800) {
     const ui::DockLayout layout = ui::makeEditorLayout();
-    const ui::Rect bottom = ui::computeDockRects(layout, {0, 0, 1280, 800}).node[size_t(layout.find("bottom"))];
+    const ui::Rect bottom =
+        ui::computeDockRects(layout, {0, 0, 1280, 800}).node[size_t(layout.find("bottom"))];
     windowWidth = bottom.w, windowHeight = bottom.h;
     ui::EditorState state;
-    const renderer::ImagePlane plane = renderer::makeImagePlane(renderer::Camera{}, {32, 32, 46}, 60.0, 955, 545);
+    const renderer::ImagePlane plane =
+        renderer::makeImagePlane(renderer::Camera{}, {32, 32, 46}, 60.0, 955, 545);
     ui::FiltersView view;
     view.plane = &plane;
     view.dims = {64, 64, 93};
@@ -246,12 +257,15 @@ TEST_F(ImGuiNull, BottomStripShowsMeasuresTableAndTheChartAt1280x800) {
         };
     };
     const auto filters = inTab([&] { ui::drawFiltersPanel(state, view); });
-    for (int i = 0; i < 3; ++i) frame(filters);   // the content's size is known from the second frame
+    for (int i = 0; i < 3; ++i)
+        frame(filters); // the content's size is known from the second frame
     EXPECT_EQ(scroll, 0.0f) << "the Filters panel needs " << scroll << " px more than the bottom strip's "
                             << bottom.h;
     ui::PerfHistory history;
-    for (uint64_t k = 1; k <= 60; ++k) record(history, k);
+    for (uint64_t k = 1; k <= 60; ++k)
+        record(history, k);
     const auto performance = inTab([&] { ui::drawPerformancePanel(state, history); });
-    for (int i = 0; i < 3; ++i) frame(performance);
+    for (int i = 0; i < 3; ++i)
+        frame(performance);
     EXPECT_EQ(scroll, 0.0f) << "the Performance panel needs " << scroll << " px more";
 }

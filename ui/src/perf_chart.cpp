@@ -17,7 +17,9 @@ double clampedShown(const PerfSettings& perf) {
 }
 
 // The whole columns a window of perf.shown holds, and the farthest it may pan from the newest.
-size_t wholeColumns(const PerfSettings& perf) { return std::max<size_t>(1, size_t(std::floor(clampedShown(perf)))); }
+size_t wholeColumns(const PerfSettings& perf) {
+    return std::max<size_t>(1, size_t(std::floor(clampedShown(perf))));
+}
 double maxOffset(const PerfSettings& perf, size_t samples) {
     return samples > wholeColumns(perf) ? double(samples - wholeColumns(perf)) : 0.0;
 }
@@ -42,7 +44,8 @@ std::string renderBreakdownText(const PerfSample& s) {
                   double(s.uploadBytes) / 1024.0);
     text += line;
     if (s.firstUsePrograms > 0) {
-        std::snprintf(line, sizeof line, "\nfirst use of %d shader programs: includes compiling them", s.firstUsePrograms);
+        std::snprintf(line, sizeof line, "\nfirst use of %d shader programs: includes compiling them",
+                      s.firstUsePrograms);
         text += line;
     }
     return text;
@@ -51,14 +54,15 @@ std::string renderBreakdownText(const PerfSample& s) {
 ChartWindow chartWindow(const PerfSettings& perf, size_t samples) {
     if (samples == 0) return {};
     const size_t offset = size_t(std::clamp(perf.newestOffset, 0.0, maxOffset(perf, samples)));
-    const size_t last = samples - offset;   // one past the newest shown
+    const size_t last = samples - offset; // one past the newest shown
     const size_t first = last > wholeColumns(perf) ? last - wholeColumns(perf) : 0;
     return {first, last - first};
 }
 
 void zoomChart(PerfSettings& perf, size_t samples, double notches, double anchor) {
     const double before = clampedShown(perf);
-    const double after = std::clamp(before * std::pow(0.8, notches), kMinChartColumns, double(PerfHistory::kCapacity));
+    const double after =
+        std::clamp(before * std::pow(0.8, notches), kMinChartColumns, double(PerfHistory::kCapacity));
     // The render under the anchor is (1 - anchor) x shown columns from the right edge: keep it there.
     perf.newestOffset += (1.0 - std::clamp(anchor, 0.0, 1.0)) * (before - after);
     perf.shown = after;
@@ -82,13 +86,14 @@ void drawPerfChart(PerfSettings& perf, const PerfHistory& history, float height)
     const float width = std::max(ImGui::GetContentRegionAvail().x, 32.0f);
     ImGui::InvisibleButton("##perf_chart", ImVec2(width, height));
     const bool hovered = ImGui::IsItemHovered();
-    // 1. Input: the wheel zooms about the pointer, a drag pans (right: older renders), a double-click shows all.
-    const float column = width / float(clampedShown(perf));
+    // 1. Input: a drag pans (right: older renders), the wheel zooms about the pointer, a double-click shows
+    // all.
+    if (ImGui::IsItemActive() && io.MouseDelta.x != 0.0f)
+        panChart(perf, samples.size(), double(io.MouseDelta.x) * clampedShown(perf) / double(width));
     if (hovered && io.MouseWheel != 0.0f)
         zoomChart(perf, samples.size(), io.MouseWheel, double((io.MousePos.x - origin.x) / width));
-    if (ImGui::IsItemActive() && io.MouseDelta.x != 0.0f) panChart(perf, samples.size(), double(io.MouseDelta.x / column));
     if (hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) resetChart(perf);
-    clampOffset(perf, samples.size());   // the history may have been cleared
+    clampOffset(perf, samples.size()); // the history may have been cleared
     perf.hoveredFrame.reset();
 
     // 2. The frame, or a note while there is nothing to show.
@@ -113,28 +118,32 @@ void drawPerfChart(PerfSettings& perf, const PerfHistory& history, float height)
     const auto yOf = [&](double ms) { return std::max(end.y - float(ms / top) * height, origin.y); };
     // 4. The columns: the newest shown at the right edge, filling in leftwards.
     const float x0 = end.x - cw * float(shown.count);
-    const size_t hoveredColumn =
-        hovered && io.MousePos.x >= x0 ? std::min(size_t((io.MousePos.x - x0) / cw), shown.count - 1) : shown.count;
+    const size_t hoveredColumn = hovered && io.MousePos.x >= x0
+                                     ? std::min(size_t((io.MousePos.x - x0) / cw), shown.count - 1)
+                                     : shown.count;
     draw->PushClipRect(origin, end, true);
     for (size_t i = 0; i < shown.count; ++i) {
         const PerfSample& s = samples[shown.first + i];
         const float xa = x0 + cw * float(i), xb = xa + std::max(cw - 1.0f, 1.0f);
-        if (i == hoveredColumn) draw->AddRectFilled(ImVec2(xa, origin.y), ImVec2(xb, end.y), IM_COL32(255, 255, 255, 40));
+        if (i == hoveredColumn)
+            draw->AddRectFilled(ImVec2(xa, origin.y), ImVec2(xb, end.y), IM_COL32(255, 255, 255, 40));
         double below = 0.0;
         for (int p = 0; p < renderer::kGpuPasses; ++p) {
             const double ms = s.passMs[size_t(p)];
             if (!(ms > 0.0)) continue;
-            draw->AddRectFilled(ImVec2(xa, yOf(below + ms)), ImVec2(xb, yOf(below)), passColour(p, renderer::kGpuPasses));
+            draw->AddRectFilled(ImVec2(xa, yOf(below + ms)), ImVec2(xb, yOf(below)),
+                                passColour(p, renderer::kGpuPasses));
             below += ms;
         }
-        draw->AddLine(ImVec2(xa, yOf(s.cpuMs)), ImVec2(xb + 1.0f, yOf(s.cpuMs)), IM_COL32(255, 255, 255, 220), 2.0f);
+        draw->AddLine(ImVec2(xa, yOf(s.cpuMs)), ImVec2(xb + 1.0f, yOf(s.cpuMs)), IM_COL32(255, 255, 255, 220),
+                      2.0f);
     }
     draw->PopClipRect();
     // 5. Rate lines, the scale, and which renders are shown.
     float lastLabelY = end.y;
     for (auto [ms, label] : {std::pair{1000.0 / 60.0, "60 /s"}, std::pair{1000.0 / 30.0, "30 /s"}}) {
         const float y = yOf(ms);
-        if (ms >= top || lastLabelY - y < ImGui::GetFontSize()) continue;   // off the scale, or crowded
+        if (ms >= top || lastLabelY - y < ImGui::GetFontSize()) continue; // off the scale, or crowded
         lastLabelY = y;
         for (float x = origin.x; x < end.x; x += 8.0f)
             draw->AddLine(ImVec2(x, y), ImVec2(std::min(x + 4.0f, end.x), y), IM_COL32(255, 255, 255, 90));
@@ -146,8 +155,8 @@ void drawPerfChart(PerfSettings& perf, const PerfHistory& history, float height)
     draw->AddText(ImVec2(end.x - ImGui::CalcTextSize(text).x - 4.0f, origin.y + 2.0f), grey, text);
     std::snprintf(text, sizeof text, "renders %llu..%llu (%zu of %zu)%s",
                   (unsigned long long)samples[shown.first].frame,
-                  (unsigned long long)samples[shown.first + shown.count - 1].frame, shown.count, samples.size(),
-                  history.paused() ? ", paused" : "");
+                  (unsigned long long)samples[shown.first + shown.count - 1].frame, shown.count,
+                  samples.size(), history.paused() ? ", paused" : "");
     draw->AddText(ImVec2(origin.x + 4.0f, origin.y + 2.0f), grey, text);
     if (hoveredColumn < shown.count) {
         const PerfSample& s = samples[shown.first + hoveredColumn];

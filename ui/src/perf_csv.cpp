@@ -28,8 +28,10 @@ std::string perfCsv(const std::deque<PerfSample>& samples) {
     csv += ",splats,upload_bytes,first_use_programs\n";
     for (const PerfSample& s : samples) {
         appendNumber(csv, s.frame);
-        for (double ms : {s.intervalMs, s.cpuMs, s.gpuMs}) csv += ',', appendNumber(csv, ms);
-        for (double ms : s.passMs) csv += ',', appendNumber(csv, ms);
+        for (double ms : {s.intervalMs, s.cpuMs, s.gpuMs})
+            csv += ',', appendNumber(csv, ms);
+        for (double ms : s.passMs)
+            csv += ',', appendNumber(csv, ms);
         csv += ',', appendNumber(csv, s.splats);
         csv += ',', appendNumber(csv, s.uploadBytes);
         csv += ',', appendNumber(csv, s.firstUsePrograms);

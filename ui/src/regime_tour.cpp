@@ -13,19 +13,21 @@ RegimeTour::RegimeTour(double startDistance, double nearDistance, double farDist
     : m_keys{startDistance, nearDistance, farDistance, startDistance} {
     std::array<double, 3> legs{};
     double total = 0.0;
-    for (size_t i = 0; i < 3; ++i) total += legs[i] = std::abs(std::log(m_keys[i + 1] / m_keys[i]));
+    for (size_t i = 0; i < 3; ++i)
+        total += legs[i] = std::abs(std::log(m_keys[i + 1] / m_keys[i]));
     for (size_t i = 0; i < 3; ++i)
         m_keyTimes[i + 1] = m_keyTimes[i] + (total > 0.0 ? kDurationS * legs[i] / total : kDurationS / 3.0);
-    m_keyTimes[3] = kDurationS;   // no rounding left over
+    m_keyTimes[3] = kDurationS; // no rounding left over
 }
 
 double RegimeTour::distanceAt(double elapsedS) const {
     const double t = std::clamp(elapsedS, 0.0, kDurationS);
     size_t leg = 0;
-    while (leg < 2 && t > m_keyTimes[leg + 1]) ++leg;
+    while (leg < 2 && t > m_keyTimes[leg + 1])
+        ++leg;
     const double span = m_keyTimes[leg + 1] - m_keyTimes[leg];
     const double u = span > 0.0 ? (t - m_keyTimes[leg]) / span : 1.0;
-    const double eased = u * u * (3.0 - 2.0 * u);   // smoothstep: no jolt where a leg starts or ends
+    const double eased = u * u * (3.0 - 2.0 * u); // smoothstep: no jolt where a leg starts or ends
     return m_keys[leg] * std::pow(m_keys[leg + 1] / m_keys[leg], eased);
 }
 
@@ -43,7 +45,7 @@ RegimeTour makeRegimeTour(double startDistance, double reconstructionNearer, dou
 
 bool stepRegimeTour(EditorState& state, double dtS, bool userMovedCamera) {
     if (!state.tour) return false;
-    if (userMovedCamera) {   // the user takes the camera back: it stays where they put it
+    if (userMovedCamera) { // the user takes the camera back: it stays where they put it
         state.tour.reset();
         return false;
     }

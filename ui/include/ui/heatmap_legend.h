@@ -11,15 +11,15 @@
 namespace ui {
 
 struct HeatmapLegend {
-    double reconstructionAbovePx = 0.0;   // a kernel's sigma on screen above this: reconstruction only
-    double lowPassBelowPx = 0.0;          // below this: low-pass only; EWA between
-    double reconstructionNearer = 0.0;    // the same thresholds as depths from the eye, in bounding radii
-    double lowPassFarther = 0.0;          // (orthographic: 0 or infinity, one filter everywhere)
+    double reconstructionAbovePx = 0.0; // a kernel's sigma on screen above this: reconstruction only
+    double lowPassBelowPx = 0.0;        // below this: low-pass only; EWA between
+    double reconstructionNearer = 0.0;  // the same thresholds as depths from the eye, in bounding radii
+    double lowPassFarther = 0.0;        // (orthographic: 0 or infinity, one filter everywhere)
     bool orthographic = false;
     double fovYDeg = 0.0;
     // One line per regime, nearest first: reconstruction, EWA, low-pass (indices into kModeName: 0, 2, 1).
     std::array<std::string, 3> rows;
-    std::string footer;   // what the depths are measured in, and the view they hold for
+    std::string footer; // what the depths are measured in, and the view they hold for
 };
 
 // The legend of `plane` (the view shown) for a volume of voxel `spacing` and bounding `radius`.

@@ -9,7 +9,7 @@
 
 namespace ui {
 
-constexpr double kMinChartColumns = 8.0;   // the deepest zoom: columns as wide as a ninth of the chart
+constexpr double kMinChartColumns = 8.0; // the deepest zoom: columns as wide as a ninth of the chart
 
 // The samples the chart shows: [first, first + count), oldest first, the last of them at the right edge.
 struct ChartWindow {

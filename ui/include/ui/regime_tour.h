@@ -10,7 +10,7 @@ namespace ui {
 
 class RegimeTour {
   public:
-    static constexpr double kDurationS = 8.0;   // the whole tour: a few seconds, slow enough to watch
+    static constexpr double kDurationS = 8.0; // the whole tour: a few seconds, slow enough to watch
 
     // From `startDistance` to `nearDistance`, out to `farDistance`, and back to `startDistance` (camera
     // distances in bounding radii). Each leg eases in and out, its length in time in proportion to its
