@@ -26,6 +26,7 @@ struct EditorOptions {
     int frames = 0;                       // > 0: exit after this many frames (0: until the window closes)
     int width = 1280, height = 800;       // window size in screen coordinates
     renderer::SplatSettings settings;     // the starting settings, heatmap included (the command line's)
+    double heatmapOpacity = 1.0;          // the heatmap over the image: 0 the image only, 1 the heatmap only
     renderer::WindowSettings window;      // the starting window (--window)
     std::optional<renderer::RawOptions> raw;   // how to read the volume argument if it is headerless raw
     std::vector<std::string> tabs;        // panels brought to the front of their regions (--tab)

@@ -34,6 +34,7 @@ bool EditorLoop::start() {
         m_state.camera.up = renderer::axisFromName(m_options.upAxis);
         m_state.settings = m_options.settings;
         m_state.showHeatmap = m_options.settings.heatmap;
+        m_state.heatmapOpacity = m_options.heatmapOpacity;
         m_state.window = m_options.window;
         m_state.perf.renderContinuously = m_options.continuous || m_options.spinDegPerS != 0.0;
         if (!(std::abs(m_options.spinDegPerS) <= 90.0))
@@ -106,10 +107,11 @@ void EditorLoop::waitForInput() {
     m_pollTime = glfwGetTime();
     m_spaceMouse->poll(m_pollTime);
     m_state.spaceMouseStatus = m_spaceMouse->status();
+    m_knobMoved = false;
     if (knobDeflected() && ui::applyOrbitInput(m_state.camera, ui::spaceMouseOrbit(m_spaceMouse->state(),
                                                                                    m_pollTime - m_lastPoll,
                                                                                    m_state.spaceMouse))) {
-        m_renderPending = true;
+        m_renderPending = m_knobMoved = true;
         m_state.preview.lastInput = m_pollTime;
     }
     m_lastPoll = m_pollTime;

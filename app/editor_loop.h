@@ -9,6 +9,7 @@
 #include "editor_window.h"
 #include "interactive_probe.h"
 #include "render_thread.h"
+#include "view_texture.h"
 
 #include "renderer/errors.h"
 #include "ui/dock_layout.h"
@@ -101,6 +102,7 @@ class EditorLoop {
     std::optional<std::string> finishSaveView(bool wait);
     void frameIfAsked();        // --fit, Settings > Camera > Frame or a double-click: framedCamera()
     void spinIfContinuous();    // the Performance panel's continuous rendering, turning if asked
+    void tourIfRunning();       // the Filters panel's regime tour: the camera's distance this frame
     void renderIfPending();     // asks the render thread for the view (scripted runs wait for it)
     void showRenderedView();    // the newest finished image into the viewport's texture
     void countPatchesIfShown(); // the Filters panel's patches per filter
@@ -108,6 +110,8 @@ class EditorLoop {
 
     // == The panels (editor_panels.cpp)
     std::vector<ui::DockPanel> makePanels();
+    // The heatmap texture and the legend of the view shown, while the heatmap is on.
+    ui::ViewportOverlay viewportOverlay() const;
     // What the Performance panel's figures are of, for its Copy: volume, image size, mode, GL_RENDERER.
     std::string perfContext() const;
     // The Stats panel's levels: which is on screen, each one's last time and error against the full frame.
@@ -141,15 +145,16 @@ class EditorLoop {
     ui::DockLayout m_layout = ui::makeEditorLayout();
     ui::SettingsChanges m_settingsChanges;
     ui::ViewportResult m_viewport;
-    unsigned m_texture = 0; // the viewport's texture (the last finished image); 0 until one arrived
-    int m_textureWidth = 0, m_textureHeight = 0;
+    ViewTexture m_image;   // the viewport's image (the last finished one)
+    ViewTexture m_heatmap; // and its heatmap, when the heatmap is on
+    bool m_shownHasHeatmap = false; // the image shown came with its heatmap (m_heatmap holds it)
     int m_renderWidth = 0, m_renderHeight = 0;
     std::optional<RenderedView> m_shown;    // what the viewport shows (its pixels dropped once uploaded)
     uint64_t m_viewRequest = 0;             // the last view asked for
     struct PendingSave {
         std::filesystem::path path;
-        bool heatmap = false;
-        std::future<renderer::Image> image;
+        double heatmapOpacity = 0.0;   // the heatmap over the image, as the viewport blends it
+        std::future<std::pair<renderer::Image, renderer::Image>> images;   // image, heatmap (0 x 0: none)
     };
     std::optional<PendingSave> m_save;
     std::optional<std::future<std::vector<uint8_t>>> m_patchModes;
@@ -184,7 +189,8 @@ class EditorLoop {
 
     // Scripted runs show the 3D mouse's status but never move with it: their frames stay reproducible.
     std::optional<ui::SpaceMouse> m_spaceMouse;
-    double m_lastPoll = 0, m_lastSpin = 0; // glfwGetTime() seconds
+    double m_lastPoll = 0, m_lastSpin = 0, m_lastTourStep = 0; // glfwGetTime() seconds
+    bool m_knobMoved = false; // the 3D mouse moved the camera this frame (it ends a regime tour)
     double m_pollTime = 0;                 // this frame's events were read at this glfwGetTime()
 };
 

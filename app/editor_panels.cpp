@@ -24,7 +24,7 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
                                                  .window = shownWindow()});
          }},
         {"Settings", "left", [this] { m_settingsChanges = ui::drawSettingsPanel(m_state); }},
-        {"Viewport", "viewport", [this] { m_viewport = ui::drawViewportPanel(m_state, m_texture); }},
+        {"Viewport", "viewport", [this] { m_viewport = ui::drawViewportPanel(m_state, m_image.id(), viewportOverlay()); }},
         {"Stats", "bottom",
          [this] {
              // The figures of what the viewport shows: a level's, or the full frame's with its GPU times
@@ -62,6 +62,16 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
          }},
         {"Help", "bottom", [] { ui::drawHelpPanel(); }},
     };
+}
+
+ui::ViewportOverlay EditorLoop::viewportOverlay() const {
+    ui::ViewportOverlay overlay;
+    if (!m_state.showHeatmap || !m_shown || !m_shownHasHeatmap) return overlay;
+    overlay.heatmapTexture = m_heatmap.id();
+    if (m_doc.volume)
+        overlay.legend = ui::heatmapLegend(m_doc.scene.spacing, m_doc.scene.radius, m_shown->plane, m_state.settings,
+                                           m_state.camera.fovYDeg);
+    return overlay;
 }
 
 std::string EditorLoop::levelsText() const {

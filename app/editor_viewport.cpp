@@ -3,18 +3,22 @@
 // measurement).
 #include "editor_loop.h"
 
+#include "heatmap_blend.h"
 #include "renderer/io/image.h"
 #include "renderer/oracle/demo_scenes.h"
 
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <cstdio>
 
 void EditorLoop::renderViewport() {
     // 1. Frame the scene when asked (needs the viewport's aspect and the scene's current LUT).
     frameIfAsked();
-    // 2. Continuous rendering (Performance panel): every frame renders, turning the camera if asked.
+    // 2. Continuous rendering (Performance panel): every frame renders, turning the camera if asked; the
+    //    regime tour (Filters panel) moves the camera too.
     spinIfContinuous();
+    tourIfRunning();
     // 3. The view asked of the render thread (after --measure-interactive's edit); the newest image it
     //    finished, on screen.
     editForProbe();
@@ -87,6 +91,20 @@ void EditorLoop::spinIfContinuous() {
     m_renderPending |= continuous;
 }
 
+void EditorLoop::tourIfRunning() {
+    // Last frame's camera input of the user's ends the tour; scripted runs step 1/60 s a frame. A UI frame
+    // slower than 0.25 s (a loaded llvmpipe) slows the tour rather than jumping through the regimes.
+    const bool userMoved = m_viewport.cameraChanged || m_viewport.frame || m_settingsChanges.cameraChanged ||
+                           m_settingsChanges.frame || m_knobMoved;
+    const double dt = m_scripted ? 1.0 / 60.0 : std::min(m_pollTime - m_lastTourStep, 0.25);
+    m_lastTourStep = m_pollTime;
+    if (ui::stepRegimeTour(m_state, dt, userMoved)) {
+        m_renderPending = true;
+        m_comparison.reset(); // a moving view has no measurement to take
+        m_measurementsStale = true;
+    }
+}
+
 ViewRequest EditorLoop::viewRequest() const {
     ViewRequest request;
     request.plane = renderer::makeImagePlane(m_state.camera, m_doc.scene.centre, m_doc.scene.radius,
@@ -129,18 +147,10 @@ void EditorLoop::renderIfPending() {
 void EditorLoop::showRenderedView() {
     std::optional<RenderedView> view = m_render->takeView();
     if (!view) return;
-    if (view->width != m_textureWidth || view->height != m_textureHeight || m_texture == 0) {
-        if (m_texture) glDeleteTextures(1, &m_texture);
-        glCreateTextures(GL_TEXTURE_2D, 1, &m_texture);
-        glTextureStorage2D(m_texture, 1, GL_RGBA8, view->width, view->height);
-        glTextureParameteri(m_texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTextureParameteri(m_texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        m_textureWidth = view->width, m_textureHeight = view->height;
-    }
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(m_texture, 0, 0, 0, view->width, view->height, GL_RGBA, GL_UNSIGNED_BYTE,
-                        view->rgba.data());
-    view->rgba = {};
+    m_image.upload(view->width, view->height, view->rgba);
+    m_shownHasHeatmap = !view->heatmapRgba.empty();
+    if (m_shownHasHeatmap) m_heatmap.upload(view->width, view->height, view->heatmapRgba);
+    view->rgba = {}, view->heatmapRgba = {};
     if (m_probe) m_probe->imageShown(view->request, view->level, InteractiveProbe::Clock::now());
     m_state.preview.shown = view->level > 0;
     m_state.preview.shownLevel = view->level;
@@ -178,30 +188,34 @@ void EditorLoop::countPatchesIfShown() {
 
 void EditorLoop::startSaveView(const std::filesystem::path& path) {
     guarded([&] {
-        if (!m_hasScene || m_texture == 0)
+        if (!m_hasScene || m_image.id() == 0)
             throw renderer::LoadError(path.string(), "", "no view to save: open a volume first");
         classifyNow(); // the full scene, with the window on screen
         ViewRequest view = viewRequest();
-        m_save = PendingSave{path, view.heatmap,
-                             m_render->run([plane = view.plane, settings = view.full, heatmap = view.heatmap](
-                                               Renderers& r) {
-                                 r.full->render(plane, settings);
-                                 return heatmap ? r.full->readbackHeatmap() : r.full->readback();
-                             })};
+        const double opacity = view.heatmap ? std::clamp(m_state.heatmapOpacity, 0.0, 1.0) : 0.0;
+        m_save = PendingSave{
+            path, opacity, m_render->run([plane = view.plane, settings = view.full, opacity](Renderers& r) {
+                r.full->render(plane, settings);
+                return std::pair{opacity < 1.0 ? r.full->readback() : renderer::Image(),
+                                 opacity > 0.0 ? r.full->readbackHeatmap() : renderer::Image()};
+            })};
     });
 }
 
 std::optional<std::string> EditorLoop::finishSaveView(bool wait) {
-    if (!m_save || (!wait && m_save->image.wait_for(std::chrono::seconds(0)) != std::future_status::ready))
+    if (!m_save || (!wait && m_save->images.wait_for(std::chrono::seconds(0)) != std::future_status::ready))
         return std::nullopt;
     PendingSave save = std::move(*m_save);
     m_save.reset();
     std::optional<std::string> written;
     guarded([&] {
-        const renderer::Image image = save.image.get();
-        renderer::writeImage(image, save.path, m_state.background.data());
-        written = std::to_string(image.width) + " x " + std::to_string(image.height) +
-                  (save.heatmap ? " (heatmap)" : "");
+        auto [image, heatmap] = save.images.get();
+        const renderer::Image shown = blendHeatmap(std::move(image), std::move(heatmap), save.heatmapOpacity);
+        renderer::writeImage(shown, save.path, m_state.background.data());
+        char what[48] = "";
+        if (save.heatmapOpacity >= 1.0) std::snprintf(what, sizeof what, " (heatmap)");
+        else if (save.heatmapOpacity > 0.0) std::snprintf(what, sizeof what, " (heatmap at %.2f)", save.heatmapOpacity);
+        written = std::to_string(shown.width) + " x " + std::to_string(shown.height) + what;
         m_state.imageSaved = "wrote " + save.path.filename().string() + ", " + *written;
     });
     return written;

@@ -720,7 +720,9 @@ int main(int argc, char** argv) {
     editor->add_option("--camera", editorCamera, "Starting view: azimuth,elevation,distance,fov");
     editor->add_flag("--fit", e.fit, "Start framed: everything the TF shows fills the viewport, centred "
                                      "(Settings > Camera > Frame)");
-    editor->add_flag("--heatmap", e.settings.heatmap, "Start with the filter-mode heatmap in the viewport");
+    editor->add_flag("--heatmap", e.settings.heatmap, "Start with the filter-mode heatmap over the image in the viewport");
+    editor->add_option("--heatmap-opacity", e.heatmapOpacity, "The heatmap over the image: 0 the image only, 1 the "
+                                                              "heatmap only")->capture_default_str()->check(CLI::Range(0.0, 1.0));
     editor->add_option("--up", editorUp, "Axis of the file's world frame shown upwards: x, y, z, -x, -y, -z (default: z; "
                                          "y for the bundled bonsai)");
     sessionSets(editor, viewFlags);

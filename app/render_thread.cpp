@@ -277,10 +277,16 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
     view.last = last;
     view.width = request.plane.width, view.height = request.plane.height;
     view.plane = request.plane;
-    view.rgba.resize(size_t(view.width) * size_t(view.height) * 4);
-    const unsigned texture = which.displayTexture(request.background.data(), request.heatmap);
-    glGetTextureImage(texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(view.rgba.size()), view.rgba.data());
-    renderer::checkGlErrors("render thread: the view's pixels");
+    // The image, and the heatmap when asked: the viewport blends them, so an opacity change draws no frame.
+    const auto pixels = [&](bool heatmap) {
+        std::vector<uint8_t> rgba(size_t(view.width) * size_t(view.height) * 4);
+        const unsigned texture = which.displayTexture(request.background.data(), heatmap);
+        glGetTextureImage(texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(rgba.size()), rgba.data());
+        renderer::checkGlErrors("render thread: the view's pixels");
+        return rgba;
+    };
+    view.rgba = pixels(false);
+    if (request.heatmap) view.heatmapRgba = pixels(true);
     view.stats = which.stats();
     view.sceneBytes = which.sceneBytes();
     view.workingBytes = which.workingBytes();

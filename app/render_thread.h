@@ -38,7 +38,7 @@ struct ViewRequest {
     std::vector<renderer::SplatSettings> coarse; // of each level, finest first (the same extinction per
                                                  // unit length: renderer::densityFor)
     std::array<float, 3> background{};
-    bool heatmap = false;
+    bool heatmap = false; // also the heatmap (RenderedView::heatmapRgba); full.heatmap must be on
     enum class Levels { Progressive, FullOnly, FinestOnly } levels = Levels::Progressive;
     double budgetMs = 150.0; // a first image within this, from the finest level whose last time fits
 };
@@ -50,6 +50,8 @@ struct RenderedView {
     bool last = true;                 // no finer image of this request follows
     int width = 0, height = 0;
     std::vector<uint8_t> rgba;        // over the background, 8 bits a channel, row 0 at the top
+    std::vector<uint8_t> heatmapRgba; // the filter-mode heatmap of the same render, likewise (empty
+                                      // unless the request asked for it): the viewport blends the two
     renderer::ImagePlane plane;
     renderer::FrameStats stats;
     uint64_t sceneBytes = 0, workingBytes = 0;

@@ -190,6 +190,53 @@ TEST(EditorScreenshot, HeatmapViewShowsFilterColoursInsteadOfTheVolume) {
     EXPECT_GT(double(blue) / (double(centre.w) * centre.h), 0.3) << "see " << shot;
 }
 
+TEST(EditorScreenshot, HeatmapOverlayAtOpacityZeroIsTheImageAtOneTheHeatmapAndBetweenTheirBlend) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    // Near enough that headsq takes reconstruction in front and EWA behind: the heatmap has two colours.
+    const std::string view = "--up -z --filter adaptive --camera 30,20,1.6,30 ";
+    const std::filesystem::path saved = testing_support::testOutputDir() / "editor_overlay_heatmap_saved.png";
+    const renderer::Image plain = editorScreenshot(view, "editor_overlay_plain.png");
+    const renderer::Image zero = editorScreenshot(view + "--heatmap --heatmap-opacity 0", "editor_overlay_0.png");
+    const renderer::Image half = editorScreenshot(view + "--heatmap --heatmap-opacity 0.5", "editor_overlay_05.png");
+    // At 1 with Save image, which writes the heatmap alone there (renderer::writeImage over the background).
+    const renderer::Image one = editorScreenshot(
+        view + "--heatmap --heatmap-opacity 1 --save-image \"" + saved.string() + "\"", "editor_overlay_1.png");
+    ASSERT_FALSE(::testing::Test::HasFailure());
+    const renderer::Image heatmap = renderer::readImage(saved);
+    const ui::DockLayout layout = ui::makeEditorLayout();
+    const ui::Rect node = ui::computeDockRects(layout, {0, 0, 1280, 800}).node[size_t(layout.find("viewport"))];
+    // The render fills the viewport below its tab bar; compare above the legend (bottom-left, under 130 px).
+    const ui::Rect image{node.x, node.bottom() - float(heatmap.height), float(heatmap.width), float(heatmap.height)};
+    const ui::Rect above{image.x, image.y, image.w, image.h - 130.0f};
+    ASSERT_EQ(int(image.w), int(node.w));
+    // 0: the image alone (the heatmap is not drawn), as without the heatmap. 1/255: a render with the
+    // heatmap's target on runs another shader variant, whose image may differ by 8-bit rounding (measured
+    // on llvmpipe: one pixel, by 1/255).
+    EXPECT_LE(largestDifference(plain, zero, above), 1.0 / 255.0 + 1e-6) << "see editor_overlay_0.png";
+    // 1: the heatmap, as Save image writes it; 1/255: the one float rounded to 8 bits by GL and by the writer.
+    double worst = 0.0;
+    for (int y = 0; y < int(above.h); ++y)
+        for (int x = 0; x < int(above.w); ++x)
+            for (int c = 0; c < 3; ++c)
+                worst = std::max(worst, double(std::abs(one.pixel(int(above.x) + x, int(above.y) + y)[c] -
+                                                        heatmap.pixel(x, y)[c])));
+    EXPECT_LE(worst, 1.0 / 255.0 + 1e-6) << "see editor_overlay_1.png";
+    EXPECT_GT(largestDifference(plain, one, above), 0.3) << "the heatmap is not the image";
+    // 0.5: the heatmap at alpha 128/255 over the image, each channel within 2/255 of the two's mean
+    // (the alpha is 0.502, not 0.5, and the result is rounded to 8 bits).
+    double blendWorst = 0.0;
+    for (int y = int(above.y); y < int(above.bottom()); ++y)
+        for (int x = int(above.x); x < int(above.right()); ++x)
+            for (int c = 0; c < 3; ++c)
+                blendWorst = std::max(blendWorst, double(std::abs(half.pixel(x, y)[c] -
+                                                                  0.5f * (plain.pixel(x, y)[c] + one.pixel(x, y)[c]))));
+    EXPECT_LE(blendWorst, 2.0 / 255.0) << "see editor_overlay_05.png";
+    // The legend, bottom-left, is text over a dark box: present with the heatmap, absent without.
+    const ui::Rect legend{image.x + 10.0f, image.bottom() - 100.0f, 200.0f, 90.0f};
+    EXPECT_GT(largestDifference(zero, plain, legend), 0.3) << "no legend at opacity 0";
+}
+
 TEST(EditorScreenshot, TiledSheetsShowTheSameViewportAsRasterisedSheets) {
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";

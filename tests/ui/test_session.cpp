@@ -54,6 +54,7 @@ ui::EditorState unusualState() {
     p.surfaceGradient = 0.3;
     p.counters = true;
     s.showHeatmap = p.heatmap = true;
+    s.heatmapOpacity = 0.35;
     s.histogramLog = false;
     s.background = {0.5f, 0.25f, 0.0f};
     s.spaceMouse = {.enabled = false, .speed = 2.5, .invertRotation = true, .invertTranslation = true};
@@ -101,6 +102,7 @@ void expectSameSession(const ui::EditorState& a, const ui::EditorState& b) {
     EXPECT_EQ(p.counters, q.counters);
     EXPECT_EQ(p.heatmap, q.heatmap);
     EXPECT_EQ(a.showHeatmap, b.showHeatmap);
+    EXPECT_EQ(a.heatmapOpacity, b.heatmapOpacity);
     EXPECT_EQ(a.histogramLog, b.histogramLog);
     EXPECT_EQ(a.background, b.background);
     EXPECT_EQ(a.spaceMouse.enabled, b.spaceMouse.enabled);

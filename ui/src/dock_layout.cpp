@@ -30,7 +30,7 @@ DockLayout makeEditorLayout() {
                        .first = 3,
                        .second = 4,
                        .axis = SplitAxis::Rows,
-                       .ratio = 0.72f,
+                       .ratio = 0.66f,
                        .minFirstPx = 160.0f,
                        .minSecondPx = 90.0f};
     layout.nodes[3] = {.name = "viewport", .fill = true};

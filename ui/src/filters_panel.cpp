@@ -1,5 +1,6 @@
 // The Filters panel: which filter each part of the view takes, how much of it, and why (the depths
 // where a kernel's size on screen crosses the adaptive thresholds, beside the volume's own depths).
+#include "filter_colours.h"
 #include "renderer/math/classifier.h"
 #include "renderer/oracle/ground_truth.h"
 #include "ui/panels.h"
@@ -8,17 +9,13 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 
 namespace ui {
 
 namespace {
-
-// The heatmap's colours (red reconstruction, green low-pass, blue EWA).
-const ImVec4 kModeColour[3] = {ImVec4(1.0f, 0.3f, 0.3f, 1.0f), ImVec4(0.3f, 1.0f, 0.3f, 1.0f),
-                               ImVec4(0.4f, 0.5f, 1.0f, 1.0f)};
-const char* const kModeName[3] = {"reconstruction", "low-pass", "EWA"};
 
 // Shares of the three filters as one bar, each in its colour.
 void shareBar(const std::array<uint64_t, 3>& counts) {
@@ -159,6 +156,44 @@ void drawCostColumn(const EditorState& state, const FiltersView& view, FiltersCh
     textDisabledWrapped("error over the centre %d x %d px", view.cropPx, view.cropPx);
 }
 
+// The heatmap toggle, its opacity over the image and the regime tour. Returns whether the toggle changed.
+bool drawHeatmapControls(EditorState& state, const FiltersView& view) {
+    bool changed = false;
+    if (ImGui::Checkbox("Heatmap", &state.showHeatmap)) {
+        state.settings.heatmap = state.showHeatmap;
+        changed = true;
+    }
+    hint("The filter-mode heatmap over the image: each pixel's colour is the opacity-weighted share of the\n"
+         "splats of each filter (red reconstruction, green low-pass, blue full EWA); the legend in the\n"
+         "viewport gives the thresholds for the view shown");
+    sameLineIfFits("opacity 0.00", 2.0f * ImGui::GetStyle().FramePadding.x);
+    ImGui::BeginDisabled(!state.showHeatmap);
+    ImGui::SetNextItemWidth(-FLT_MIN);   // to the column's edge
+    float opacity = float(state.heatmapOpacity);
+    if (ImGui::SliderFloat("##heatmap_opacity", &opacity, 0.0f, 1.0f, "opacity %.2f"))
+        state.heatmapOpacity = double(std::clamp(opacity, 0.0f, 1.0f));
+    hint("How much of the heatmap over the image: 0 the image only, 1 the heatmap only");
+    ImGui::EndDisabled();
+    // The tour moves through the depths where the filter changes: none in an orthographic view.
+    const bool canTour = view.plane && !view.plane->orthographic;
+    ImGui::BeginDisabled(!canTour && !state.tour);
+    if (state.tour ? ImGui::Button("Stop tour") : ImGui::Button("Regime tour")) {
+        if (state.tour) {
+            state.tour.reset();
+        } else {
+            const renderer::AdaptiveThresholds t = renderer::adaptiveThresholds(view.spacing, *view.plane, state.settings);
+            const renderer::FilterDepths d = renderer::filterDepths(t, *view.plane);
+            const double r = std::max(view.radius, 1e-12);
+            state.tour = makeRegimeTour(state.camera.distance, d.reconstructionNearer / r, d.lowPassFarther / r);
+            if (!state.showHeatmap) state.showHeatmap = state.settings.heatmap = changed = true;
+        }
+    }
+    hint("Dolly the camera from near to far and back over a few seconds, with the heatmap on, to watch\n"
+         "regions change filter; any camera input of yours stops it (orthographic views: one filter, no tour)");
+    ImGui::EndDisabled();
+    return changed;
+}
+
 } // namespace
 
 FiltersChanges drawFiltersPanel(EditorState& state, const FiltersView& view) {
@@ -171,12 +206,7 @@ FiltersChanges drawFiltersPanel(EditorState& state, const FiltersView& view) {
 
     // What: the toggle, the legend, the filter in force, and the shares of patches and splats.
     ImGui::TableNextColumn();
-    if (ImGui::Checkbox("Show in the viewport", &state.showHeatmap)) {
-        s.heatmap = state.showHeatmap;
-        changed = true;
-    }
-    hint("The filter-mode heatmap instead of the image: each pixel's colour is the opacity-weighted share\n"
-         "of the splats of each filter (red reconstruction, green low-pass, blue full EWA)");
+    changed = drawHeatmapControls(state, view);
     if (s.filter == renderer::FilterMode::Adaptive)
         textWrapped("filter  adaptive, per patch of %d x %d slice voxels", s.patchSize, s.patchSize);
     else

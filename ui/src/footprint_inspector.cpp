@@ -2,6 +2,7 @@
 #include "ui/footprint_inspector.h"
 
 #include "renderer/math/ewa.h"
+#include "filter_colours.h"
 #include "widgets.h"
 
 #include <imgui.h>
@@ -14,9 +15,8 @@ namespace ui {
 
 namespace {
 
-// The heatmap's colours: reconstruction only, low-pass only, full EWA.
-const std::array<ImU32, 3> kFilterColours{IM_COL32(255, 80, 80, 255), IM_COL32(80, 230, 80, 255),
-                                          IM_COL32(90, 140, 255, 255)};
+// The heatmap's hues, lightened for the dark inset (filter_colours.h): reconstruction, low-pass, EWA.
+ImU32 filterColour(size_t mode) { return ImGui::ColorConvertFloat4ToU32(kModeColour[mode]); }
 
 void drawEllipse(ImDrawList* draw, ImVec2 centre, const renderer::Ellipse& e, ImU32 colour) {
     constexpr int kSegments = 64;
@@ -71,7 +71,7 @@ void drawFootprintInspector(const renderer::FootprintInspection& f, float value,
     const renderer::FilterMode drawn = f.patchFilter;
     for (size_t k = 0; k < 3; ++k) {
         const bool used = size_t(drawn) == k;
-        drawEllipse(draw, centre, inset.ellipses[k], used ? kFilterColours[k] : (kFilterColours[k] & 0x90FFFFFFu));
+        drawEllipse(draw, centre, inset.ellipses[k], used ? filterColour(k) : (filterColour(k) & 0x90FFFFFFu));
     }
     draw->AddLine(ImVec2(centre.x - 4, centre.y), ImVec2(centre.x + 4, centre.y), IM_COL32(255, 255, 255, 160));
     draw->AddLine(ImVec2(centre.x, centre.y - 4), ImVec2(centre.x, centre.y + 4), IM_COL32(255, 255, 255, 160));
@@ -108,9 +108,9 @@ void drawFootprintInspector(const renderer::FootprintInspection& f, float value,
     };
     put(lines[0], text);
     put(lines[1], text);
-    for (size_t k = 0; k < 3; ++k) put(names[k].c_str(), kFilterColours[k]);
+    for (size_t k = 0; k < 3; ++k) put(names[k].c_str(), filterColour(k));
     put(lines[2], text);
-    put(lines[3], kFilterColours[std::min<size_t>(size_t(drawn), 2)]);
+    put(lines[3], filterColour(std::min<size_t>(size_t(drawn), 2)));
 }
 
 } // namespace ui

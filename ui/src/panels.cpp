@@ -290,7 +290,7 @@ bool applyOrbitInput(renderer::Camera& camera, const OrbitInput& input) {
            camera.panPx != before.panPx || camera.distance != before.distance;
 }
 
-ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
+ViewportResult drawViewportPanel(EditorState& state, unsigned texture, const ViewportOverlay& overlay) {
     const ImGuiIO& io = ImGui::GetIO();
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     const ImVec2 avail = ImGui::GetContentRegionAvail();
@@ -331,7 +331,14 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture) {
     const auto& bg = state.background;
     draw->AddRectFilled(origin, end, ImGui::GetColorU32(ImVec4(bg[0], bg[1], bg[2], 1.0f)));
     if (texture != 0) {
-        draw->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture)), origin, end);
+        const auto id = [](unsigned name) { return reinterpret_cast<ImTextureID>(static_cast<intptr_t>(name)); };
+        const bool heatmap = state.showHeatmap && overlay.heatmapTexture != 0;
+        const double opacity = heatmap ? std::clamp(state.heatmapOpacity, 0.0, 1.0) : 0.0;
+        if (opacity < 1.0) draw->AddImage(id(texture), origin, end);
+        if (opacity > 0.0)
+            draw->AddImage(id(overlay.heatmapTexture), origin, end, ImVec2(0, 0), ImVec2(1, 1),
+                           IM_COL32(255, 255, 255, int(std::lround(opacity * 255.0))));
+        if (heatmap && overlay.legend) drawHeatmapLegend(*overlay.legend, origin.x, origin.y, end.x, end.y);
         if (state.inspectFootprint && state.footprint && state.probe)
             drawFootprintInspector(*state.footprint, state.probe->value, end.x, origin.y);
         if (state.preview.shown)

@@ -23,6 +23,7 @@ double median(std::vector<double> v) {
 } // namespace
 
 void PerfHistory::addRender(const renderer::FrameStats& f, double intervalMs) {
+    if (m_paused) return;
     PerfSample s;
     s.frame = f.frame;
     s.intervalMs = intervalMs;
@@ -35,6 +36,7 @@ void PerfHistory::addRender(const renderer::FrameStats& f, double intervalMs) {
 }
 
 void PerfHistory::addTimes(const renderer::FrameStats& f) {
+    if (m_paused) return;
     if (f.gpuFrame == 0 || f.gpuFrame <= m_lastTimed) return;
     m_lastTimed = f.gpuFrame;
     // Renders older than the timed one will get no times (collectTimers keeps the newest): drop them.
@@ -46,6 +48,11 @@ void PerfHistory::addTimes(const renderer::FrameStats& f) {
     s.passMs = f.passMs;
     m_samples.push_back(s);
     if (m_samples.size() > kCapacity) m_samples.pop_front();
+}
+
+void PerfHistory::setPaused(bool paused) {
+    if (m_paused && !paused) m_pending.clear();   // renders from before the pause: their times are stale
+    m_paused = paused;
 }
 
 void PerfHistory::clear() {

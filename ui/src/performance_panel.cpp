@@ -1,7 +1,10 @@
-// The Performance panel: the load (continuous rendering, spin), the summary of recent renders and a
-// chart of each render's GPU time split by pass, its CPU time drawn over it.
+// The Performance panel: the load (continuous rendering, spin), the summary of recent renders, pause,
+// CSV export, and the chart of each render's GPU time split by pass (perf_chart.h).
 #include "ui/panels.h"
 
+#include "renderer/errors.h"
+#include "ui/perf_chart.h"
+#include "ui/perf_csv.h"
 #include "widgets.h"
 
 #include <algorithm>
@@ -11,80 +14,39 @@ namespace ui {
 
 namespace {
 
-// One column per render, oldest on the left: its passes stacked from the bottom (the GPU time), a white
-// tick at its CPU time, and dashed lines at 60 and 30 renders a second when they are in range. Hover a
-// column for its figures.
-void drawChart(const PerfHistory& history, float height) {
-    const auto& samples = history.samples();
-    const ImVec2 origin = ImGui::GetCursorScreenPos();
-    const float width = std::max(ImGui::GetContentRegionAvail().x, 32.0f);
-    ImGui::InvisibleButton("##perf_chart", ImVec2(width, height));
-    ImDrawList* draw = ImGui::GetWindowDrawList();
-    const ImVec2 end(origin.x + width, origin.y + height);
-    draw->AddRectFilled(origin, end, ImGui::GetColorU32(ImGuiCol_FrameBg));
-    if (samples.empty()) {
-        const char* note = "no timed renders yet: edit the view, or render continuously";
-        const ImVec2 size = ImGui::CalcTextSize(note);
-        draw->AddText(ImVec2(origin.x + (width - size.x) * 0.5f, origin.y + (height - size.y) * 0.5f),
-                      ImGui::GetColorU32(ImGuiCol_TextDisabled), note);
-        return;
-    }
-    // The scale fits every render but outliers (a first render compiling its shaders): at most twice
-    // the p95; taller columns are cut at the top.
-    double top = 1.0;
-    for (const PerfSample& s : samples) top = std::max({top, s.gpuMs, s.cpuMs});
-    top = std::min(top, 2.0 * std::max(history.summary().gpuP95Ms, 0.5)) * 1.15;
-    const auto yOf = [&](double ms) { return std::max(end.y - float(ms / top) * height, origin.y); };
-    const float column = width / float(PerfHistory::kCapacity);
-    // The newest render sits at the right edge; the history fills in leftwards.
-    const float x0 = end.x - column * float(samples.size());
-    for (size_t i = 0; i < samples.size(); ++i) {
-        const PerfSample& s = samples[i];
-        const float xa = x0 + column * float(i), xb = xa + std::max(column - 1.0f, 1.0f);
-        double below = 0.0;
-        for (int p = 0; p < renderer::kGpuPasses; ++p) {
-            const double ms = s.passMs[size_t(p)];
-            if (!(ms > 0.0)) continue;
-            draw->AddRectFilled(ImVec2(xa, yOf(below + ms)), ImVec2(xb, yOf(below)),
-                                passColour(p, renderer::kGpuPasses));
-            below += ms;
+// Over the chart: Pause, the path field and Export CSV (the recorded renders, a row each, perf_csv.h,
+// written atomically), and what the last export wrote.
+void drawChartControls(EditorState& state, PerfHistory& history) {
+    PerfSettings& perf = state.perf;
+    if (ImGui::Button(history.paused() ? "Resume" : "Pause")) history.setPaused(!history.paused());
+    hint("Freeze the recorded renders to inspect them; rendering goes on, and renders while paused are not\n"
+         "recorded. On the chart: the wheel zooms, a drag pans, a double-click shows all, hover a render\n"
+         "for its passes");
+    ImGui::SameLine();
+    // The path takes what is left of the row beside Export CSV, up to 16 characters' room.
+    const ImGuiStyle& style = ImGui::GetStyle();
+    const float button = ImGui::CalcTextSize("Export CSV").x + 2.0f * style.FramePadding.x + style.ItemSpacing.x;
+    ImGui::SetNextItemWidth(std::clamp(ImGui::GetContentRegionAvail().x - button, ImGui::GetFontSize() * 4.0f,
+                                       ImGui::GetFontSize() * 16.0f));
+    inputPath("##csv", perf.csvFile);
+    hint("Where Export CSV writes the recorded renders");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(history.samples().empty());
+    if (ImGui::Button("Export CSV")) {
+        try {
+            writePerfCsv(perf.csvFile, history.samples());
+            perf.csvSaved = "wrote " + std::to_string(history.samples().size()) + " renders to " +
+                            std::filesystem::path(perf.csvFile).filename().string();
+        } catch (const renderer::LoadError& e) {
+            state.errorMessage = e.what();
         }
-        draw->AddLine(ImVec2(xa, yOf(s.cpuMs)), ImVec2(xb + 1.0f, yOf(s.cpuMs)), IM_COL32(255, 255, 255, 220), 2.0f);
     }
-    float lastLabelY = end.y;
-    for (auto [ms, label] : {std::pair{1000.0 / 60.0, "60 /s"}, std::pair{1000.0 / 30.0, "30 /s"}}) {
-        const float y = yOf(ms);
-        if (ms >= top || lastLabelY - y < ImGui::GetFontSize()) continue;   // off the scale, or crowded
-        lastLabelY = y;
-        for (float x = origin.x; x < end.x; x += 8.0f)
-            draw->AddLine(ImVec2(x, y), ImVec2(std::min(x + 4.0f, end.x), y), IM_COL32(255, 255, 255, 90));
-        draw->AddText(ImVec2(origin.x + 4.0f, y - ImGui::GetFontSize()), IM_COL32(255, 255, 255, 140), label);
+    ImGui::EndDisabled();
+    hint("A row per recorded render: frame, interval, CPU, GPU and each pass in ms, splats, bytes uploaded");
+    if (!perf.csvSaved.empty()) {
+        sameLineIfFits(perf.csvSaved.c_str());
+        ImGui::TextDisabled("%s", perf.csvSaved.c_str());
     }
-    char scale[32];
-    std::snprintf(scale, sizeof scale, "%.1f ms", top);
-    draw->AddText(ImVec2(end.x - ImGui::CalcTextSize(scale).x - 4.0f, origin.y + 2.0f),
-                  ImGui::GetColorU32(ImGuiCol_TextDisabled), scale);
-    if (!ImGui::IsItemHovered()) return;
-    const float mx = ImGui::GetIO().MousePos.x;
-    if (mx < x0) return;
-    const PerfSample& s = samples[std::min(size_t((mx - x0) / column), samples.size() - 1)];
-    std::string text = "render " + std::to_string(s.frame);
-    char line[96];
-    std::snprintf(line, sizeof line, "\ngpu %.2f ms   cpu %.2f ms", s.gpuMs, s.cpuMs);
-    text += line;
-    if (s.intervalMs > 0.0) {
-        std::snprintf(line, sizeof line, "\n%.1f ms after the last render", s.intervalMs);
-        text += line;
-    }
-    if (const std::string passes = passListText(s.passMs, "\n  "); !passes.empty()) text += "\n  " + passes;
-    std::snprintf(line, sizeof line, "\n%llu splats, %.1f KiB uploaded", (unsigned long long)s.splats,
-                  double(s.uploadBytes) / 1024.0);
-    text += line;
-    if (s.firstUsePrograms > 0) {
-        std::snprintf(line, sizeof line, "\nfirst use of %d shader programs: includes compiling them", s.firstUsePrograms);
-        text += line;
-    }
-    ImGui::SetTooltip("%s", text.c_str());
 }
 
 } // namespace
@@ -140,10 +102,11 @@ void drawPerformancePanel(EditorState& state, PerfHistory& history, const std::f
         drawPassList("passes", sum.passMedianMs);
     }
 
-    // Chart column.
+    // Chart column: its controls over it.
     ImGui::TableNextColumn();
-    drawChart(history, std::max(ImGui::GetContentRegionAvail().y - ImGui::GetStyle().WindowPadding.y,
-                                ImGui::GetFontSize() * 6.0f));
+    drawChartControls(state, history);
+    drawPerfChart(perf, history, std::max(ImGui::GetContentRegionAvail().y - ImGui::GetStyle().WindowPadding.y,
+                                          ImGui::GetFontSize() * 6.0f));
     ImGui::EndTable();
 }
 

@@ -137,6 +137,7 @@ void saveSession(const EditorState& state, const std::filesystem::path& volume, 
                       {"surface_gradient", s.surfaceGradient},
                       {"counters", s.counters}};
     j["view"] = {{"heatmap", state.showHeatmap},
+                 {"heatmap_opacity", state.heatmapOpacity},
                  {"histogram_log", state.histogramLog},
                  {"background", {state.background[0], state.background[1], state.background[2]}}};
     j["space_mouse"] = {{"enabled", state.spaceMouse.enabled},
@@ -236,6 +237,7 @@ std::filesystem::path loadSession(const std::filesystem::path& file, EditorState
     const Section view(j, "view", name);
     view.boolean("heatmap", next.showHeatmap);
     s.heatmap = next.showHeatmap;
+    view.number("heatmap_opacity", next.heatmapOpacity, 0.0, 1.0);
     view.boolean("histogram_log", next.histogramLog);
     double background[3] = {next.background[0], next.background[1], next.background[2]};
     view.numbers("background", background, 0.0, 1.0);

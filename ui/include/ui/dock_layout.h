@@ -40,7 +40,8 @@ struct DockLayout {
 };
 
 // The editor's tree: left column | (centre viewport over bottom strip). Regions: "left", "viewport",
-// "bottom". Ratios 0.25 and 0.72; min sizes left 220, viewport 320 x 160, bottom 90 pixels.
+// "bottom". Ratios 0.25 and 0.66 (at 1280x800 the bottom strip is 270 px: the Filters panel with
+// Measure's table and the Performance chart show whole); min sizes left 220, viewport 320 x 160, bottom 90.
 DockLayout makeEditorLayout();
 
 struct DockRects {

@@ -6,6 +6,7 @@
 #include "renderer/model/splat_settings.h"
 #include "renderer/model/transfer_function.h"
 #include "renderer/model/window.h"
+#include "ui/regime_tour.h"
 #include "ui/tf_editor.h"
 
 #include <array>
@@ -27,6 +28,14 @@ struct SpaceMouseMapping {
 struct PerfSettings {
     bool renderContinuously = false;
     double spinDegPerS = 0.0;   // azimuth speed while rendering continuously (0: still)
+    // The chart's window on the recorded renders (perf_chart.h): `shown` columns wide, its right edge
+    // `newestOffset` renders before the newest (0: the newest at the right edge). Fractional, so that a
+    // slow drag or a small zoom adds up.
+    double shown = 240.0;
+    double newestOffset = 0.0;
+    std::optional<uint64_t> hoveredFrame; // the render under the pointer on the chart (set by the chart)
+    std::string csvFile = "frames.csv";   // Export CSV's path (written atomically)
+    std::string csvSaved;                 // what the last export wrote
 };
 
 // The frame budget and the preview level. The renderer runs on a thread of its own: after any edit, large
@@ -79,7 +88,9 @@ struct EditorState {
     renderer::WindowSettings window; // which data values map onto the TF (custom: data units)
     bool histogramLog = true;        // the Window section's histogram: log-scale counts
     bool gradientsReady = false;     // the scene has gradients: shading and surface splats can be on
-    bool showHeatmap = false;        // the viewport shows the filter-mode heatmap instead of the image
+    bool showHeatmap = false;        // the viewport shows the filter-mode heatmap over the image
+    double heatmapOpacity = 1.0;     // ...blended: 0 the image only, 1 the heatmap only
+    std::optional<RegimeTour> tour;  // the camera dollying near to far and back (Filters panel); none: still
     // Files: the volume shown (set by the app once it loaded), and the Files section's path fields.
     std::filesystem::path loadedVolume;
     std::filesystem::path openingVolume;   // being read on the worker (set by the app); empty when none

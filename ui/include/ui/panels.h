@@ -6,6 +6,7 @@
 #include "renderer/gl/splat_renderer.h"
 #include "renderer/model/volume.h"
 #include "ui/editor_state.h"
+#include "ui/heatmap_legend.h"
 #include "ui/perf_history.h"
 
 #include <array>
@@ -110,9 +111,17 @@ struct ViewportResult {
     std::optional<glm::dvec2> hoverPx;
 };
 
+// What the viewport draws over the image while state.showHeatmap is on.
+struct ViewportOverlay {
+    unsigned heatmapTexture = 0;          // the filter-mode heatmap of the same render (GL name); 0: none
+    std::optional<HeatmapLegend> legend;  // of the view shown; none: no legend (no volume)
+};
+
 // Shows `texture` (a GL texture name, 0 for none) stretched over the panel's whole content region;
-// mouse drags and the wheel inside it move state.camera.
-ViewportResult drawViewportPanel(EditorState& state, unsigned texture);
+// mouse drags and the wheel inside it move state.camera. With the heatmap on, the heatmap is drawn over
+// the image with alpha state.heatmapOpacity (GL's blend: heatmap x opacity + image x (1 - opacity); at
+// 0 the image alone, at 1 the heatmap alone) and the legend in the bottom-left corner.
+ViewportResult drawViewportPanel(EditorState& state, unsigned texture, const ViewportOverlay& overlay = {});
 
 // == Filters
 
@@ -133,12 +142,13 @@ struct FiltersView {
 };
 
 struct FiltersChanges {
-    bool settingsChanged = false;   // the heatmap toggle
+    bool settingsChanged = false;   // the heatmap toggle (also turned on by the regime tour)
     bool measure = false;           // "Measure": time each filter and take its error in this view
     bool cancel = false;            // stop the measurement under way
 };
 
-// Which filter each part of the view takes, why, and at what cost: the heatmap toggle, the filter in
+// Which filter each part of the view takes, why, and at what cost: the heatmap toggle, its opacity
+// over the image and the regime tour (state.tour, see regime_tour.h), the filter in
 // force, the shares of patches (and of splats, with GPU counters) per filter; a depth axis from the
 // eye coloured by the filter a kernel takes there, with the volume's depths over it; and, measured on
 // request, each filter's frame time beside its error against the ground truth.

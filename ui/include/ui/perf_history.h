@@ -56,12 +56,17 @@ public:
     // After FrameStats's GPU times changed (collectTimers): joins them to their render, once.
     void addTimes(const renderer::FrameStats& f);
     void clear();
+    // Paused, the recorded renders stay as they are while rendering goes on: new renders and times are
+    // dropped (the Performance panel's Pause, to inspect a moment). Resuming starts joining afresh.
+    void setPaused(bool paused);
+    bool paused() const { return m_paused; }
     const std::deque<PerfSample>& samples() const { return m_samples; }
     PerfSummary summary() const;
 
 private:
     std::deque<PerfSample> m_pending, m_samples;
     uint64_t m_lastTimed = 0;
+    bool m_paused = false;
 };
 
 } // namespace ui
