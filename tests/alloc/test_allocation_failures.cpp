@@ -11,6 +11,7 @@
 #include "renderer/model/procedural.h"
 #include "renderer/model/splat_scene.h"
 #include "renderer/model/transfer_function.h"
+#include "renderer/oracle/reference_renderer.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -157,6 +158,19 @@ TEST(SplatRendererOutOfMemory, AReadBackThatDoesNotFitIsNamed) {
         }
     }
     EXPECT_EQ(splats.readback().width, 256);
+}
+
+// The CPU reference (render --cpu, accuracy, the tests' oracle): the error names the volume and the view.
+TEST(ReferenceRendererOutOfMemory, AnImageThatDoesNotFitIsNamed) {
+    const SplatScene scene = classify(lobb(16, "small"));
+    const FailingAllocations failing(512 * kKiB); // the 256x256 RGBA float image takes 1 MiB
+    try {
+        (void)renderReference(scene, fullView(scene, 256, 256).plane, SplatSettings{});
+        ADD_FAILURE() << "renderReference returned although its image did not fit";
+    } catch (const RenderError& e) {
+        EXPECT_THAT(e.what(),
+                    HasSubstr("volume 'small': out of memory allocating the CPU reference's splats and image at 256x256"));
+    }
 }
 
 // The editor's gradient job: the field does not fit; the error names the volume and the gradients, and the
