@@ -104,8 +104,8 @@ void RenderThread::setLevelScenes(Scenes levels) {
             try {
                 for (size_t k = 0; k < levels.size() && k < r.levels.size(); ++k)
                     r.levels[k]->setScene(*levels[k]);
-            } catch (const std::exception&) {
-                restoreShown(r);
+            } catch (const std::exception& e) {
+                restoreShown(r, e.what());
                 throw;
             }
             for (size_t k = 0; k < levels.size() && k < m_shown.levels.size(); ++k)
@@ -124,9 +124,9 @@ void RenderThread::uploadScenes(Renderers& r, const std::shared_ptr<const render
             if (!r.levels[k]) r.levels[k] = std::make_unique<renderer::SplatRenderer>();
             r.levels[k]->setScene(*levels[k]);
         }
-    } catch (const std::exception&) {
+    } catch (const std::exception& e) {
         m_sceneName = previousName;
-        restoreShown(r);
+        restoreShown(r, e.what());
         throw;
     }
     m_shown = {};
@@ -135,7 +135,7 @@ void RenderThread::uploadScenes(Renderers& r, const std::shared_ptr<const render
     m_levelRmse = {-1, -1, -1, -1};
 }
 
-void RenderThread::restoreShown(Renderers& r) {
+void RenderThread::restoreShown(Renderers& r, const std::string& failure) {
     if (!m_shown.full) return;
     try {
         r.full->setScene(*m_shown.full);
@@ -152,8 +152,8 @@ void RenderThread::restoreShown(Renderers& r) {
             r.levels[k]->setLut(m_shown.levelLuts[k]);
     } catch (const std::exception& e) {
         m_shown = {}; // nothing left to put back; the error says so
-        throw renderer::RenderError(
-            std::string("the previous volume could not be put back on the GPU either: ") + e.what());
+        throw renderer::RenderError(failure + "; the previous volume could not be put back on the GPU either: " +
+                                    e.what());
     }
 }
 

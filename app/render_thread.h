@@ -121,7 +121,9 @@ class RenderThread {
     // Scenes to the renderers (setScenes); on failure the shown ones back, and the error rethrown.
     void uploadScenes(Renderers& r, const std::shared_ptr<const renderer::SplatScene>& full,
                       const Scenes& levels);
-    void restoreShown(Renderers& r);
+    // The scenes, gradients and LUTs shown before a change that failed with `failure`; should they not go
+    // back either, a RenderError saying both.
+    void restoreShown(Renderers& r, const std::string& failure);
     // The message of a std::bad_alloc that nothing named on its way up, while `doing` something.
     std::string unnamedOutOfMemory(const char* doing) const;
 

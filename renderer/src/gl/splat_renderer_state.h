@@ -220,7 +220,7 @@ struct SplatRenderer::Gl {
     void checkGpuAllocation(const char* what, uint64_t bytes) const;
     // " at 1920x1080": the size of the frame being drawn, for messages ("" outside a frame).
     std::string frameText() const;
-    glm::ivec2 framePx{0};   // the frame being drawn (planFrame() sets it; 0 outside a frame)
+    glm::ivec2 framePx{0};   // the frame being drawn (render() sets it; 0 outside a frame)
     // Binds to `unit` the buffer texture `texture` (created on first use) over the first `bytes` of
     // `buffer`: llvmpipe fetches texels lane by lane as a gather, storage-buffer values component by
     // component, so the passes read what they do not write as texels.
