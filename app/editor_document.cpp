@@ -2,12 +2,27 @@
 // the full one's transfer function, window and gradients.
 #include "editor_document.h"
 
+#include "renderer/out_of_memory.h"
+
 renderer::SplatScene classifiedScene(const renderer::Volume& volume, const renderer::TransferFunction& tf,
                                      renderer::ValueRange window,
                                      const std::optional<renderer::GradientField>& gradients) {
     renderer::SplatScene scene = renderer::buildSplatScene(volume, tf, window);
-    if (gradients) renderer::addGradients(scene, *gradients);
+    if (gradients)
+        renderer::namingAllocation(renderer::volumeSubject(volume.name), "packed gradients of its scene",
+                                   volume.voxelCount() * 4, "",
+                                   [&] { renderer::addGradients(scene, *gradients); });
     return scene;
+}
+
+std::shared_ptr<const renderer::SplatScene> copyForRender(const renderer::SplatScene& scene) {
+    uint64_t bytes = scene.classes.size() * 2 + scene.gradients.size() * 4 + scene.classVoxels.size() * 4;
+    for (const renderer::AxisLists& lists : scene.lists)
+        bytes += lists.entries.size() * sizeof(lists.entries[0]) +
+                 lists.runs.size() * sizeof(renderer::SliceRun) + lists.sliceRuns.size() * 4;
+    return renderer::namingAllocation(renderer::volumeSubject(scene.name),
+                                      "copy of its splat lists for the renderer", bytes, "",
+                                      [&] { return std::make_shared<const renderer::SplatScene>(scene); });
 }
 
 Preview::Preview(const renderer::Volume& full) {

@@ -47,5 +47,9 @@ struct Document {
     std::unique_ptr<Preview> preview;                 // levels, for volumes of PreviewSettings::kMinVoxels or more
 };
 
+// A copy of `scene` for the render thread. Out of memory, a RenderError naming the volume and the
+// copy's size (its classes, lists and gradients).
+std::shared_ptr<const renderer::SplatScene> copyForRender(const renderer::SplatScene& scene);
+
 // The levels' LUTs, finest first.
 std::vector<renderer::Lut> levelLuts(const Document& doc);

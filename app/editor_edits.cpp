@@ -55,7 +55,10 @@ bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& pa
                          "note: --preview: %s has %zu voxels, fewer than the %zu M that get a preview; it "
                          "renders in full\n",
                          path.string().c_str(), loaded.volume.voxelCount(), ui::PreviewSettings::kMinMegaVoxels);
-        // The jobs reading the document going away stop first.
+        // 1. The new scenes to the renderers first: should they not fit (out of GPU memory), the
+        //    error shows and the document, its jobs and the view stay the previous volume's.
+        m_render->setScenesNow(std::move(loaded.sceneForRender), std::move(loaded.levelsForRender));
+        // 2. The jobs reading the document going away stop, and the document becomes the new volume.
         m_gradientJob.reset();
         m_classifyJob.reset(), m_classifyNext.reset(), m_fullWindowStale = false;
         Document next;
@@ -65,7 +68,6 @@ bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& pa
         next.scene = std::move(loaded.scene);
         next.preview = std::move(loaded.preview); // levels built and classified on the worker
         next.volume = std::move(loaded.volume);
-        m_render->setScenes(std::move(loaded.sceneForRender), std::move(loaded.levelsForRender));
         m_hasScene = true;
         m_doc = std::move(next);
         m_state.preview.available = m_doc.preview != nullptr;

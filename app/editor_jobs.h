@@ -13,6 +13,7 @@
 #include "renderer/model/window.h"
 #include "renderer/oracle/filter_comparison.h"
 #include "renderer/oracle/ground_truth.h"
+#include "renderer/out_of_memory.h"
 #include "ui/editor_state.h"
 
 #include <array>
@@ -26,23 +27,31 @@
 
 // Work on a worker thread that the UI thread polls each frame: its progress (0..1), a cancel flag the
 // work's progress callback returns, and, once `done`, its result or the message of what it threw.
-// Destroying the job cancels and joins it, so it must go before anything the work reads.
+// Destroying the job cancels and joins it, so it must go before anything the work reads. The work names
+// what it allocates (renderer::namingAllocation); a std::bad_alloc it did not name still becomes a
+// message naming `subject`.
 template <class T> struct WorkerJob {
     std::thread thread;
     std::atomic<double> fraction{0.0};
     std::atomic<bool> cancel{false}, done{false};
     std::optional<T> result; // written before `done`; empty when cancelled or failed
     std::string error;       // an exception from the worker, if any
+    std::string subject =
+        "a worker thread"; // whose work it is, in the message of an allocation it did not name
 
     // `work(progress)` returns the result (or an optional of it); `progress(f)` returns false once cancelled.
     template <class Work> void start(Work work) {
-        thread = std::thread([this, work] {
+        thread = std::thread([this, subject = subject, work] {
             try {
                 result = work([this](double f) {
                     fraction = f;
                     return !cancel.load();
                 });
+            } catch (const std::bad_alloc&) {
+                result.reset();
+                error = subject + ": out of memory (in a step that does not name its allocations)";
             } catch (const std::exception& e) {
+                result.reset();
                 error = e.what();
             }
             done = true;
@@ -68,23 +77,40 @@ struct Gradients {
 };
 struct GradientJob : WorkerJob<Gradients> {
     GradientJob(const renderer::Volume& volume, std::vector<const renderer::Volume*> levels) {
+        subject = renderer::volumeSubject(volume.name);
         start([&volume, levels](const renderer::ProgressCallback& progress) -> std::optional<Gradients> {
-            const auto forRender = [](const renderer::Volume& v, const std::vector<uint32_t>& packed) {
-                auto scene = std::make_shared<renderer::SplatScene>();
-                scene->name = v.name, scene->dims = v.dims, scene->gradients = packed;
-                return std::shared_ptr<const renderer::SplatScene>(std::move(scene));
+            // Each step's allocation named with its size: the field (3 int16 a voxel), the packed copy and
+            // the render thread's copy of it (4 bytes a voxel each).
+            const auto named = [](const renderer::Volume& v, const char* what, uint64_t bytesPerVoxel,
+                                  auto step) {
+                return renderer::namingAllocation(renderer::volumeSubject(v.name), what,
+                                                  v.voxelCount() * bytesPerVoxel, "", step);
             };
-            std::optional<renderer::GradientField> field =
-                renderer::computeGradients(volume, [&](double f) { return progress(0.9 * f); });
+            const auto forRender = [&](const renderer::Volume& v, const std::vector<uint32_t>& packed) {
+                return named(v, "copy of its gradients for the renderer", 4, [&] {
+                    auto scene = std::make_shared<renderer::SplatScene>();
+                    scene->name = v.name, scene->dims = v.dims, scene->gradients = packed;
+                    return std::shared_ptr<const renderer::SplatScene>(std::move(scene));
+                });
+            };
+            const auto packed = [&](const renderer::Volume& v,
+                                    const std::optional<renderer::GradientField>& f) {
+                return named(v, "packed gradients", 4, [&] {
+                    return f ? renderer::packGradients(*f).texels : std::vector<uint32_t>{};
+                });
+            };
+            std::optional<renderer::GradientField> field = named(volume, "gradients", 6, [&] {
+                return renderer::computeGradients(volume, [&](double f) { return progress(0.9 * f); });
+            });
             if (!field) return std::nullopt;
             Gradients out;
-            out.packed = renderer::packGradients(*field).texels;
+            out.packed = packed(volume, field);
             out.forRender = forRender(volume, out.packed);
             out.field = std::move(*field);
             for (const renderer::Volume* level : levels) {
-                out.levelFields.push_back(renderer::computeGradients(*level));
-                out.levelPacked.push_back(out.levelFields.back() ? renderer::packGradients(*out.levelFields.back()).texels
-                                                                 : std::vector<uint32_t>{});
+                out.levelFields.push_back(
+                    named(*level, "gradients", 6, [&] { return renderer::computeGradients(*level); }));
+                out.levelPacked.push_back(packed(*level, out.levelFields.back()));
                 out.levelsForRender.push_back(forRender(*level, out.levelPacked.back()));
                 if (!progress(0.95)) return std::nullopt;
             }
@@ -115,6 +141,7 @@ struct VolumeJob : WorkerJob<LoadedVolume> {
     VolumeJob(const std::filesystem::path& file, const std::optional<renderer::RawOptions>& raw,
               const renderer::TransferFunction& classify, const renderer::WindowSettings& window)
         : path(file), tf(classify) {
+        subject = file.string();
         start([file, raw, classify,
                window](const renderer::ProgressCallback& progress) -> std::optional<LoadedVolume> {
             LoadedVolume out;
@@ -124,18 +151,26 @@ struct VolumeJob : WorkerJob<LoadedVolume> {
                 return std::nullopt;
             }
             if (!progress(0.6)) return std::nullopt;
-            out.histogram = renderer::computeHistogram(out.volume, 128);
-            out.percentile = renderer::percentileWindow(out.volume, 1.0, 99.0);
+            // The percentiles sort a copy of the voxels (4 bytes each).
+            const auto named = [&](const char* what, uint64_t bytes, auto step) {
+                return renderer::namingAllocation(file.string(), what, bytes, "", step);
+            };
+            named("copy of the voxels for the p1-p99 window", out.volume.voxelCount() * 4, [&] {
+                out.histogram = renderer::computeHistogram(out.volume, 128);
+                out.percentile = renderer::percentileWindow(out.volume, 1.0, 99.0);
+            });
             if (!progress(0.7)) return std::nullopt;
             out.scene =
                 renderer::buildSplatScene(out.volume, classify, renderer::windowFor(out.volume, window));
-            out.sceneForRender = std::make_shared<const renderer::SplatScene>(out.scene);
+            out.sceneForRender = copyForRender(out.scene);
             if (!progress(0.9)) return std::nullopt;
             if (out.volume.voxelCount() >= ui::PreviewSettings::kMinVoxels) {
-                out.preview = std::make_unique<Preview>(out.volume);
+                // The levels at 1/2, 1/4 and 1/8 per axis: a seventh of the voxels' floats.
+                out.preview = named("preview levels", out.volume.voxelCount() * 4 / 7,
+                                    [&] { return std::make_unique<Preview>(out.volume); });
                 out.preview->classify(classify, out.scene.window);
                 for (const Level& level : out.preview->levels)
-                    out.levelsForRender.push_back(std::make_shared<const renderer::SplatScene>(level.scene));
+                    out.levelsForRender.push_back(copyForRender(level.scene));
             }
             progress(1.0);
             return out;
@@ -156,17 +191,18 @@ struct Classified {
 struct ClassifyJob : WorkerJob<Classified> {
     ClassifyJob(const Document& doc, const renderer::TransferFunction& tf, renderer::ValueRange window,
                 bool levelsOnly) {
+        subject = renderer::volumeSubject(doc.scene.name);
         start([&doc, tf, window, levelsOnly](const renderer::ProgressCallback&) -> std::optional<Classified> {
             Classified out;
             out.levelsOnly = levelsOnly;
             if (!levelsOnly) {
                 out.full = classifiedScene(*doc.volume, tf, window, doc.gradients);
-                out.fullForRender = std::make_shared<const renderer::SplatScene>(out.full);
+                out.fullForRender = copyForRender(out.full);
             }
             if (doc.preview)
                 for (const Level& level : doc.preview->levels) {
                     out.levels.push_back(classifiedScene(level.volume, tf, window, level.gradients));
-                    out.levelsForRender.push_back(std::make_shared<const renderer::SplatScene>(out.levels.back()));
+                    out.levelsForRender.push_back(copyForRender(out.levels.back()));
                 }
             return out;
         });
@@ -189,6 +225,7 @@ struct FilterComparisonJob {
     FilterComparisonJob(const renderer::SplatScene& s, const renderer::ImagePlane& v,
                         const renderer::SplatSettings& set)
         : scene(s), view(v), crop(renderer::centreCrop(v, renderer::kComparisonCropPx)), settings(set) {
+        truth.subject = renderer::volumeSubject(s.name) + "'s ground truth";
         truth.start([this](const renderer::ProgressCallback& progress) {
             return renderer::cachedGroundTruth(scene, crop, settings, {},
                                                renderer::defaultGroundTruthCacheDir(), progress);

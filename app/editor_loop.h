@@ -12,6 +12,7 @@
 #include "view_texture.h"
 
 #include "renderer/errors.h"
+#include "renderer/out_of_memory.h"
 #include "ui/dock_layout.h"
 #include "ui/editor_state.h"
 #include "ui/panels.h"
@@ -204,6 +205,9 @@ template <class Step> bool EditorLoop::guarded(Step&& step) {
         report(e);
     } catch (const renderer::RenderError& e) {
         report(e);
+    } catch (const std::bad_alloc&) { // what the step did not name itself
+        report(std::runtime_error(renderer::volumeSubject(m_doc.scene.name) +
+                                  ": out of memory in the editor; what it showed is kept"));
     }
     return false;
 }

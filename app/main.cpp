@@ -791,6 +791,9 @@ int main(int argc, char** argv) {
         return runEditor(e);
     } catch (const CLI::ParseError& err) {
         return app.exit(err);
+    } catch (const std::bad_alloc&) {   // the steps name what they allocate; this is what none named
+        std::fprintf(stderr, "splatlab: out of memory\n");
+        return 1;
     } catch (const std::exception& err) {
         std::fprintf(stderr, "splatlab: %s\n", err.what());
         return 1;

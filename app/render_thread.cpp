@@ -4,6 +4,7 @@
 
 #include "renderer/errors.h"
 #include "renderer/gl/gl_context.h"
+#include "renderer/out_of_memory.h"
 
 #include <epoxy/gl.h>
 #include <sys/resource.h>
@@ -70,44 +71,92 @@ void RenderThread::post(std::function<void(Renderers&)> task, bool reportErrors)
 }
 
 void RenderThread::setScenes(std::shared_ptr<const renderer::SplatScene> full, Scenes levels) {
-    post(
-        [this, full, levels](Renderers& r) {
-            r.full->setScene(*full);
-            r.levels.resize(levels.size());
-            for (size_t k = 0; k < levels.size(); ++k) {
-                if (!r.levels[k]) r.levels[k] = std::make_unique<renderer::SplatRenderer>();
-                r.levels[k]->setScene(*levels[k]);
-            }
-            m_levelMs = {}; // another volume: its times are still to measure
-            m_levelRmse = {-1, -1, -1, -1};
-        },
-        true);
+    post([this, full, levels](Renderers& r) { uploadScenes(r, full, levels); }, true);
+}
+
+void RenderThread::setScenesNow(std::shared_ptr<const renderer::SplatScene> full, Scenes levels) {
+    run([this, full, levels](Renderers& r) { uploadScenes(r, full, levels); }).get();
 }
 
 void RenderThread::setLuts(const renderer::Lut& full, std::vector<renderer::Lut> levels) {
     post(
-        [full, levels = std::move(levels)](Renderers& r) {
+        [this, full, levels = std::move(levels)](Renderers& r) {
             r.full->setLut(full);
-            for (size_t k = 0; k < levels.size() && k < r.levels.size(); ++k) r.levels[k]->setLut(levels[k]);
+            for (size_t k = 0; k < levels.size() && k < r.levels.size(); ++k)
+                r.levels[k]->setLut(levels[k]);
+            m_shown.fullLut = full, m_shown.levelLuts = levels;
         },
         true);
 }
 
 void RenderThread::setGradients(std::shared_ptr<const renderer::SplatScene> full, Scenes levels) {
     post(
-        [full, levels](Renderers& r) {
+        [this, full, levels](Renderers& r) {
             r.full->setGradients(*full);
-            for (size_t k = 0; k < levels.size() && k < r.levels.size(); ++k) r.levels[k]->setGradients(*levels[k]);
+            for (size_t k = 0; k < levels.size() && k < r.levels.size(); ++k)
+                r.levels[k]->setGradients(*levels[k]);
+            m_shown.fullGradients = full, m_shown.levelGradients = levels;
         },
         true);
 }
 
 void RenderThread::setLevelScenes(Scenes levels) {
     post(
-        [levels](Renderers& r) {
-            for (size_t k = 0; k < levels.size() && k < r.levels.size(); ++k) r.levels[k]->setScene(*levels[k]);
+        [this, levels](Renderers& r) {
+            try {
+                for (size_t k = 0; k < levels.size() && k < r.levels.size(); ++k)
+                    r.levels[k]->setScene(*levels[k]);
+            } catch (const std::exception& e) {
+                restoreShown(r, e.what());
+                throw;
+            }
+            for (size_t k = 0; k < levels.size() && k < m_shown.levels.size(); ++k)
+                m_shown.levels[k] = levels[k];
         },
         true);
+}
+
+void RenderThread::uploadScenes(Renderers& r, const std::shared_ptr<const renderer::SplatScene>& full,
+                                const Scenes& levels) {
+    const std::string previousName = std::exchange(m_sceneName, full->name); // a failure below names it
+    try {
+        r.full->setScene(*full);
+        r.levels.resize(levels.size());
+        for (size_t k = 0; k < levels.size(); ++k) {
+            if (!r.levels[k]) r.levels[k] = std::make_unique<renderer::SplatRenderer>();
+            r.levels[k]->setScene(*levels[k]);
+        }
+    } catch (const std::exception& e) {
+        m_sceneName = previousName;
+        restoreShown(r, e.what());
+        throw;
+    }
+    m_shown = {};
+    m_shown.full = full, m_shown.levels = levels;
+    m_levelMs = {}; // another volume: its times are still to measure
+    m_levelRmse = {-1, -1, -1, -1};
+}
+
+void RenderThread::restoreShown(Renderers& r, const std::string& failure) {
+    if (!m_shown.full) return;
+    try {
+        r.full->setScene(*m_shown.full);
+        r.levels.resize(m_shown.levels.size());
+        for (size_t k = 0; k < m_shown.levels.size(); ++k) {
+            if (!r.levels[k]) r.levels[k] = std::make_unique<renderer::SplatRenderer>();
+            r.levels[k]->setScene(*m_shown.levels[k]);
+        }
+        if (m_shown.fullGradients) r.full->setGradients(*m_shown.fullGradients);
+        for (size_t k = 0; k < m_shown.levelGradients.size() && k < r.levels.size(); ++k)
+            r.levels[k]->setGradients(*m_shown.levelGradients[k]);
+        if (m_shown.fullLut) r.full->setLut(*m_shown.fullLut);
+        for (size_t k = 0; k < m_shown.levelLuts.size() && k < r.levels.size(); ++k)
+            r.levels[k]->setLut(m_shown.levelLuts[k]);
+    } catch (const std::exception& e) {
+        m_shown = {}; // nothing left to put back; the error says so
+        throw renderer::RenderError(failure + "; the previous volume could not be put back on the GPU either: " +
+                                    e.what());
+    }
 }
 
 uint64_t RenderThread::requestView(const ViewRequest& request) {
@@ -184,6 +233,10 @@ void RenderThread::loop(std::promise<std::string> started) {
             lock.unlock();
             try {
                 task(r);
+            } catch (const std::bad_alloc&) { // what the renderer did not name itself
+                lock.lock();
+                if (report) m_errors.push_back(unnamedOutOfMemory("a scene change"));
+                continue;
             } catch (const std::exception& e) {
                 lock.lock();
                 if (report) m_errors.push_back(e.what());
@@ -200,6 +253,10 @@ void RenderThread::loop(std::promise<std::string> started) {
             const std::vector<int> levels = levelsToDraw(request, int(r.levels.size()));
             for (size_t i = 0; i < levels.size(); ++i)
                 if (!renderLevel(r, levels[i], id, request, i > 0, i + 1 == levels.size())) break;
+        } catch (const std::bad_alloc&) {
+            const std::string error = unnamedOutOfMemory("drawing the view");
+            std::lock_guard errorLock(m_mutex);
+            m_errors.push_back(error);
         } catch (const std::exception& e) {
             std::lock_guard errorLock(m_mutex);
             m_errors.push_back(e.what());
@@ -213,6 +270,11 @@ void RenderThread::loop(std::promise<std::string> started) {
     m_viewDone.notify_all();
     lock.unlock();
     r = {}; // the renderers before the context
+}
+
+std::string RenderThread::unnamedOutOfMemory(const char* doing) const {
+    return renderer::volumeSubject(m_sceneName) + ": out of memory on the render thread " + doing +
+           " (the last image stays)";
 }
 
 bool RenderThread::superseded(uint64_t id, Clock::time_point started, double budgetMs, bool refinement) const {
@@ -277,9 +339,14 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
     view.last = last;
     view.width = request.plane.width, view.height = request.plane.height;
     view.plane = request.plane;
+    const std::string whose = renderer::volumeSubject(m_sceneName);
+    const std::string where = " at " + std::to_string(view.width) + "x" + std::to_string(view.height);
     // The image, and the heatmap when asked: the viewport blends them, so an opacity change draws no frame.
     const auto pixels = [&](bool heatmap) {
-        std::vector<uint8_t> rgba(size_t(view.width) * size_t(view.height) * 4);
+        std::vector<uint8_t> rgba;
+        renderer::namingAllocation(whose, heatmap ? "heatmap's pixels" : "view's pixels",
+                                   size_t(view.width) * size_t(view.height) * 4, where,
+                                   [&] { rgba.resize(size_t(view.width) * size_t(view.height) * 4); });
         const unsigned texture = which.displayTexture(request.background.data(), heatmap);
         glGetTextureImage(texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(rgba.size()), rgba.data());
         renderer::checkGlErrors("render thread: the view's pixels");
@@ -297,7 +364,8 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
         m_levelPixelsOf = id;
     }
     if (level > 0) {
-        m_levelPixels[size_t(level)] = view.rgba;
+        renderer::namingAllocation(whose, "copy of a level's pixels", view.rgba.size(), where,
+                                   [&] { m_levelPixels[size_t(level)] = view.rgba; });
     } else {
         for (int k = 1; k < kMaxViewLevels; ++k)
             if (m_levelPixels[size_t(k)].size() == view.rgba.size())

@@ -74,7 +74,12 @@ class RenderThread {
 
     // Scene changes, run in order before any view asked for after them. Errors come back through takeError.
     using Scenes = std::vector<std::shared_ptr<const renderer::SplatScene>>;
+    // A scene change that fails (out of GPU memory, say) puts the scenes shown before back, so the view
+    // keeps showing the previous volume.
     void setScenes(std::shared_ptr<const renderer::SplatScene> full, Scenes levels); // forgets the times
+    // The same, waiting for it: throws its error (opening a volume: the document changes only once the
+    // renderers hold the new one).
+    void setScenesNow(std::shared_ptr<const renderer::SplatScene> full, Scenes levels);
     void setLuts(const renderer::Lut& full, std::vector<renderer::Lut> levels);
     void setGradients(std::shared_ptr<const renderer::SplatScene> full, Scenes levels);
     void setLevelScenes(Scenes levels); // the window dragged: the levels alone re-classified
@@ -115,6 +120,14 @@ class RenderThread {
     bool renderLevel(Renderers& r, int level, uint64_t id, const ViewRequest& request, bool refinement, bool last);
     bool superseded(uint64_t id, std::chrono::steady_clock::time_point started, double budgetMs,
                     bool refinement) const;
+    // Scenes to the renderers (setScenes); on failure the shown ones back, and the error rethrown.
+    void uploadScenes(Renderers& r, const std::shared_ptr<const renderer::SplatScene>& full,
+                      const Scenes& levels);
+    // The scenes, gradients and LUTs shown before a change that failed with `failure`; should they not go
+    // back either, a RenderError saying both.
+    void restoreShown(Renderers& r, const std::string& failure);
+    // The message of a std::bad_alloc that nothing named on its way up, while `doing` something.
+    std::string unnamedOutOfMemory(const char* doing) const;
 
     mutable std::mutex m_mutex;
     std::condition_variable m_wake, m_viewDone;
@@ -131,6 +144,14 @@ class RenderThread {
     std::array<double, kMaxViewLevels> m_levelRmse{-1, -1, -1, -1};
     std::array<std::vector<uint8_t>, kMaxViewLevels> m_levelPixels;
     uint64_t m_levelPixelsOf = 0;
+    std::string m_sceneName; // the full scene's (its volume's) name, for messages
+    // What the renderers hold, as last set: a scene change that fails puts it back.
+    struct Shown {
+        std::shared_ptr<const renderer::SplatScene> full, fullGradients;
+        Scenes levels, levelGradients;
+        std::optional<renderer::Lut> fullLut;
+        std::vector<renderer::Lut> levelLuts;
+    } m_shown;
     // Tests and benchmarks: every level of a view waits this long first, in steps a newer request
     // interrupts (SPLATLAB_RENDER_DELAY_MS), standing for a scan whose frames take that long.
     int m_delayMs = 0;

@@ -136,6 +136,8 @@ size_t SplatRenderer::Gl::classifyPatches(const ImagePlane& plane, const SplatSe
         glDeleteTextures(1, &patchTexture);
         glCreateTextures(GL_TEXTURE_3D, 1, &patchTexture);
         glTextureStorage3D(patchTexture, 1, GL_R8UI, size.x, size.y, size.z);
+        patchTextureSize = glm::ivec3(0);   // until made: a failure leaves none, and the next frame tries again
+        checkGpuAllocation("patch modes texture", n);
         glTextureParameteri(patchTexture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);   // else incomplete (integer)
         glTextureParameteri(patchTexture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         patchTextureSize = size;

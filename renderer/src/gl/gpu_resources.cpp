@@ -1,7 +1,43 @@
 // The GL objects SplatRenderer::Gl owns: render targets, growable buffers, buffer textures, teardown.
 #include "splat_renderer_state.h"
 
+#include "renderer/out_of_memory.h"
+
+#include <cctype>
+
 namespace renderer {
+
+bool takeOutOfMemory(const std::string& stage) {
+    std::vector<std::string> errors = takeGlErrors();
+    bool outOfMemory = false;
+    for (GLenum e = glGetError(); e != GL_NO_ERROR; e = glGetError()) {
+        outOfMemory |= e == GL_OUT_OF_MEMORY;
+        errors.push_back("glGetError " + std::to_string(e));
+    }
+    for (const std::string& e : errors) {
+        std::string lowered = e;
+        std::transform(lowered.begin(), lowered.end(), lowered.begin(),
+                       [](unsigned char c) { return char(std::tolower(c)); });
+        outOfMemory |= lowered.find("out of memory") != std::string::npos ||
+                       lowered.find("out_of_memory") != std::string::npos;
+    }
+    if (outOfMemory) return true;
+    if (!errors.empty()) {
+        std::string all;
+        for (const auto& e : errors) all += (all.empty() ? "" : "; ") + e;
+        throw GlError(stage, all);
+    }
+    return false;
+}
+
+std::string SplatRenderer::Gl::frameText() const {
+    return framePx.x > 0 ? " at " + std::to_string(framePx.x) + "x" + std::to_string(framePx.y) : std::string();
+}
+
+void SplatRenderer::Gl::checkGpuAllocation(const char* what, uint64_t bytes) const {
+    if (takeOutOfMemory(std::string("allocating the ") + what))
+        throw outOfMemory(volumeSubject(sceneName), what, bytes, frameText(), Memory::Gpu);
+}
 
 SplatRenderer::Gl::~Gl() {
     for (auto [bits, p] : splatPrograms) glDeleteProgram(p);
@@ -64,6 +100,15 @@ GLuint SplatRenderer::Gl::makeFbo(std::initializer_list<GLuint> colours, GLuint 
 void SplatRenderer::Gl::ensureTargets(int w, int h) {
     if (w == width && h == height && image) return;
     releaseTargets();
+    width = height = 0;   // until every target is made: a failure leaves none, and the next frame tries again
+    // Four RGBA32F images (image, heatmap, their sheets), 32-bit depth and the 8-bit display image.
+    const uint64_t bytes = uint64_t(w) * uint64_t(h) * (4 * 16 + 4 + 4);
+    const auto made = [&] {
+        if (!takeOutOfMemory("render targets")) return;
+        releaseTargets();
+        throw outOfMemory(volumeSubject(sceneName), "render targets", bytes,
+                          " at " + std::to_string(w) + "x" + std::to_string(h), Memory::Gpu);
+    };
     image = makeTexture(GL_RGBA32F, w, h);
     heat = makeTexture(GL_RGBA32F, w, h);
     sheet = makeTexture(GL_RGBA32F, w, h);
@@ -72,6 +117,7 @@ void SplatRenderer::Gl::ensureTargets(int w, int h) {
     displayTex = makeTexture(GL_RGBA8, w, h);
     glTextureParameteri(displayTex, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(displayTex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    made();   // before the framebuffers, which a missing texture leaves incomplete
     frameFbo = makeFbo({image, heat}, depth);
     sheetFbo = makeFbo({sheet, sheetHeat}, depth);
     displayFbo = makeFbo({displayTex}, 0);
@@ -79,17 +125,27 @@ void SplatRenderer::Gl::ensureTargets(int w, int h) {
     tiles = glm::ivec2((w + kOpaqueTilePx - 1) / kOpaqueTilePx, (h + kOpaqueTilePx - 1) / kOpaqueTilePx);
     glCreateBuffers(1, &opaqueTiles);
     glNamedBufferStorage(opaqueTiles, GLsizeiptr(opaqueMapBytes()), nullptr, 0);
+    made();
     width = w;
     height = h;
 }
 
 // Grows `buffer` to at least `bytes` (with headroom); its contents are not kept.
-void SplatRenderer::Gl::ensureBuffer(GLuint& buffer, size_t& capacity, size_t bytes) {
+void SplatRenderer::Gl::ensureBuffer(GLuint& buffer, size_t& capacity, size_t bytes, const char* what) {
     if (bytes <= capacity && buffer) return;
     glDeleteBuffers(1, &buffer);
-    capacity = std::max<size_t>(bytes + bytes / 4, 64);
+    const size_t grown = std::max<size_t>(bytes + bytes / 4, 64);
+    capacity = 0;
     glCreateBuffers(1, &buffer);
-    glNamedBufferStorage(buffer, GLsizeiptr(capacity), nullptr, 0);
+    glNamedBufferStorage(buffer, GLsizeiptr(grown), nullptr, 0);
+    try {
+        checkGpuAllocation(what, grown);
+    } catch (...) {
+        glDeleteBuffers(1, &buffer);
+        buffer = 0;
+        throw;
+    }
+    capacity = grown;
 }
 
 // Binds to `unit` the buffer texture `texture` (created on first use) over the first `bytes` of

@@ -2,8 +2,9 @@
 // memory checks that turn GL_OUT_OF_MEMORY into a RenderError saying how much the scene needs.
 #include "splat_renderer_state.h"
 
+#include "renderer/out_of_memory.h"
+
 #include <algorithm>
-#include <cctype>
 
 namespace renderer {
 
@@ -38,27 +39,34 @@ std::string memoryMessage(const std::string& name, uint64_t needed, std::optiona
 // saying how much the scene needs; other GL errors stay GlErrors.
 void checkAllocation(const char* what, const std::string& name, uint64_t needed,
                      std::optional<uint64_t> freeBytes) {
-    std::vector<std::string> errors = takeGlErrors();
-    bool outOfMemory = false;
-    for (GLenum e = glGetError(); e != GL_NO_ERROR; e = glGetError()) {
-        outOfMemory |= e == GL_OUT_OF_MEMORY;
-        errors.push_back("glGetError " + std::to_string(e));
-    }
-    for (const std::string& e : errors) {
-        std::string lowered = e;
-        std::transform(lowered.begin(), lowered.end(), lowered.begin(),
-                       [](unsigned char c) { return char(std::tolower(c)); });
-        outOfMemory |= lowered.find("out of memory") != std::string::npos ||
-                       lowered.find("out_of_memory") != std::string::npos;
-    }
-    if (outOfMemory)
+    if (takeOutOfMemory(std::string("SplatRenderer::setScene ") + what))
         throw RenderError(
             memoryMessage(name, needed, freeBytes, std::string(" (GL_OUT_OF_MEMORY allocating the ") + what + ")"));
-    if (!errors.empty()) {
-        std::string all;
-        for (const auto& e : errors) all += (all.empty() ? "" : "; ") + e;
-        throw GlError(std::string("SplatRenderer::setScene ") + what, all);
+}
+
+// One axis's lists as the GPU reads them (host side: Gl::makeResident uploads them).
+AxisBuffers hostAxis(const AxisLists& lists) {
+    AxisBuffers a;
+    const size_t n = lists.runs.size();
+    a.hostEntries = lists.entries;
+    a.hostEntries.resize(std::max<size_t>((lists.entries.size() + 1) / 2, 1) * 2, 0);
+    a.hostRuns.assign(std::max<size_t>(n, 1), glm::uvec4(0));
+    a.buckets.resize(n);
+    a.voxels.resize(n);
+    a.lo.resize(n);
+    a.hi.resize(n);
+    a.sliceRuns = lists.sliceRuns;
+    for (size_t r = 0; r < n; ++r) {
+        const SliceRun& run = lists.runs[r];
+        a.hostRuns[r] = glm::uvec4(run.dense ? 0u : run.first, run.tileBase,
+                                   run.slice | uint32_t(run.bucket) << 16 | (run.dense ? 1u << 31 : 0u), run.count);
+        a.buckets[r] = run.bucket;
+        a.voxels[r] = run.voxels;
+        a.lo[r] = run.lo;
+        a.hi[r] = run.hi;
     }
+    a.runCount = uint32_t(n);
+    return a;
 }
 
 } // namespace
@@ -77,28 +85,15 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     std::array<AxisBuffers, 3> axes;   // host side only until the check passes
     uint64_t listBytes = 0;
     size_t mostRuns = 1;
-    for (int axis = 0; axis < 3; ++axis) {
-        const AxisLists& lists = scene.lists[size_t(axis)];
-        AxisBuffers& a = axes[size_t(axis)];
-        const size_t n = lists.runs.size();
-        a.hostEntries = lists.entries;
-        a.hostEntries.resize(std::max<size_t>((lists.entries.size() + 1) / 2, 1) * 2, 0);
-        a.hostRuns.assign(std::max<size_t>(n, 1), glm::uvec4(0));
-        a.buckets.resize(n);
-        a.voxels.resize(n);
-        a.lo.resize(n);
-        a.hi.resize(n);
-        a.sliceRuns = lists.sliceRuns;
-        for (size_t r = 0; r < n; ++r) {
-            const SliceRun& run = lists.runs[r];
-            a.hostRuns[r] = glm::uvec4(run.dense ? 0u : run.first, run.tileBase,
-                                       run.slice | uint32_t(run.bucket) << 16 | (run.dense ? 1u << 31 : 0u), run.count);
-            a.buckets[r] = run.bucket;
-            a.voxels[r] = run.voxels;
-            a.lo[r] = run.lo;
-            a.hi[r] = run.hi;
-        }
-        a.runCount = uint32_t(n);
+    // The host copies of the three axes' lists, kept to upload an axis when the view turns to it.
+    uint64_t hostBytes = 0;
+    for (const AxisLists& lists : scene.lists)
+        hostBytes += lists.entries.size() * 2 + lists.sliceRuns.size() * 4 +
+                     lists.runs.size() * (sizeof(glm::uvec4) + 2 + 4 + 2 * sizeof(glm::u16vec2));
+    namingAllocation(volumeSubject(scene.name), "copies of the slice lists for the GPU", hostBytes, "", [&] {
+        for (int axis = 0; axis < 3; ++axis) axes[size_t(axis)] = hostAxis(scene.lists[size_t(axis)]);
+    });
+    for (const AxisBuffers& a : axes) {
         listBytes = std::max(listBytes, a.gpuBytes());
         mostRuns = std::max(mostRuns, a.hostRuns.size());
     }
@@ -166,7 +161,8 @@ void SplatRenderer::setGradients(const SplatScene& scene) {
         throw RenderError("SplatRenderer::setGradients: call setScene with scene '" + scene.name + "' first");
     // Packed gradients, 3 bytes a voxel, when the scene has them (one word otherwise: a valid binding).
     const size_t bytes = gradientBufferBytes(scene.gradients.size());
-    std::vector<uint8_t> packed(bytes, 0);
+    std::vector<uint8_t> packed = namingAllocation(volumeSubject(scene.name), "packed gradients for the GPU", bytes,
+                                                   "", [&] { return std::vector<uint8_t>(bytes, 0); });
     for (size_t v = 0; v < scene.gradients.size(); ++v)
         for (size_t k = 0; k < 3; ++k) packed[3 * v + k] = uint8_t(scene.gradients[v] >> (8 * k));
     glDeleteBuffers(1, &g.gradientBuffer);

@@ -7,7 +7,10 @@
 // This file: construction, render() and the steps of drawFrame(), read-back; the steps live beside it.
 #include "splat_renderer_state.h"
 
+#include "renderer/out_of_memory.h"
+
 #include <chrono>
+#include <exception>
 
 namespace renderer {
 
@@ -44,11 +47,22 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
 SplatRenderer::~SplatRenderer() = default;
 
 void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& settings) {
-    std::string refused = drawFrame(plane, settings, false);
-    // Auto: one slice's tile lists did not fit; the same frame through the rasteriser, with tiles'
-    // semantics.
-    if (!refused.empty() && settings.primitive == SplatSettings::Primitive::Auto)
-        refused = drawFrame(plane, settings, true);
+    // The frame's size in the messages of allocations that fail while drawing it.
+    struct FrameScope {
+        Gl& g;
+        ~FrameScope() { g.framePx = glm::ivec2(0); }
+    } scope{*m_gl};
+    m_gl->framePx = glm::ivec2(plane.width, plane.height);
+    std::string refused;
+    try {
+        refused = drawFrame(plane, settings, false);
+        // Auto: one slice's tile lists did not fit; the same frame through the rasteriser, with tiles'
+        // semantics.
+        if (!refused.empty() && settings.primitive == SplatSettings::Primitive::Auto)
+            refused = drawFrame(plane, settings, true);
+    } catch (const std::bad_alloc&) {   // host memory: the GPU's failures name their buffer themselves
+        throw outOfMemory(volumeSubject(m_gl->sceneName), "frame's working data", 0, m_gl->frameText());
+    }
     if (!refused.empty()) throw RenderError(refused);
 }
 
@@ -59,24 +73,34 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     //    primitive (frame_plan.cpp). Throws on what it cannot draw, before anything is issued.
     FramePlan f = g.planFrame(plane, settings, rasterise);
     g.interrupted = false;
-    // 2. Start the timers and the fragment query. Nothing below throws before they end: a query left
+    // 2. Start the timers and the fragment query. What throws below is held until they end: a query left
     //    active would break the next frame (NVIDIA keeps a deleted active query running).
     collectTimers();
     g.beginTiming(settings, m_stats);
-    // 3. Select the buckets, clear the targets, classify the patches, bind the splat program
-    //    (frame_passes.cpp).
-    g.prepareFrame(f);
-    // 4. Splat the slices: compute passes per screen tile, or the rasteriser.
-    m_stats.slicesDrawn = 0;
-    m_stats.tileEntries = 0;
-    m_stats.tileListSplits = 0;
     std::string refused;   // why this frame could not be drawn, when only drawing it tells
-    if (f.tiles) refused = g.drawTiled(f, m_stats);
-    else g.drawRasterised(f, m_stats);
+    std::exception_ptr failed;   // e.g. a buffer that could not grow: thrown once the queries ended
+    try {
+        // 3. Select the buckets, clear the targets, classify the patches, bind the splat program
+        //    (frame_passes.cpp).
+        g.prepareFrame(f);
+        // 4. Splat the slices: compute passes per screen tile, or the rasteriser.
+        m_stats.slicesDrawn = 0;
+        m_stats.tileEntries = 0;
+        m_stats.tileListSplits = 0;
+        if (f.tiles) refused = g.drawTiled(f, m_stats);
+        else g.drawRasterised(f, m_stats);
+    } catch (...) {
+        failed = std::current_exception();
+    }
     // 5. End the timers and the query.
     g.endTiming(f);
     glDisable(GL_BLEND);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (failed) {
+        takeGlErrors();   // what the failed allocation left; the next frame starts clean
+        while (glGetError() != GL_NO_ERROR) {}
+        std::rethrow_exception(failed);
+    }
     checkGlErrors("SplatRenderer::render");
     if (!refused.empty()) return refused;   // found mid-frame: reported once the queries ended
     if (g.interrupted) throw Cancelled("SplatRenderer::render: interrupted; the image is incomplete");
@@ -102,7 +126,8 @@ std::vector<uint8_t> SplatRenderer::patchModes(const ImagePlane& plane, const Sp
     if (!g.classTexture) throw RenderError("SplatRenderer::patchModes called before setScene");
     const size_t n = g.classifyPatches(plane, settings, chooseTraversal(plane).axis);
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
-    std::vector<uint8_t> modes(n);
+    std::vector<uint8_t> modes = namingAllocation(volumeSubject(g.sceneName), "patch modes", n, "",
+                                                  [&] { return std::vector<uint8_t>(n); });
     glPixelStorei(GL_PACK_ALIGNMENT, 1);   // rows of any number of patches, unpadded
     glGetTextureImage(g.patchTexture, 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE, GLsizei(n), modes.data());
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
@@ -112,10 +137,17 @@ std::vector<uint8_t> SplatRenderer::patchModes(const ImagePlane& plane, const Sp
 
 namespace {
 
-Image readTexture(GLuint texture, int w, int h) {
-    Image img(w, h);
+// `what` and `sceneName` name the image in the message when its memory runs out.
+Image readTexture(GLuint texture, int w, int h, const char* what, const std::string& sceneName) {
+    const size_t floats = size_t(w) * size_t(h) * 4;
+    std::vector<float> raw;
+    Image img = namingAllocation(volumeSubject(sceneName), what, 2 * floats * sizeof(float),
+                                 " at " + std::to_string(w) + "x" + std::to_string(h), [&] {
+                                     Image made(w, h);
+                                     if (texture) raw.resize(floats);
+                                     return made;
+                                 });
     if (!texture) return img;
-    std::vector<float> raw(img.rgba.size());
     glGetTextureImage(texture, 0, GL_RGBA, GL_FLOAT, GLsizei(raw.size() * sizeof(float)), raw.data());
     const size_t row = size_t(w) * 4;
     for (int y = 0; y < h; ++y)   // GL's row 0 is the bottom
@@ -126,9 +158,13 @@ Image readTexture(GLuint texture, int w, int h) {
 
 } // namespace
 
-Image SplatRenderer::readback() const { return readTexture(m_gl->image, m_gl->width, m_gl->height); }
+Image SplatRenderer::readback() const {
+    return readTexture(m_gl->image, m_gl->width, m_gl->height, "read-back image", m_gl->sceneName);
+}
 
-Image SplatRenderer::readbackHeatmap() const { return readTexture(m_gl->heat, m_gl->width, m_gl->height); }
+Image SplatRenderer::readbackHeatmap() const {
+    return readTexture(m_gl->heat, m_gl->width, m_gl->height, "read-back heatmap", m_gl->sceneName);
+}
 
 unsigned SplatRenderer::displayTexture(const float background[3], bool heatmap) {
     Gl& g = *m_gl;

@@ -211,8 +211,16 @@ struct SplatRenderer::Gl {
     // The frame's image, heatmap, sheets and depth at w x h (kept while the size stays) and the
     // opaque-tile map.
     void ensureTargets(int w, int h);
-    // Grows `buffer` to at least `bytes` (with headroom); its contents are not kept.
-    static void ensureBuffer(GLuint& buffer, size_t& capacity, size_t bytes);
+    // Grows `buffer` to at least `bytes` (with headroom); its contents are not kept. GL_OUT_OF_MEMORY
+    // throws outOfMemory() naming the scene, `what` and the size, and leaves no buffer (the next frame
+    // tries again).
+    void ensureBuffer(GLuint& buffer, size_t& capacity, size_t bytes, const char* what);
+    // Right after a GPU allocation of `bytes` for `what`: GL_OUT_OF_MEMORY becomes outOfMemory() naming
+    // the scene and the frame's size; other GL errors stay GlErrors.
+    void checkGpuAllocation(const char* what, uint64_t bytes) const;
+    // " at 1920x1080": the size of the frame being drawn, for messages ("" outside a frame).
+    std::string frameText() const;
+    glm::ivec2 framePx{0};   // the frame being drawn (render() sets it; 0 outside a frame)
     // Binds to `unit` the buffer texture `texture` (created on first use) over the first `bytes` of
     // `buffer`: llvmpipe fetches texels lane by lane as a gather, storage-buffer values component by
     // component, so the passes read what they do not write as texels.
@@ -287,6 +295,9 @@ struct SplatRenderer::Gl {
 
 // The shading uniforms (struct ShadingParams in shading.glsl) of program `p`.
 void setShadingUniforms(GLuint p, const ShadingParams& sp);
+// Drains the GL errors after an allocation: true when one says out of memory (glGetError's
+// GL_OUT_OF_MEMORY or the KHR_debug message of it); any other error throws GlError(stage, ...).
+bool takeOutOfMemory(const std::string& stage);
 
 // How many iterations the driver lets one invocation's loops run; 0: no limit found (program_variants.cpp).
 uint32_t measureLoopLimit();

@@ -77,10 +77,10 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
         k0 += chunk;
         if (occlusion) chunk = uint32_t(nextOcclusionChunk(settings, int(k0), int(chunk), anyOpaque));
     };
-    Gl::ensureBuffer(g.tileSplats, g.tileSplatBytes, std::max<uint64_t>(chunkSplats, 1) * recordBytes);
-    Gl::ensureBuffer(g.tileBins, g.tileBinBytes, binBytes);
-    Gl::ensureBuffer(g.tileState, g.tileStateBytes, (4 + size_t(tileCount)) * 4);
-    Gl::ensureBuffer(g.tileBusy, g.tileBusyBytes, (4 + size_t(tileCount)) * 4);
+    Gl::ensureBuffer(g.tileSplats, g.tileSplatBytes, std::max<uint64_t>(chunkSplats, 1) * recordBytes, "splat records");
+    Gl::ensureBuffer(g.tileBins, g.tileBinBytes, binBytes, "tile counts");
+    Gl::ensureBuffer(g.tileState, g.tileStateBytes, (4 + size_t(tileCount)) * 4, "tile offsets");
+    Gl::ensureBuffer(g.tileBusy, g.tileBusyBytes, (4 + size_t(tileCount)) * 4, "busy-tile list");
     // The scatter's records (as many as the driver allows) and tile bases.
     Gl::bindTexels(g.tileSplatTexture, GL_RGBA32F, g.tileSplats,
                    GLsizeiptr(std::min<uint64_t>(g.tileSplatBytes / 16, g.texelCap()) * 16), 6);
@@ -147,7 +147,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
             }
             const GLuint cullMap = split && occlusion ? g.chunkStartMap : g.opaqueTiles;
             if (settings.counters) {   // a part that does not fit goes again: it must not count twice
-                Gl::ensureBuffer(g.savedCounters, g.savedCounterBytes, kCounterSlots * 4);
+                Gl::ensureBuffer(g.savedCounters, g.savedCounterBytes, kCounterSlots * 4, "saved counters");
                 glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
                 glCopyNamedBufferSubData(g.counterBuffer, g.savedCounters, 0, 0, kCounterSlots * 4);
             }
@@ -221,7 +221,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
                 }
                 if (occlusion && !split) {   // nothing of this chunk is composited yet
                     const size_t mapBytes = g.opaqueMapBytes();
-                    Gl::ensureBuffer(g.chunkStartMap, g.chunkStartMapBytes, mapBytes);
+                    Gl::ensureBuffer(g.chunkStartMap, g.chunkStartMapBytes, mapBytes, "opaque-tile map's copy");
                     glCopyNamedBufferSubData(g.opaqueTiles, g.chunkStartMap, 0, 0, GLsizeiptr(mapBytes));
                 }
                 if (settings.counters)
@@ -236,7 +236,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
                 continue;
             }
             stats.tileEntries += counts[1];
-            Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * texels * 16);
+            Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * texels * 16, "tile lists");
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.tileList);
 
             // 3d. Scatter: each splat into its tiles' lists (tile_scatter.comp).

@@ -3,6 +3,7 @@
 
 #include "renderer/io/atomic_file.h"
 #include "renderer/errors.h"
+#include "renderer/out_of_memory.h"
 
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
@@ -33,7 +34,10 @@ static void writePixels(OIIO::ImageOutput& out, const Image& image, const std::f
         // For people: composite the premultiplied image over the background, 8-bit RGB.
         const float zero[3] = {0, 0, 0};
         const float* bg = background ? background : zero;
-        std::vector<unsigned char> rgb(n * 3);
+        std::vector<unsigned char> rgb =
+            namingAllocation(path.string(), "8-bit copy of the image", n * 3,
+                             " at " + std::to_string(image.width) + "x" + std::to_string(image.height),
+                             [&] { return std::vector<unsigned char>(n * 3); });
         for (size_t i = 0; i < n; ++i) {
             const float* p = &image.rgba[i * 4];
             for (int c = 0; c < 3; ++c) {
@@ -119,7 +123,10 @@ void writeImage(const Image& image, const std::filesystem::path& path, const flo
         std::vector<float> pixels;
         bool ok = in && in->spec().width == image.width && in->spec().height == image.height;
         if (ok) {
-            pixels.resize(size_t(image.width) * size_t(image.height) * size_t(in->spec().nchannels));
+            const size_t floats = size_t(image.width) * size_t(image.height) * size_t(in->spec().nchannels);
+            namingAllocation(path.string(), "image read back to check the write", floats * sizeof(float),
+                             " at " + std::to_string(image.width) + "x" + std::to_string(image.height),
+                             [&] { pixels.resize(floats); });
             ok = in->read_image(0, 0, 0, in->spec().nchannels, OIIO::TypeDesc::FLOAT, pixels.data());
         }
         if (!ok)
@@ -136,10 +143,17 @@ Image readImage(const std::filesystem::path& path) {
     const auto& spec = in->spec();
     if (spec.nchannels < 1) throw LoadError(path.string(), "channels", "image has no channels");
     checkImageSize(path, spec, in->format_name());
-    std::vector<float> data(size_t(spec.width) * spec.height * spec.nchannels);
+    // The file's channels as floats, then the RGBA image: named with their size should they not fit.
+    const size_t pixels = size_t(spec.width) * size_t(spec.height);
+    std::vector<float> data;
+    Image img =
+        namingAllocation(path.string(), "image's pixels", pixels * (size_t(spec.nchannels) + 4) * 4,
+                         " at " + std::to_string(spec.width) + "x" + std::to_string(spec.height), [&] {
+                             data.resize(pixels * size_t(spec.nchannels));
+                             return Image(spec.width, spec.height);
+                         });
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
         throw LoadError(path.string(), "", "cannot read pixels: " + in->geterror());
-    Image img(spec.width, spec.height);
     for (size_t i = 0; i < size_t(spec.width) * spec.height; ++i) {
         const float* s = &data[i * spec.nchannels];
         float* d = &img.rgba[i * 4];

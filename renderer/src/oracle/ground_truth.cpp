@@ -6,6 +6,7 @@
 
 #include "renderer/errors.h"
 #include "renderer/oracle/reference_renderer.h"
+#include "renderer/out_of_memory.h"
 
 #include <tbb/parallel_for.h>
 
@@ -188,8 +189,9 @@ private:
 
 } // namespace
 
-Image renderGroundTruth(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
-                        const GroundTruthOptions& options, const Progress& progress, GroundTruthStats* stats) {
+static Image renderGroundTruthOrThrow(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                                     const GroundTruthOptions& options, const Progress& progress,
+                                     GroundTruthStats* stats) {
     const auto t0 = std::chrono::steady_clock::now();
     if (!(options.tolerance > 0.0)) throw RenderError("ground truth: tolerance must be > 0");
     if (options.supersample < 0 || options.supersample > 8)
@@ -347,6 +349,17 @@ std::filesystem::path defaultGroundTruthCacheDir() {
     if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return std::filesystem::path(d) / "splatlab" / "reference";
     if (const char* d = std::getenv("HOME"); d && *d) return std::filesystem::path(d) / ".cache" / "splatlab" / "reference";
     return std::filesystem::temp_directory_path() / "splatlab-reference";
+}
+
+// An allocation that fails (the samples, the image) names the volume and the view's size.
+Image renderGroundTruth(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                        const GroundTruthOptions& options, const Progress& progress, GroundTruthStats* stats) {
+    try {
+        return renderGroundTruthOrThrow(scene, plane, settings, options, progress, stats);
+    } catch (const std::bad_alloc&) {
+        throw outOfMemory(volumeSubject(scene.name), "ground truth's samples and image", 0,
+                          " at " + std::to_string(plane.width) + "x" + std::to_string(plane.height));
+    }
 }
 
 Image cachedGroundTruth(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,

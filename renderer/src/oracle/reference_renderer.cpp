@@ -6,6 +6,7 @@
 #include "renderer/math/classifier.h"
 #include "renderer/errors.h"
 #include "renderer/math/shading.h"
+#include "renderer/out_of_memory.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
@@ -150,8 +151,9 @@ std::vector<uint8_t> patchModes(const SplatScene& scene, const ImagePlane& plane
     return modes;
 }
 
-Image renderReference(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
-                      SplatCounters* counters, Image* heatmap, const std::vector<uint8_t>* previousPatchModes) {
+static Image renderReferenceOrThrow(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                                   SplatCounters* counters, Image* heatmap,
+                                   const std::vector<uint8_t>* previousPatchModes) {
     const Compositing mode = settings.compositing;
     const bool sheets = mode == Compositing::SheetBackToFront || mode == Compositing::SheetFrontToBack;
     const bool ftb = frontToBack(settings);
@@ -366,6 +368,17 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
         }
     }
     return img;
+}
+
+// An allocation that fails (the splats' geometry, the image) names the volume and the view's size.
+Image renderReference(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                      SplatCounters* counters, Image* heatmap, const std::vector<uint8_t>* previousPatchModes) {
+    try {
+        return renderReferenceOrThrow(scene, plane, settings, counters, heatmap, previousPatchModes);
+    } catch (const std::bad_alloc&) {
+        throw outOfMemory(volumeSubject(scene.name), "CPU reference's splats and image", 0,
+                          " at " + std::to_string(plane.width) + "x" + std::to_string(plane.height));
+    }
 }
 
 } // namespace renderer
