@@ -10,6 +10,7 @@
 #include "renderer/model/gradients.h"
 #include "renderer/oracle/ground_truth.h"
 #include "renderer/math/metrics.h"
+#include "renderer/oracle/near_layer.h"
 #include "renderer/oracle/reference_renderer.h"
 #include "renderer/gl/splat_renderer.h"
 #include "renderer/io/volume_io.h"
@@ -419,20 +420,27 @@ struct RenderArgs {
 };
 
 void printCounters(const SplatCounters& c) {
-    std::printf("  drawn %llu (reconstruction %llu, low-pass %llu, ewa %llu); culled transparent %llu, near %llu, "
-                "offscreen %llu, huge %llu, degenerate %llu, hidden behind opaque %llu\n",
-                (unsigned long long)c.drawn, (unsigned long long)c.drawnPerMode[0], (unsigned long long)c.drawnPerMode[1],
-                (unsigned long long)c.drawnPerMode[2], (unsigned long long)c.culledTransparent,
-                (unsigned long long)c.culledNear, (unsigned long long)c.culledOffscreen, (unsigned long long)c.culledHuge,
-                (unsigned long long)c.culledDegenerate, (unsigned long long)c.culledOccluded);
+    using ull = unsigned long long;
+    std::printf("  drawn %llu (reconstruction %llu, low-pass %llu, ewa %llu); culled transparent %llu, near %llu "
+                "(near layer %llu, dropped %llu), offscreen %llu, huge %llu, degenerate %llu, hidden behind "
+                "opaque %llu\n", ull(c.drawn), ull(c.drawnPerMode[0]), ull(c.drawnPerMode[1]), ull(c.drawnPerMode[2]),
+                ull(c.culledTransparent), ull(c.culledNear), ull(c.nearLayer), ull(c.droppedNear),
+                ull(c.culledOffscreen), ull(c.culledHuge), ull(c.culledDegenerate), ull(c.culledOccluded));
 }
 
-// What a guard left out of the image, on stderr: splats whose kernels reach the near plane (the ground truth
-// clips those at it instead) and, where SplatSettings::maxFootprintFraction is set, huge footprints.
-// Counted when the counters ran; otherwise the near plane is checked against the volume's nearest voxel.
+// What a guard left out of the image, on stderr: kernels at the near plane beyond what the near layer takes
+// (near_layer.h), all of them where a frame has no near layer, and, where SplatSettings::maxFootprintFraction
+// is set, huge footprints. Counted when the counters ran; otherwise found on the CPU (findNearKernels) or,
+// without a near layer, the near plane is checked against the volume's nearest voxel.
 void reportDroppedSplats(const Scene& s, const SplatCounters* counted) {
+    const bool layer = hasNearLayer(s.plane, s.settings);
+    const uint64_t dropped = counted ? counted->droppedNear
+                                     : layer ? findNearKernels(s.scene, s.plane, s.settings).dropped : 0;
+    if (dropped > 0)
+        std::fprintf(stderr, "note: %llu kernels at the near plane (%g from the eye) were left out: the near "
+                             "layer takes at most %d\n", (unsigned long long)dropped, s.plane.nearDepth, kMaxNearKernels);
     if (counted) {
-        if (counted->culledNear > 0)
+        if (!layer && counted->culledNear > 0)
             std::fprintf(stderr, "note: %llu splats whose kernels reach the near plane (%g from the eye) were not "
                                  "drawn; the ground truth clips their kernels there\n",
                          (unsigned long long)counted->culledNear, s.plane.nearDepth);
@@ -442,7 +450,7 @@ void reportDroppedSplats(const Scene& s, const SplatCounters* counted) {
         return;
     }
     const glm::dvec2 depths = s.plane.depthRange(s.scene.dims, s.scene.origin, s.scene.spacing);
-    if (!s.plane.orthographic && depths.x <= s.plane.nearDepth)
+    if (!layer && !s.plane.orthographic && depths.x <= s.plane.nearDepth)
         std::fprintf(stderr, "note: the near plane (%g from the eye) cuts the volume: voxels nearer are not drawn "
                              "(the ground truth clips their kernels there); --counters counts them\n",
                      s.plane.nearDepth);

@@ -73,6 +73,9 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     std::string refused;   // why this frame could not be drawn, when only drawing it tells
     if (f.tiles) refused = g.drawTiled(f, m_stats);
     else g.drawRasterised(f, m_stats);
+    // 4b. The kernels at the near plane, integrated along the rays, in front (near_layer_pass.cpp).
+    g.nearDrawn = false;
+    if (refused.empty() && !g.interrupted) g.drawNearLayer(f);
     // 5. End the timers and the query.
     g.endTiming(f);
     glDisable(GL_BLEND);
