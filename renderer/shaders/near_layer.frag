@@ -1,12 +1,13 @@
 // The near layer of one pixel (near_layer.h; nearLayerSums() on the CPU, here in float): its centre ray
 // from the eye, from the near plane on, through each near kernel as a 1D Gaussian on an interval, the
-// kernel's optical depth in closed form (erf). Out: the layer, premultiplied, blended over the image
+// kernel's optical depth in closed form (erf), summed per sheet. Out: the front sheet over the back one,
+// premultiplied, blended over the image
 // (GL_ONE, GL_ONE_MINUS_SRC_ALPHA); X-ray: 1 - exp(-sums), blended onto the resolved sums
 // (GL_ONE, GL_ONE_MINUS_SRC_COLOR: 1 - (1 - a)(1 - b) = 1 - exp(-(A + B))).
 layout(std430, binding = 5) readonly buffer NearKernels {
     uint count;
     uint pad0, pad1, pad2;
-    vec4 kernels[];   // two a kernel: (camera-space centre, extinction), (colour, 0)
+    vec4 kernels[];   // two a kernel: (camera-space centre, extinction), (colour, 0 front sheet or 1 back)
 };
 uniform vec2 uCentrePx;
 uniform float uFPx, uNear;
@@ -31,8 +32,7 @@ void main() {
     vec3 sDir = uInvVarCamera * dir;
     float qa = dot(dir, sDir);
     float width = inversesqrt(qa);
-    float depth = 0.0;
-    vec3 emission = vec3(0.0);
+    vec4 sums[2] = vec4[2](vec4(0.0), vec4(0.0));   // per sheet: (emission, optical depth)
     uint n = min(count, MAX_NEAR_KERNELS);
     for (uint k = 0u; k < n; ++k) {
         vec4 centre = kernels[2u * k];
@@ -48,13 +48,17 @@ void main() {
         float along = uPeak * exp(-0.5 * qMin) * width * 1.25331414 *   // sqrt(pi / 2)
                       (erfApprox((s1 - mid) * scale) - erfApprox((s0 - mid) * scale));
         float tau = centre.w * along;
-        depth += tau;
-        emission += kernels[2u * k + 1u].rgb * tau;
+        vec4 colour = kernels[2u * k + 1u];
+        sums[int(colour.w)] += vec4(colour.rgb * tau, tau);
     }
     if (uXRay) {
-        outColour = vec4(1.0) - exp(-vec4(emission, depth));
-    } else {
-        float alpha = 1.0 - exp(-depth);
-        outColour = depth > 0.0 ? vec4(emission / depth * alpha, alpha) : vec4(0.0);
+        outColour = vec4(1.0) - exp(-(sums[0] + sums[1]));
+        return;
     }
+    vec4 sheet[2];
+    for (int i = 0; i < 2; ++i) {
+        float alpha = 1.0 - exp(-sums[i].w);
+        sheet[i] = sums[i].w > 0.0 ? vec4(sums[i].rgb / sums[i].w * alpha, alpha) : vec4(0.0);
+    }
+    outColour = sheet[0] + (1.0 - sheet[0].a) * sheet[1];   // front over back
 }

@@ -44,6 +44,8 @@ void SplatRenderer::Gl::drawNearLayer(const FramePlan& f) {
     glUniformMatrix3fv(glGetUniformLocation(nearKernelsProgram, "uVarCamera"), 1, GL_FALSE,
                        glm::value_ptr(varCamera));
     glUniform1f(glGetUniformLocation(nearKernelsProgram, "uCutoff"), float(settings.cutoffSigmas));
+    glUniform1f(glGetUniformLocation(nearKernelsProgram, "uNearReach"),
+                float(splatNearReach(plane, settings)));
     glUniform1f(glGetUniformLocation(nearKernelsProgram, "uRadius"), float(test.radius));
     glm::vec3 sides[4];
     for (int s = 0; s < 4; ++s)

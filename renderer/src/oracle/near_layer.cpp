@@ -20,12 +20,17 @@ bool hasNearLayer(const ImagePlane& plane, const SplatSettings& settings) {
     return !plane.orthographic && hasGroundTruth(settings) && settings.surfaceFlatten <= 1.0;
 }
 
+double splatNearReach(const ImagePlane& plane, const SplatSettings& settings) {
+    return settings.cutoffSigmas * (hasNearLayer(plane, settings) ? kNearLayerDepths : 1.0);
+}
+
 NearTest nearTest(glm::dvec3 spacing, const ImagePlane& plane, const SplatSettings& settings) {
     const glm::dvec3 sigma = settings.kernelScale * spacing;
     NearTest t;
     t.nearDepth = plane.nearDepth;
-    t.cutoffDepth =
-        settings.cutoffSigmas * std::sqrt(kernelVarianceCamera(sigma, plane.viewFromObject)[2][2]);
+    const double sigmaU2 = std::sqrt(kernelVarianceCamera(sigma, plane.viewFromObject)[2][2]);
+    t.cutoffDepth = settings.cutoffSigmas * sigmaU2;
+    t.reachDepth = splatNearReach(plane, settings) * sigmaU2;
     t.radius = settings.cutoffSigmas * std::max({sigma.x, sigma.y, sigma.z});
     // Pixel x spans [-reach, width + reach]: rays with u0 / u2 between (x - cx) / f at both ends.
     const double left = (-kFilterReachPx - plane.centrePx.x) / plane.fPx;
@@ -39,9 +44,9 @@ NearTest nearTest(glm::dvec3 spacing, const ImagePlane& plane, const SplatSettin
 
 VoxelBox nearCandidates(glm::ivec3 dims, glm::dvec3 origin, glm::dvec3 spacing, const ImagePlane& plane,
                         const NearTest& test) {
-    // Every accepted centre lies within rho of the eye: depth within near +- cutoffDepth, and sideways
-    // within the widened frustum at that depth.
-    const double zMax = test.nearDepth + test.cutoffDepth;
+    // Every accepted centre lies within rho of the eye: depth from near - cutoffDepth to near + reachDepth,
+    // and sideways within the widened frustum at that depth.
+    const double zMax = test.nearDepth + test.reachDepth;
     double rho2 = std::max(zMax, test.cutoffDepth - test.nearDepth);
     rho2 *= rho2;
     for (int axis = 0; axis < 2; ++axis) {
@@ -86,9 +91,9 @@ NearKernels findNearKernels(const SplatScene& scene, const ImagePlane& plane, co
     return out;
 }
 
-glm::dvec4 nearLayerSums(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
-                         const NearKernels& kernels, int x, int y) {
-    glm::dvec4 sums(0.0);
+NearSums nearLayerSums(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                       const NearKernels& kernels, int x, int y) {
+    NearSums sums;
     if (kernels.voxels.empty()) return sums;
     // The pixel centre's ray from the eye, as the ground truth's (ground_truth.cpp), from the near plane on.
     const glm::dmat3 objectFromView = glm::transpose(plane.viewFromObject);
@@ -99,13 +104,15 @@ glm::dvec4 nearLayerSums(const SplatScene& scene, const ImagePlane& plane, const
     const double start = plane.nearDepth / dirCamera.z;
     const glm::dvec3 sigma = settings.kernelScale * scene.spacing;
     const double peak = kernelPeak(scene.spacing, sigma, settings.cutoffSigmas);
+    const NearTest test = nearTest(scene.spacing, plane, settings);
     for (uint32_t voxel : kernels.voxels) {
         const auto k = kernelAlongRay(eye, dir, scene.positionOf(voxel), sigma, settings.cutoffSigmas, peak);
         if (!k) continue;
         const uint16_t cls = scene.classes[voxel];
         const double tau = extinctionOf(scene, settings, cls) *
                            integrate(*k, start, std::numeric_limits<double>::infinity());
-        sums += glm::dvec4(glm::dvec3(scene.lut[cls]) * tau, tau);
+        (test.front(plane.toCamera(scene.positionOf(voxel))) ? sums.front : sums.back) +=
+            glm::dvec4(glm::dvec3(scene.lut[cls]) * tau, tau);
     }
     return sums;
 }

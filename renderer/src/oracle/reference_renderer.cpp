@@ -49,8 +49,9 @@ SplatGeometry splatGeometry(const SplatScene& scene, const ImagePlane& plane, co
     // A kernel whose cutoff ellipsoid reaches the near plane is not splatted (counted as near): so close to
     // the eye EWA's local affine projection fails and its footprint would cover the image many times over
     // (the near-plane hard case: 16.3 dB drawn, 22.8 dB left out). The near layer integrates it along the
-    // rays from the near plane on, as the truth does (near_layer.h): 29.9 dB.
-    if (!plane.orthographic && !(u.z - settings.cutoffSigmas * std::sqrt(varCamera[2][2]) > plane.nearDepth)) {
+    // rays from the near plane on, as the truth does, and the kernels just behind it too (near_layer.h).
+    const double nearReach = splatNearReach(plane, settings) * std::sqrt(varCamera[2][2]);
+    if (!plane.orthographic && !(u.z - nearReach > plane.nearDepth)) {
         if (counters) ++counters->culledNear;
         return g;
     }
@@ -363,15 +364,17 @@ Image renderReference(const SplatScene& scene, const ImagePlane& plane, const Sp
     const bool xray = mode == Compositing::XRay;
     if (!near.voxels.empty()) tbb::parallel_for(0, h, [&](int y) {
         for (int x = 0; x < w; ++x) {
-            const glm::dvec4 q = nearLayerSums(scene, plane, settings, near, x, y);
-            if (!(q.w > 0.0)) continue;
+            const NearSums q = nearLayerSums(scene, plane, settings, near, x, y);
             double* p = &acc[(size_t(y) * w + x) * 4];
-            if (xray) {
-                for (int c = 0; c < 4; ++c) p[c] += q[c];
-            } else {
-                double c[3], a;
-                sheetColour(&q[0], c, a);
-                over(p, c, a);
+            for (const glm::dvec4& sheet : {q.back, q.front}) {   // back to front
+                if (!(sheet.w > 0.0)) continue;
+                if (xray) {
+                    for (int c = 0; c < 4; ++c) p[c] += sheet[c];
+                } else {
+                    double c[3], a;
+                    sheetColour(&sheet[0], c, a);
+                    over(p, c, a);
+                }
             }
         }
     });
