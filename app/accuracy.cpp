@@ -76,15 +76,11 @@ bool selected(const AccuracyArgs& args, const std::string& name) {
     return args.only.empty() || std::find(args.only.begin(), args.only.end(), name) != args.only.end();
 }
 
-// 1. Hard case x filter mode.
-void hardCaseTable(Report& r, const AccuracyArgs& args, const std::vector<HardCase>& cases) {
-    r.md << "## Hard cases\n\n"
-            "PSNR in dB (RMSE in brackets) of the CPU splat image against the ground truth, 48x48 px, "
-            "splat-every-sample "
-            "compositing, kernel scale 0.7. Thumbnails: ground truth, then EWA, reconstruction, low-pass, "
-            "adaptive "
-            "(PNG over black).\n\n"
-            "| case | what it stresses | ground truth | EWA | reconstruction | low-pass | adaptive |\n"
+// 1. Hard case x filter mode, after `heading` (the near-eye views: the same table).
+void hardCaseTable(Report& r, const AccuracyArgs& args, const std::vector<HardCase>& cases,
+                   const char* heading) {
+    r.md << heading
+         << "| case | what it stresses | ground truth | EWA | reconstruction | low-pass | adaptive |\n"
             "|---|---|---|---|---|---|---|\n";
     for (const HardCase& hc : cases) {
         if (!selected(args, hc.name))
@@ -290,7 +286,25 @@ int runAccuracy(const AccuracyArgs& a) {
     fs::create_directories(r.images);
     std::ostringstream body;
     std::swap(r.md, body);
-    hardCaseTable(r, a, cases);
+    hardCaseTable(r, a, cases,
+                  "## Hard cases\n\n"
+                  "PSNR in dB (RMSE in brackets) of the CPU splat image against the ground truth, 48x48 px, "
+                  "splat-every-sample compositing, kernel scale 0.7. Thumbnails: ground truth, then EWA, "
+                  "reconstruction, low-pass, adaptive (PNG over black).\n\n");
+    hardCaseTable(
+        r, a, nearEyeCases(),
+        "## Near the eye\n\n"
+        "Kernels whose cutoff ellipsoid reaches the near plane are not splatted (EWA's affine "
+        "projection fails there), nor those within two cutoff depths behind it (where it still errs: "
+        "taking only the first, the optical depth came out 7.5 % and 9 % over in these views, 36.9 and "
+        "32.0 dB). The near layer integrates them along each pixel's ray from the near plane on, as the "
+        "ground truth does, as two sheets (those at the plane over those behind) in front of the splats "
+        "(`renderer/oracle/near_layer.h`). Before it they were left out: in EWA voxel-centre scored "
+        "11.9 dB with 55 % of its optical depth missing, thin-ball 19.4 dB with 33 % missing, "
+        "near-plane 22.8 dB. Same settings as the hard cases. At 128x128 on the GL path (before, "
+        "after, truth; 10.4 -> 33.5 dB and 19.4 -> 50.6 "
+"dB):\n\n<img src=\"images/near-eye/voxel-centre.png\" width=\"400\"> "
+        "<img src=\"images/near-eye/thin-ball.png\" width=\"400\">\n\n");
     claimsTable(r, a);
     densityTable(r, a, cases);
     kernelScaleTable(r, a);

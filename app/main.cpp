@@ -1,7 +1,9 @@
 // The splatlab command line: `render` and `info` run headless (EGL, no X server); `editor` opens the
 // window. Errors from the renderer become one line on stderr and a non-zero exit.
 #include "accuracy.h"
+#include "console_progress.h"
 #include "editor.h"
+#include "info_command.h"
 #include "phantom_command.h"
 
 #include "renderer/math/camera.h"
@@ -11,6 +13,7 @@
 #include "renderer/oracle/demo_scenes.h"
 #include "renderer/oracle/ground_truth.h"
 #include "renderer/math/metrics.h"
+#include "renderer/oracle/near_layer.h"
 #include "renderer/oracle/reference_renderer.h"
 #include "renderer/gl/splat_renderer.h"
 #include "renderer/io/volume_io.h"
@@ -148,69 +151,7 @@ WindowSettings parseWindow(const std::string& text) {
     return w;
 }
 
-bool printProgress(double fraction);
 double msSince(std::chrono::steady_clock::time_point t0);
-
-int runInfo(const std::string& path, const RawFlags& raw, bool gradients) {
-    const Volume v = loadVolume(path, rawOptions(raw));
-    std::printf("%s\n", path.c_str());
-    std::printf("  dims     %d x %d x %d (%zu voxels)\n", v.dims.x, v.dims.y, v.dims.z, v.voxelCount());
-    std::printf("  type     %s\n", voxelTypeName(v.type));
-    std::printf("  spacing  %g x %g x %g\n", v.spacing.x, v.spacing.y, v.spacing.z);
-    std::printf("  origin   %g, %g, %g\n", v.origin.x, v.origin.y, v.origin.z);
-    if (v.directions != glm::dmat3(1.0)) {
-        const glm::dmat3& d = v.directions;
-        Volume axesOnly;   // no voxels: what alignment leaves of these axes, for the message
-        axesOnly.name = path;   // an error names the file
-        axesOnly.directions = d;
-        const Volume aligned = alignedToWorldAxes(axesOnly);
-        const glm::dmat3 left = aligned.directions;
-        std::string how = left == glm::dmat3(1.0)   ? "in the file's world frame: the voxels are reordered"
-                          : glm::determinant(d) > 0 ? "in the file's world frame: the view turns with them"
-                                                    : "in the file's world frame: x reversed, the view turns with them";
-        if (aligned.resampled) try {
-                const Volume grid = worldGrid(v);
-                char text[160];
-                std::snprintf(text, sizeof text, "%d x %d x %d at %g x %g x %g", grid.dims.x, grid.dims.y,
-                              grid.dims.z, grid.spacing.x, grid.spacing.y, grid.spacing.z);
-                how = std::string("sheared: render and the editor resample the voxels (trilinear) onto a grid along "
-                                  "the world axes, ") + text;
-            } catch (const LoadError& e) {
-                how = "sheared, and too far to resample: " + e.reason();
-            }
-        // Axes a header rounded: alignment takes them as the orthonormal axes nearest them.
-        const bool rounded = !aligned.resampled && !isRotation(d) && !isRotation(glm::dmat3(-d[0], d[1], d[2]));
-        std::printf("  axes     x (%g, %g, %g)  y (%g, %g, %g)  z (%g, %g, %g)  (%s%s)\n",
-                    d[0].x, d[0].y, d[0].z, d[1].x, d[1].y, d[1].z, d[2].x, d[2].y, d[2].z, how.c_str(),
-                    rounded ? "; rounded cosines, not quite orthonormal: drawn as the orthonormal axes nearest them"
-                            : "");
-    }
-    std::printf("  range    %g .. %g\n", v.range.lo, v.range.hi);
-    const ValueRange p = percentileWindow(v, 1.0, 99.0);
-    std::printf("  p1..p99  %g .. %g\n", p.lo, p.hi);
-    // Histogram summary: 16 bins, each with its share of voxels and a bar.
-    const Histogram h = computeHistogram(v, 16);
-    std::printf("  histogram (16 bins)\n");
-    const double width = (double(h.range.hi) - h.range.lo) / double(h.counts.size());
-    for (size_t i = 0; i < h.counts.size(); ++i) {
-        const double share = double(h.counts[i]) / double(std::max<size_t>(v.voxelCount(), 1));
-        const int bar = int(std::lround(std::sqrt(share) * 40));   // sqrt: small bins stay visible
-        std::printf("  %10.4g .. %-10.4g %6.2f%% %s\n", h.range.lo + width * double(i),
-                    h.range.lo + width * double(i + 1), 100.0 * share, std::string(size_t(bar), '#').c_str());
-    }
-    if (gradients) {
-        // Central differences in object units: data units per unit of spacing (per mm for CT).
-        std::fprintf(stderr, "gradients\n");
-        const auto t0 = std::chrono::steady_clock::now();
-        const auto field = computeGradients(v, printProgress);
-        const double ms = msSince(t0);
-        const GradientStats g = gradientMagnitudeStats(*field);
-        std::printf("  gradient magnitude  min %g  mean %g  p99 %g  max %g (data units per object unit; "
-                    "%.0f ms)\n",
-                    g.min, g.mean, g.p99, g.max, ms);
-    }
-    return 0;
-}
 
 // The help group of every flag for something a saved session also sets (the camera, the TF, how the
 // volume looks and is splatted): beside `--session` each is refused, found by this group.
@@ -420,20 +361,27 @@ struct RenderArgs {
 };
 
 void printCounters(const SplatCounters& c) {
-    std::printf("  drawn %llu (reconstruction %llu, low-pass %llu, ewa %llu); culled transparent %llu, near %llu, "
-                "offscreen %llu, huge %llu, degenerate %llu, hidden behind opaque %llu\n",
-                (unsigned long long)c.drawn, (unsigned long long)c.drawnPerMode[0], (unsigned long long)c.drawnPerMode[1],
-                (unsigned long long)c.drawnPerMode[2], (unsigned long long)c.culledTransparent,
-                (unsigned long long)c.culledNear, (unsigned long long)c.culledOffscreen, (unsigned long long)c.culledHuge,
-                (unsigned long long)c.culledDegenerate, (unsigned long long)c.culledOccluded);
+    using ull = unsigned long long;
+    std::printf("  drawn %llu (reconstruction %llu, low-pass %llu, ewa %llu); culled transparent %llu, near %llu "
+                "(near layer %llu, dropped %llu), offscreen %llu, huge %llu, degenerate %llu, hidden behind "
+                "opaque %llu\n", ull(c.drawn), ull(c.drawnPerMode[0]), ull(c.drawnPerMode[1]), ull(c.drawnPerMode[2]),
+                ull(c.culledTransparent), ull(c.culledNear), ull(c.nearLayer), ull(c.droppedNear),
+                ull(c.culledOffscreen), ull(c.culledHuge), ull(c.culledDegenerate), ull(c.culledOccluded));
 }
 
-// What a guard left out of the image, on stderr: splats whose kernels reach the near plane (the ground truth
-// clips those at it instead) and, where SplatSettings::maxFootprintFraction is set, huge footprints.
-// Counted when the counters ran; otherwise the near plane is checked against the volume's nearest voxel.
+// What a guard left out of the image, on stderr: kernels at the near plane beyond what the near layer takes
+// (near_layer.h), all of them where a frame has no near layer, and, where SplatSettings::maxFootprintFraction
+// is set, huge footprints. Counted when the counters ran; otherwise found on the CPU (findNearKernels) or,
+// without a near layer, the near plane is checked against the volume's nearest voxel.
 void reportDroppedSplats(const Scene& s, const SplatCounters* counted) {
+    const bool layer = hasNearLayer(s.plane, s.settings);
+    const uint64_t dropped = counted ? counted->droppedNear
+                                     : layer ? findNearKernels(s.scene, s.plane, s.settings).dropped : 0;
+    if (dropped > 0)
+        std::fprintf(stderr, "note: %llu kernels at the near plane (%g from the eye) were left out: the near "
+                             "layer takes at most %d\n", (unsigned long long)dropped, s.plane.nearDepth, kMaxNearKernels);
     if (counted) {
-        if (counted->culledNear > 0)
+        if (!layer && counted->culledNear > 0)
             std::fprintf(stderr, "note: %llu splats whose kernels reach the near plane (%g from the eye) were not "
                                  "drawn; the ground truth clips their kernels there\n",
                          (unsigned long long)counted->culledNear, s.plane.nearDepth);
@@ -443,7 +391,7 @@ void reportDroppedSplats(const Scene& s, const SplatCounters* counted) {
         return;
     }
     const glm::dvec2 depths = s.plane.depthRange(s.scene.dims, s.scene.origin, s.scene.spacing);
-    if (!s.plane.orthographic && depths.x <= s.plane.nearDepth)
+    if (!layer && !s.plane.orthographic && depths.x <= s.plane.nearDepth)
         std::fprintf(stderr, "note: the near plane (%g from the eye) cuts the volume: voxels nearer are not drawn "
                              "(the ground truth clips their kernels there); --counters counts them\n",
                      s.plane.nearDepth);
@@ -528,18 +476,6 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     return 0;
 }
 
-// A one-line progress bar on stderr, redrawn in place when it grows (41 redraws at most: a log that
-// captures stderr keeps a short line).
-bool printProgress(double fraction) {
-    static int shown = -1;
-    const int width = 40, filled = std::clamp(int(fraction * width + 0.5), 0, width);
-    if (filled == shown && fraction < 1.0) return true;
-    shown = fraction >= 1.0 ? -1 : filled;
-    std::fprintf(stderr, "\r  [%s%s] %5.1f%%", std::string(size_t(filled), '#').c_str(),
-                 std::string(size_t(width - filled), '.').c_str(), 100.0 * fraction);
-    if (fraction >= 1.0) std::fprintf(stderr, "\n");
-    return true;
-}
 
 int runReference(const SceneArgs& a, const SplatFlags& splat, const GroundTruthOptions& options,
                  const std::string& cacheDir, bool noCache) {
@@ -749,7 +685,7 @@ int main(int argc, char** argv) {
         if (*render) return runRender(r, ra);
         if (*reference) return runReference(ref, refSplat, gt, cacheDir, noCache);
         if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);
-        if (*info) return runInfo(infoPath, infoRaw, infoGradients);
+        if (*info) return runInfo(infoPath, rawOptions(infoRaw), infoGradients);
         if (*accuracy) return runAccuracy(acc);
         if (*tfCommand) return runTf(tfSpec, tfOut);
         if (*phantom) return runPhantom(phantomArgs);

@@ -39,3 +39,6 @@ shader_program(bucket_commands FILES bucket_commands.comp)
 shader_program(patch_modes FILES patch_modes.comp)
 shader_program(opaque_tiles FILES opaque_tiles.comp AXES OPAQUE_TILE=8)
 shader_program(loop_limit FILES loop_limit.comp)
+# The near layer (near_layer_pass.cpp); MAX_NEAR_KERNELS: kMaxNearKernels (renderer/oracle/near_layer.h).
+shader_program(near_kernels FILES near_kernels.comp AXES MAX_NEAR_KERNELS=1024u)
+shader_program(near_layer FILES fullscreen.vert near_layer.frag AXES MAX_NEAR_KERNELS=1024u)

@@ -18,6 +18,7 @@ uniform vec3 uSigma;          // kernel sigma per object axis
 uniform vec2 uCentrePx, uViewport;
 uniform mat3 uVarCamera;      // W V'' W^T, shared by every voxel of a rectilinear grid
 uniform float uCutoff;        // in sigmas
+uniform float uNearReach;     // sigmas along u2 a splatted kernel keeps from the near plane (splatNearReach())
 uniform float uExtinctionScale;   // density / mean spacing * voxel volume / the footprint's mass within the cutoff
 uniform float uMaxHalfExtent;     // huge-footprint guard, pixels (+inf: none, the default)
 
@@ -84,8 +85,9 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
     bool surface = false;
     mat3 varCamera = uVarCamera;
 #endif
-    // A kernel whose cutoff ellipsoid reaches the near plane is not splatted, as splatGeometry() on the CPU.
-    if (!uOrtho && !(u.z - uCutoff * sqrt(varCamera[2][2]) > uNear)) { count(2); return false; }
+    // A kernel whose cutoff ellipsoid reaches the near plane is not splatted, nor one just behind it with a
+    // near layer, as splatGeometry() on the CPU (the near layer takes them).
+    if (!uOrtho && !(u.z - uNearReach * sqrt(varCamera[2][2]) > uNear)) { count(2); return false; }
     mat3 V = J * varCamera * transpose(J);
     mat2 vHat = mat2(V[0][0], V[0][1], V[1][0], V[1][1]);
 #ifdef ADAPTIVE   // the patch's filter, classified once per patch by the patch pass

@@ -61,6 +61,8 @@ inline void expectCountersEqual(const renderer::SplatCounters& gpu, const render
     EXPECT_EQ(gpu.culledOffscreen, cpu.culledOffscreen);
     EXPECT_EQ(gpu.culledOccluded, cpu.culledOccluded);
     EXPECT_EQ(gpu.drawn, cpu.drawn);
+    EXPECT_EQ(gpu.nearLayer, cpu.nearLayer);
+    EXPECT_EQ(gpu.droppedNear, cpu.droppedNear);
     for (int m = 0; m < 3; ++m)
         EXPECT_EQ(gpu.drawnPerMode[m], cpu.drawnPerMode[m]) << renderer::filterModeName(renderer::FilterMode(m));
 }

@@ -443,6 +443,11 @@ void drawStatsPanel(const StatsView& stats) {
         textWrapped("culled  transparent %llu  near %llu  offscreen %llu  huge %llu",
                     (unsigned long long)c.culledTransparent, (unsigned long long)c.culledNear,
                     (unsigned long long)c.culledOffscreen, (unsigned long long)c.culledHuge);
+        textWrapped("near layer %llu kernels  dropped %llu", (unsigned long long)c.nearLayer,
+                    (unsigned long long)c.droppedNear);
+        if (c.droppedNear > 0)
+            hint("Kernels at the near plane are integrated along each pixel's ray, up to a bound a frame\n"
+                 "(kMaxNearKernels, renderer/oracle/near_layer.h); the rest are left out of the image");
         textWrapped("hidden  behind opaque tiles %llu", (unsigned long long)c.culledOccluded);
         textWrapped("fragments %llu (all passes)", (unsigned long long)f.fragments);
     }

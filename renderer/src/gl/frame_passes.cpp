@@ -2,6 +2,8 @@
 // cleared targets, patch classification, the splat program's uniforms and bindings, and the X-ray resolve.
 #include "splat_renderer_state.h"
 
+#include "renderer/oracle/near_layer.h"
+
 #include <cmath>
 #include <limits>
 
@@ -66,6 +68,7 @@ void SplatRenderer::Gl::prepareFrame(FramePlan& f) {
     glUniform1f(glGetUniformLocation(p, "uGuardPx"), guard);
     glUniformMatrix3fv(glGetUniformLocation(p, "uVarCamera"), 1, GL_FALSE, glm::value_ptr(varCamera));
     glUniform1f(glGetUniformLocation(p, "uCutoff"), float(settings.cutoffSigmas));
+    glUniform1f(glGetUniformLocation(p, "uNearReach"), float(splatNearReach(plane, settings)));
     glUniform1f(glGetUniformLocation(p, "uExtinctionScale"),
                 float(settings.density / meanSpacing * g.spacing.x * g.spacing.y * g.spacing.z /
                       footprintMassWithin(settings.cutoffSigmas)));   // unit mass inside the cutoff (ewa.h)

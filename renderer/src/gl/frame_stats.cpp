@@ -66,6 +66,7 @@ void SplatRenderer::Gl::readCounters(FrameStats& stats) {
     out.drawn = c[kDrawn];
     out.culledOccluded = c[kOccluded];
     for (int m = 0; m < 3; ++m) out.drawnPerMode[m] = c[size_t(kMode0 + m)];
+    readNearCounters(out);
 }
 
 void SplatRenderer::collectTimers() {

@@ -50,7 +50,7 @@ SplatRenderer::Gl::~Gl() {
     glDeleteTextures(1, &opaqueTexture);
     glDeleteTextures(1, &tileStateTexture);
     for (GLuint p : {compositePrograms[0], compositePrograms[1], opaqueMaskProgram, resolveProgram, displayProgram,
-                     commandsProgram, patchProgram, opaqueTilesProgram})
+                     commandsProgram, patchProgram, opaqueTilesProgram, nearKernelsProgram, nearLayerProgram})
         glDeleteProgram(p);
     glDeleteFramebuffers(1, &computeFbo);
     const GLuint vaos[] = {splatVao, emptyVao};
@@ -58,8 +58,8 @@ SplatRenderer::Gl::~Gl() {
     glDeleteTextures(1, &classTexture);
     glDeleteTextures(1, &lutTexture);
     glDeleteTextures(1, &patchTexture);
-    const GLuint buffers[] = {lutBuffer, counterBuffer, gradientBuffer, commands};
-    glDeleteBuffers(4, buffers);
+    const GLuint buffers[] = {lutBuffer, counterBuffer, gradientBuffer, commands, nearBuffer};
+    glDeleteBuffers(5, buffers);
     for (auto& a : axes) a.release();
     releaseTargets();
     for (Laps& l : laps) glDeleteQueries(GLsizei(l.queries.size()), l.queries.data());

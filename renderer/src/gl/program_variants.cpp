@@ -2,6 +2,7 @@
 // programs (built on first use), the fixed programs, and the driver's loop-limit probe.
 #include "splat_renderer_state.h"
 #include "gl/shader_sources.h"
+#include "renderer/oracle/near_layer.h"
 
 #include <string>
 #include <utility>
@@ -80,6 +81,9 @@ void SplatRenderer::Gl::buildFixedPrograms() {
     commandsProgram = compute("bucket_commands", "");
     patchProgram = compute("patch_modes", "");
     opaqueTilesProgram = compute("opaque_tiles", opaqueTileDefine());
+    const std::string nearDefines = "#define MAX_NEAR_KERNELS " + std::to_string(kMaxNearKernels) + "u\n";
+    nearKernelsProgram = compute("near_kernels", nearDefines);
+    nearLayerProgram = fullscreen("near_layer", nearDefines, "near_layer.frag");
 }
 
 // How many iterations the driver lets one invocation's loops run: a loop of 2^20 iterations counts

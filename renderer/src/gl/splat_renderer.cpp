@@ -89,6 +89,9 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
         m_stats.tileListSplits = 0;
         if (f.tiles) refused = g.drawTiled(f, m_stats);
         else g.drawRasterised(f, m_stats);
+        // 4b. The kernels at the near plane, integrated along the rays, in front (near_layer_pass.cpp).
+        g.nearDrawn = false;
+        if (refused.empty() && !g.interrupted) g.drawNearLayer(f);
     } catch (...) {
         failed = std::current_exception();
     }

@@ -98,6 +98,9 @@ struct SplatRenderer::Gl {
     std::array<GLuint, 2> compositePrograms{};   // without and with the heatmap
     GLuint opaqueMaskProgram = 0, resolveProgram = 0, displayProgram = 0;
     GLuint commandsProgram = 0, patchProgram = 0, opaqueTilesProgram = 0;
+    GLuint nearKernelsProgram = 0, nearLayerProgram = 0;
+    GLuint nearBuffer = 0;     // the near layer's kernels: a count, then two vec4s a kernel (near_kernels.comp)
+    bool nearDrawn = false;    // the last frame drew a near layer (nearBuffer holds its kernels)
     GLuint splatVao = 0, emptyVao = 0;
     GLuint classTexture = 0;
     GLuint lutBuffer = 0, counterBuffer = 0, gradientBuffer = 0;
@@ -256,6 +259,11 @@ struct SplatRenderer::Gl {
     std::string drawTiled(const FramePlan& f, FrameStats& stats);
     //    raster_splatting.cpp: splat-every-sample, back to front or X-ray, or sheets, through the rasteriser.
     void drawRasterised(const FramePlan& f, FrameStats& stats);
+    //    near_layer_pass.cpp: the kernels at the near plane, integrated along each pixel's ray, in front
+    //    of the splats (renderer/oracle/near_layer.h); nothing where the near plane meets no kernel.
+    void drawNearLayer(const FramePlan& f);
+    // The last frame's near-layer counts (SplatCounters::nearLayer, droppedNear); waits for the frame.
+    void readNearCounters(SplatCounters& out) const;
     // 5. frame_stats.cpp: ends the frame's timers and fragment query.
     void endTiming(const FramePlan& f);
     // 6. frame_stats.cpp: waits for the frame and reads the counters into stats.counters and .fragments.

@@ -5,6 +5,7 @@
 #include "renderer/oracle/ground_truth.h"
 
 #include "renderer/errors.h"
+#include "renderer/oracle/ray_kernel.h"
 #include "renderer/oracle/reference_renderer.h"
 #include "renderer/out_of_memory.h"
 
@@ -24,28 +25,6 @@ namespace renderer {
 
 namespace {
 
-// One kernel along one ray: r(s) = peak exp(-(s - mid)^2 / (2 width^2)) for |s - mid| <= halfLength.
-struct RayKernel {
-    double mid, width, halfLength, peak;
-    double extinction;        // g_k
-    glm::dvec3 colour;
-};
-
-// Closed-form integral of a RayKernel over [s0, s1]. `last` holds the erf this kernel's previous step
-// took at its end, where this step starts: a march takes each erf once, not twice (erf was a third of
-// a reference's time).
-struct ErfAt {
-    double at = std::numeric_limits<double>::quiet_NaN(), value = 0.0;
-};
-double integrate(const RayKernel& k, double s0, double s1, ErfAt& last) {
-    const double a = std::max(s0, k.mid - k.halfLength), b = std::min(s1, k.mid + k.halfLength);
-    if (b <= a) return 0.0;
-    const double scale = 1.0 / (std::numbers::sqrt2 * k.width);
-    const double erfA = a == last.at ? last.value : std::erf((a - k.mid) * scale);
-    last = {b, std::erf((b - k.mid) * scale)};
-    return k.peak * k.width * std::sqrt(std::numbers::pi / 2.0) * (last.value - erfA);
-}
-
 struct Ray {
     glm::dvec3 origin, dir;   // object space, dir unit length
     double start = 0.0;       // first parameter in front of the near plane
@@ -55,12 +34,7 @@ class Integrator {
 public:
     Integrator(const SplatScene& scene, const SplatSettings& settings) : m_scene(scene), m_settings(settings) {
         m_sigma = settings.kernelScale * scene.spacing;
-        m_cut2 = settings.cutoffSigmas * settings.cutoffSigmas;
-        // r_k = voxel volume x unit-mass Gaussian: the kernels sum to ~1 over the grid. Cut at the cutoff
-        // ellipsoid, each is scaled back to unit mass (kernelMassWithin), as the splats' footprints are.
-        m_kernelPeak = (scene.spacing.x * scene.spacing.y * scene.spacing.z) /
-                       (std::pow(2.0 * std::numbers::pi, 1.5) * m_sigma.x * m_sigma.y * m_sigma.z *
-                        kernelMassWithin(settings.cutoffSigmas));
+        m_kernelPeak = kernelPeak(scene.spacing, m_sigma, settings.cutoffSigmas);
         m_reach = glm::ivec3(glm::ceil(glm::dvec3(settings.cutoffSigmas * settings.kernelScale)));
     }
 
@@ -115,19 +89,11 @@ public:
         std::sort(ids.begin(), ids.end());   // the kernels' order, as it always was
 
         std::vector<RayKernel> kernels;
-        const glm::dvec3 inv2 = 1.0 / (m_sigma * m_sigma);
         for (uint32_t i : ids) {
-            // q(s) = (o + s d - t)^T S^-1 (o + s d - t) = a s^2 + 2 b s + c
-            const glm::dvec3 o = ray.origin - m_scene.positionOf(i);
-            const double qa = glm::dot(ray.dir * ray.dir, inv2), qb = glm::dot(ray.dir * o, inv2),
-                         qc = glm::dot(o * o, inv2);
-            const double qMin = qc - qb * qb / qa;
-            if (!(qMin < m_cut2)) continue;
-            RayKernel k;
-            k.mid = -qb / qa;
-            k.width = 1.0 / std::sqrt(qa);
-            k.halfLength = std::sqrt((m_cut2 - qMin) / qa);
-            k.peak = m_kernelPeak * std::exp(-0.5 * qMin);
+            std::optional<RayKernel> along = kernelAlongRay(ray.origin, ray.dir, m_scene.positionOf(i),
+                                                            m_sigma, m_settings.cutoffSigmas, m_kernelPeak);
+            if (!along) continue;
+            RayKernel& k = *along;
             const uint16_t cls = m_scene.classes[i];
             k.extinction = extinctionOf(m_scene, m_settings, cls);
             k.colour = glm::dvec3(m_scene.lut[cls]);
@@ -183,7 +149,7 @@ private:
     const SplatScene& m_scene;
     const SplatSettings& m_settings;
     glm::dvec3 m_sigma;
-    double m_cut2 = 9.0, m_kernelPeak = 0.0;
+    double m_kernelPeak = 0.0;
     glm::ivec3 m_reach{3};
 };
 

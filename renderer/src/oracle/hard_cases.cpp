@@ -3,6 +3,7 @@
 
 #include "renderer/model/procedural.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -35,7 +36,44 @@ Volume zebra(int n, int period) {
     return v;
 }
 
+// A 9^3 field of v(distance d from the centre voxel, x): the ramp 1 - d / 7 tilted along x, or a ball.
+Volume ninePattern(const char* name, bool ball) {
+    Volume v;
+    v.name = name;
+    v.dims = {9, 9, 9};
+    v.type = VoxelType::F32;
+    v.values.resize(v.voxelCount());
+    for (int z = 0; z < 9; ++z)
+        for (int y = 0; y < 9; ++y)
+            for (int x = 0; x < 9; ++x) {
+                const double d = std::sqrt(double((x - 4) * (x - 4) + (y - 4) * (y - 4) + (z - 4) * (z - 4)));
+                v.values[v.index(x, y, z)] =
+                    ball ? float(d <= 4.0) : float(std::clamp(1.0 - d / 7.0 + 0.02 * (x - 4), 0.0, 1.0));
+            }
+    updateRange(v);
+    return v;
+}
+
 } // namespace
+
+std::vector<HardCase> nearEyeCases() {
+    std::vector<HardCase> cases(2);
+    cases[0].name = "voxel-centre";
+    cases[0].what = "the camera on a voxel centre inside a volume";
+    cases[0].volume = ninePattern("ramp9", false);
+    cases[0].tf = ramp("ramp", 0.8);
+    cases[0].camera = {30, 20, 1e-3, 60.0};
+    cases[1].name = "thin-ball";
+    cases[1].what = "the camera inside an optically thin ball";
+    cases[1].volume = ninePattern("ball9", true);
+    cases[1].tf = {"thin",
+                   {{0.0, {0.9, 0.6, 0.3}, 0.0},
+                    {0.49, {0.9, 0.6, 0.3}, 0.0},
+                    {0.51, {0.9, 0.6, 0.3}, 0.15},
+                    {1.0, {0.9, 0.6, 0.3}, 0.15}}};
+    cases[1].camera = {30, 20, 0.3, 60.0};
+    return cases;
+}
 
 std::vector<HardCase> hardCases(int scale) {
     const int s = std::max(scale, 1);

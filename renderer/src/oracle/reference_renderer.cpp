@@ -6,6 +6,7 @@
 #include "renderer/math/classifier.h"
 #include "renderer/errors.h"
 #include "renderer/math/shading.h"
+#include "renderer/oracle/near_layer.h"
 #include "renderer/out_of_memory.h"
 
 #include <tbb/blocked_range.h>
@@ -48,8 +49,10 @@ SplatGeometry splatGeometry(const SplatScene& scene, const ImagePlane& plane, co
     }
     // A kernel whose cutoff ellipsoid reaches the near plane is not splatted (counted as near): so close to
     // the eye EWA's local affine projection fails and its footprint would cover the image many times over
-    // (the near-plane hard case: 16.3 dB drawn, 22.8 dB left out; the truth clips its rays at the plane).
-    if (!plane.orthographic && !(u.z - settings.cutoffSigmas * std::sqrt(varCamera[2][2]) > plane.nearDepth)) {
+    // (the near-plane hard case: 16.3 dB drawn, 22.8 dB left out). The near layer integrates it along the
+    // rays from the near plane on, as the truth does, and the kernels just behind it too (near_layer.h).
+    const double nearReach = splatNearReach(plane, settings) * std::sqrt(varCamera[2][2]);
+    if (!plane.orthographic && !(u.z - nearReach > plane.nearDepth)) {
         if (counters) ++counters->culledNear;
         return g;
     }
@@ -105,6 +108,8 @@ void addCounters(SplatCounters& a, const SplatCounters& b) {
     a.culledHuge += b.culledHuge;
     a.culledDegenerate += b.culledDegenerate;
     a.culledOccluded += b.culledOccluded;
+    a.nearLayer += b.nearLayer;
+    a.droppedNear += b.droppedNear;
     for (int m = 0; m < 3; ++m) a.drawnPerMode[m] += b.drawnPerMode[m];
 }
 
@@ -209,6 +214,9 @@ static Image renderReferenceOrThrow(const SplatScene& scene, const ImagePlane& p
     SplatCounters total;
     total.visible = n;
     perThread.combine_each([&](const SplatCounters& c) { addCounters(total, c); });
+    const NearKernels near = findNearKernels(scene, plane, settings);
+    total.nearLayer = near.voxels.size();
+    total.droppedNear = near.dropped;
     if (counters) *counters = total;
 
     // 2. Composite bands of rows; each band walks all splats in order and touches only its rows.
@@ -353,8 +361,27 @@ static Image renderReferenceOrThrow(const SplatScene& scene, const ImagePlane& p
             }
     }
 
-    // X-ray shows 1 - exp(-sum); its heatmap splits that alpha by each mode's share of the sum.
+    // 3. The near layer in front of the splats (near_layer.h): over the image, or into X-ray's sums. The
+    //    heatmap shows splats only.
     const bool xray = mode == Compositing::XRay;
+    if (!near.voxels.empty()) tbb::parallel_for(0, h, [&](int y) {
+        for (int x = 0; x < w; ++x) {
+            const NearSums q = nearLayerSums(scene, plane, settings, near, x, y);
+            double* p = &acc[(size_t(y) * w + x) * 4];
+            for (const glm::dvec4& sheet : {q.back, q.front}) {   // back to front
+                if (!(sheet.w > 0.0)) continue;
+                if (xray) {
+                    for (int c = 0; c < 4; ++c) p[c] += sheet[c];
+                } else {
+                    double c[3], a;
+                    sheetColour(&sheet[0], c, a);
+                    over(p, c, a);
+                }
+            }
+        }
+    });
+
+    // X-ray shows 1 - exp(-sum); its heatmap splits that alpha by each mode's share of the sum.
     Image img(w, h);
     for (size_t i = 0; i < layerSize; ++i) img.rgba[i] = float(xray ? -std::expm1(-acc[i]) : acc[i]);
     if (heatmap) {

@@ -25,4 +25,10 @@ struct HardCase {
 // scale 1: test size (small volumes, 48x48 images); larger scales grow volumes and images for reports.
 std::vector<HardCase> hardCases(int scale = 1);
 
+// The near-eye views of issue 33's audit, where the near layer (near_layer.h) carries the image: the
+// camera on a voxel centre inside a volume ("voxel-centre", a 9^3 radial ramp, the eye 1e-3 bounding
+// radii from its centre voxel), and inside an optically thin ball ("thin-ball", radius 4 voxels, opacity
+// 0.15, the eye 2 voxels from its centre). 48x48 images, 60 degree field of view.
+std::vector<HardCase> nearEyeCases();
+
 } // namespace renderer

@@ -11,13 +11,16 @@ struct SplatCounters {
     uint64_t visible = 0;          // voxels of the drawn buckets (transparent ones included)
     uint64_t culledTransparent = 0;// voxel of a drawn bucket whose own class has opacity 0
     uint64_t drawn = 0;            // splats that reached the image
-    uint64_t culledNear = 0;       // its cutoff ellipsoid reaches the near plane (or its centre is behind it)
+    uint64_t culledNear = 0;       // not splatted: its cutoff ellipsoid reaches the near plane (or lies behind
+                                   // it); those in view are integrated along the rays instead (near_layer.h)
     uint64_t culledOffscreen = 0;  // cutoff ellipse misses the image
     uint64_t culledHuge = 0;       // cutoff radius beyond SplatSettings::maxFootprintFraction (when set)
     uint64_t culledDegenerate = 0; // footprint variance not positive definite (det <= 1e-12 px^4)
     uint64_t culledOccluded = 0;   // front to back: every opaque tile under the footprint was opaque
                                    // at the last refresh (not in `drawn`; changes no pixel)
     uint64_t drawnPerMode[3] = {}; // drawn splats by filter: reconstruction, low-pass, EWA
+    uint64_t nearLayer = 0;        // of culledNear: in view, integrated along each pixel's ray (near_layer.h)
+    uint64_t droppedNear = 0;      // of culledNear: in view but beyond kMaxNearKernels, left out of the image
 };
 
 // Per-splat quantities both paths derive from one voxel (the GLSL vertex stage mirrors this).
