@@ -309,6 +309,9 @@ TEST_F(SettingsCheckbox, PreviewWhileMovingIsOfferedOnlyForVolumesLargeEnoughToP
 
 TEST_F(ImGuiNull, ResetCameraButtonRestoresTheDefaultCamera) {
     ui::EditorState state;
+    // The Camera section is below the Files, Splatting, Shading and Inspect sections: a tall window.
+    windowHeight = 1000.0f;
+    ImGui::GetIO().DisplaySize = ImVec2(1280, 1100);
     state.camera.azimuthDeg = 123.0;
     state.camera.distance = 7.0;
     bool cameraChanged = false;
@@ -318,7 +321,7 @@ TEST_F(ImGuiNull, ResetCameraButtonRestoresTheDefaultCamera) {
         cameraChanged |= ui::drawSettingsPanel(state).cameraChanged;
     };
     frame(body);
-    const float y = findItem(buttonId, 30.0f, 0.0f, 700.0f, body);
+    const float y = findItem(buttonId, 30.0f, 0.0f, 1000.0f, body);
     ASSERT_GE(y, 0.0f);
     EXPECT_FALSE(cameraChanged);
     click(30.0f, y, body);
@@ -329,6 +332,9 @@ TEST_F(ImGuiNull, ResetCameraButtonRestoresTheDefaultCamera) {
 
 TEST_F(ImGuiNull, FrameButtonBesideResetAndADoubleClickInTheViewportAskTheAppToFrameTheView) {
     ui::EditorState state;
+    // The Camera section is below the Files, Splatting, Shading and Inspect sections: a tall window.
+    windowHeight = 1000.0f;
+    ImGui::GetIO().DisplaySize = ImVec2(1280, 1100);
     ui::SettingsChanges changes;
     ImGuiID resetId = 0, frameId = 0;
     auto body = [&] {
@@ -339,7 +345,7 @@ TEST_F(ImGuiNull, FrameButtonBesideResetAndADoubleClickInTheViewportAskTheAppToF
         changes.cameraChanged |= c.cameraChanged;
     };
     frame(body);
-    const float y = findItem(resetId, 30.0f, 0.0f, 700.0f, body);
+    const float y = findItem(resetId, 30.0f, 0.0f, 1000.0f, body);
     ASSERT_GE(y, 0.0f);
     const float x = findItemInRow(frameId, y, body);
     ASSERT_GE(x, 0.0f) << "no Frame button beside Reset camera";
