@@ -22,8 +22,8 @@ constexpr int kBoard = 512;
 const std::vector<DemoSceneInfo>& demoSceneList() {
     // In the order of hardCases(); a test checks that the two lists name the same cases.
     static const std::vector<DemoSceneInfo> list{
-        {"near-plane", "The camera inside shells: kernels reaching the near plane are left out (Stats counts "
-                       "them); compare the filters at the image's edges"},
+        {"near-plane", "The camera inside shells: the kernels at the eye are integrated along the rays (the "
+                       "near layer, counted in Stats), the rest splatted; compare the filters at the edges"},
         {"far-away", "A volume a few pixels across: orbit it; reconstruction-only lets sub-pixel splats "
                      "flicker, EWA and low-pass keep a steady blob (adaptive's heatmap: minified, green)"},
         {"grazing-checkerboard", "000 fig. 8 small: near rows magnified, far rows minified; moire at the top "
