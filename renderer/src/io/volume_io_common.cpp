@@ -14,7 +14,6 @@
 #include <cctype>
 #include <cerrno>
 #include <charconv>
-#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -100,12 +99,14 @@ glm::ivec3 checkedDims(const fs::path& path, const std::string& field, long long
     for (long long s : sizes)
         if (s <= 0) fail(path, field, "size " + std::to_string(s) + " must be a positive integer");
     const std::string text = std::to_string(x) + " x " + std::to_string(y) + " x " + std::to_string(z);
-    unsigned long long product = 1;
-    for (long long s : sizes) {
-        if (s > INT_MAX || product > kMaxVoxels / (unsigned long long)s)
-            fail(path, field, text + " voxels is more than the " + std::to_string(kMaxVoxels) + " supported");
-        product *= (unsigned long long)s;
-    }
+    for (long long s : sizes)
+        if (s > kMaxAxisVoxels)
+            fail(path, field, text + ": " + std::to_string(s) + " voxels along an axis is more than the " +
+                                  std::to_string(kMaxAxisVoxels) + " SplatLab renders");
+    const unsigned long long product = (unsigned long long)x * (unsigned long long)y * (unsigned long long)z;
+    if (product > kMaxVoxels)
+        fail(path, field, text + " = " + std::to_string(product) + " voxels is more than the " +
+                              std::to_string(kMaxVoxels) + " SplatLab renders (e.g. 710^3, 1024 x 1024 x 341)");
     checkVoxelsFitTheBudget(path, field, text, product);
     return {int(x), int(y), int(z)};
 }

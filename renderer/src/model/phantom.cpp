@@ -159,7 +159,7 @@ struct NormalPair {
 };
 
 NormalPair normalPair(uint32_t seed, uint64_t pair) {
-    // Pairs number fewer than 2^31 (kMaxVoxels / 2), so the seed in the high bits never meets them.
+    // Pairs number at most kMaxVoxels / 2, under 2^32, so the seed in the high bits never meets them.
     const uint64_t h = hash64((uint64_t(seed) << 32 | pair) + 0x9e3779b97f4a7c15ull);
     // Two 24-bit uniforms in (0, 1), in float (twice as fast as double here; the noise needs no more):
     // the +0.5 keeps log() finite, and makes the largest |normal| 5.9.

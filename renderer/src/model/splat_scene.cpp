@@ -159,11 +159,12 @@ namespace {
 SplatScene buildSplatSceneOrThrow(const Volume& volume, const TransferFunction& tf, ValueRange window) {
     if (volume.voxelCount() == 0 || volume.values.size() != volume.voxelCount())
         throw RenderError("volume '" + volume.name + "' has no voxels");
-    // The GL path addresses a list entry as gl_VertexID / 6 (a signed int).
-    if (volume.voxelCount() > size_t(INT32_MAX / 6))
-        throw RenderError("volume '" + volume.name + "' has more than " + std::to_string(INT32_MAX / 6) + " voxels");
-    if (std::max({volume.dims.x, volume.dims.y, volume.dims.z}) > 65535)
-        throw RenderError("volume '" + volume.name + "' is longer than 65535 voxels along an axis");
+    // The readers refuse such files; a volume built in code (a phantom, a resampling) meets it here.
+    if (volume.voxelCount() > kMaxVoxels)
+        throw RenderError("volume '" + volume.name + "' has more than " + std::to_string(kMaxVoxels) + " voxels");
+    if (std::max({volume.dims.x, volume.dims.y, volume.dims.z}) > kMaxAxisVoxels)
+        throw RenderError("volume '" + volume.name + "' is longer than " + std::to_string(kMaxAxisVoxels) +
+                          " voxels along an axis");
     SplatScene s;
     s.name = volume.name;
     s.dims = volume.dims;

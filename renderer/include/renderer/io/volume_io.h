@@ -57,9 +57,6 @@ Volume loadVolumeInWorldFrame(const std::filesystem::path& path, const std::opti
 // The extensions loadVolume() knows, for messages and file dialogs: ".nrrd, .nhdr, ...".
 const char* supportedVolumeTypes();
 
-// Largest volume the loaders accept, in voxels: guards products of lying header fields.
-constexpr size_t kMaxVoxels = size_t(1) << 31;
-
 // Bytes one volume's voxels may take as 32-bit floats: SPLATLAB_MEMORY_BUDGET_MB when set, else half of
 // what this process may use (physical memory, or a lower `ulimit -v` / `-d`). Every loader refuses a
 // header that claims more before it allocates or decompresses anything.
