@@ -597,13 +597,19 @@ TEST_F(ImGuiNull, FiltersPanelAsksToMeasureAndToCancelAndShowsEachFiltersRow) {
     EXPECT_TRUE(seen.cancel) << "no Cancel button while measuring";
     EXPECT_FALSE(seen.measure) << "Measure offered while a measurement runs";
 
-    // With shading there is no ground truth: nothing to ask for. X-ray has its own (no attenuation).
+    // Surface splats have no ground truth: nothing to ask for. Shading and X-ray have their own.
     view.measuring = false;
-    state.settings.shading = renderer::SplatSettings::Shading::PerSplat;
+    state.settings.surfaceFlatten = 4.0;
     seen = {};
     frame(body);
     clickInCostColumn(&ui::FiltersChanges::measure);
     EXPECT_FALSE(seen.measure);
+    state.settings.surfaceFlatten = 1.0;
+    state.settings.shading = renderer::SplatSettings::Shading::PerSplat;
+    seen = {};
+    frame(body);
+    clickInCostColumn(&ui::FiltersChanges::measure);
+    EXPECT_TRUE(seen.measure) << "shading has a ground truth";
     state.settings.shading = renderer::SplatSettings::Shading::None;
     state.settings.compositing = renderer::Compositing::XRay;
     seen = {};

@@ -100,7 +100,7 @@ void drawDepthBar(const renderer::FilterDepths& d, glm::dvec2 volume, double rad
 void drawCostColumn(const EditorState& state, const FiltersView& view, FiltersChanges& changes) {
     textWrapped("cost and error in this view");
     if (!renderer::hasGroundTruth(state.settings)) {
-        textDisabledWrapped("no ground truth with shading or surface splats");
+        textDisabledWrapped("no ground truth with surface splats");
         return;
     }
     if (view.measuring) {

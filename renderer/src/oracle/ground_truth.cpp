@@ -5,6 +5,7 @@
 #include "renderer/oracle/ground_truth.h"
 
 #include "renderer/errors.h"
+#include "renderer/math/shading.h"
 #include "renderer/oracle/ray_kernel.h"
 #include "renderer/oracle/reference_renderer.h"
 #include "renderer/out_of_memory.h"
@@ -32,7 +33,9 @@ struct Ray {
 
 class Integrator {
 public:
-    Integrator(const SplatScene& scene, const SplatSettings& settings) : m_scene(scene), m_settings(settings) {
+    Integrator(const SplatScene& scene, const SplatSettings& settings, const glm::dmat3& viewFromObject)
+        : m_scene(scene), m_settings(settings), m_viewFromObject(viewFromObject),
+          m_shaded(settings.shading != SplatSettings::Shading::None) {
         m_sigma = settings.kernelScale * scene.spacing;
         m_kernelPeak = kernelPeak(scene.spacing, m_sigma, settings.cutoffSigmas);
         m_reach = glm::ivec3(glm::ceil(glm::dvec3(settings.cutoffSigmas * settings.kernelScale)));
@@ -97,6 +100,12 @@ public:
             const uint16_t cls = m_scene.classes[i];
             k.extinction = extinctionOf(m_scene, m_settings, cls);
             k.colour = glm::dvec3(m_scene.lut[cls]);
+            // Shaded: the kernel's colour lit along this very ray (the Phong of shading.h with the
+            // voxel's gradient, as both renderers decode it); per-splat shading approximates the ray's
+            // direction by the splat centre's, per-fragment by the pixel centre's.
+            if (m_shaded)
+                k.colour = shade(k.colour, m_viewFromObject * decodeGradient(m_scene.gradients[i]).gradient(),
+                                 -(m_viewFromObject * ray.dir), m_settings.shadingParams);
             if (k.mid + k.halfLength > ray.start) kernels.push_back(k);
         }
         std::sort(kernels.begin(), kernels.end(),
@@ -148,6 +157,8 @@ public:
 private:
     const SplatScene& m_scene;
     const SplatSettings& m_settings;
+    glm::dmat3 m_viewFromObject;
+    bool m_shaded = false;
     glm::dvec3 m_sigma;
     double m_kernelPeak = 0.0;
     glm::ivec3 m_reach{3};
@@ -172,7 +183,10 @@ static Image renderGroundTruthOrThrow(const SplatScene& scene, const ImagePlane&
     const int gw = plane.width * ss + 2 * margin, gh = plane.height * ss + 2 * margin;
     const auto samplePx = [&](int i) { return (i - margin + 0.5) / ss; };
 
-    const Integrator integrator(scene, settings);
+    if (!hasGroundTruth(settings))
+        throw RenderError("ground truth: surface splats have none (flattened kernels are not the volume's)");
+    requireGradients(settings, scene.gradients.size() == scene.classes.size(), scene.name);
+    const Integrator integrator(scene, settings, plane.viewFromObject);
     const bool xray = settings.compositing == Compositing::XRay;
     const glm::dmat3 objectFromView = glm::transpose(plane.viewFromObject);
     const glm::dvec3 eye = objectFromView * -plane.translation;
@@ -278,7 +292,7 @@ struct Fnv1a {
 
 } // namespace
 
-bool hasGroundTruth(const SplatSettings& settings) { return !needsGradients(settings); }
+bool hasGroundTruth(const SplatSettings& settings) { return settings.surfaceFlatten <= 1.0; }
 
 std::string groundTruthKey(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                            const GroundTruthOptions& options) {
@@ -305,6 +319,15 @@ std::string groundTruthKey(const SplatScene& scene, const ImagePlane& plane, con
     f.value(options.maxHalvings);
     f.value(options.supersample);
     if (settings.compositing == Compositing::XRay) f.value(uint8_t(1));   // the other integral (keys before it stand)
+    if (settings.shading != SplatSettings::Shading::None) {   // one truth for both shading modes
+        f.value(uint8_t(2));
+        f.bytes(scene.gradients.data(), scene.gradients.size() * sizeof(uint32_t));
+        f.value(settings.shadingParams.ambient);
+        f.value(settings.shadingParams.diffuse);
+        f.value(settings.shadingParams.specular);
+        f.value(settings.shadingParams.shininess);
+        f.value(settings.shadingParams.flatGradient);
+    }
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(f.h));
     return hex;

@@ -17,7 +17,8 @@ constexpr double kFilterReachPx = 4.0; // the ground truth's V_h reach (ground_t
 }
 
 bool hasNearLayer(const ImagePlane& plane, const SplatSettings& settings) {
-    return !plane.orthographic && hasGroundTruth(settings) && settings.surfaceFlatten <= 1.0;
+    // Its kernels take the LUT's colour: shaded frames drop their eye kernels instead (near_layer.h).
+    return !plane.orthographic && settings.shading == SplatSettings::Shading::None && settings.surfaceFlatten <= 1.0;
 }
 
 double splatNearReach(const ImagePlane& plane, const SplatSettings& settings) {

@@ -41,8 +41,13 @@ struct GroundTruthStats {
 // With X-ray compositing the integral is taken without attenuation and shown as the renderer resolves
 // X-ray's sum: 1 - exp(-x) of the emission and the optical depth, channel by channel; then filtered alike.
 //
-// Whether frames drawn with `settings` have a ground truth to be compared with: not with shading or
-// surface splats, which the integral does not model (EWA_NOTES).
+// With shading, each kernel's colour is lit along the ray itself (shading.h's Phong with the voxel's
+// decoded gradient and the ray's own direction): the truth of the pre-classified shaded model, which
+// per-splat shading (the splat centre's direction) and per-fragment shading (the pixel centre's)
+// approximate. It needs the scene's gradients (RenderError without them).
+//
+// Whether frames drawn with `settings` have a ground truth to be compared with: not with surface
+// splats, whose flattened kernels are a rendering choice, not the volume's kernels.
 bool hasGroundTruth(const SplatSettings& settings);
 
 // The progress callback of gradients.h; here it is called from worker threads (serialised) as rows

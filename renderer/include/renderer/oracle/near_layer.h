@@ -31,7 +31,7 @@ constexpr double kNearLayerDepths = 2.0;
 constexpr int kMaxNearKernels = 1024;
 
 // Whether frames drawn with `settings` in `plane` get a near layer: perspective frames without shading
-// or surface splats (those have no ground truth to follow; there near kernels are only left out).
+// or surface splats (the layer's kernels take the LUT's colour; there near kernels are only left out).
 // Orthographic frames splat every kernel whose centre lies in front of the near plane.
 bool hasNearLayer(const ImagePlane& plane, const SplatSettings& settings);
 
