@@ -328,11 +328,15 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
         ~InterruptScope() { renderer.setInterrupt({}); }
     } scope{which};
     which.setInterrupt([&] { return superseded(id, started, request.budgetMs, refinement); });
-    try {
-        which.render(request.plane, level == 0 ? request.full : request.coarse[size_t(level - 1)]);
-    } catch (const renderer::Cancelled&) {
-        return false;
-    }
+    const auto renderPane = [&](const renderer::SplatSettings& full, const std::vector<renderer::SplatSettings>& coarse) {
+        try {
+            which.render(request.plane, level == 0 ? full : coarse[size_t(level - 1)]);
+            return true;
+        } catch (const renderer::Cancelled&) {
+            return false;
+        }
+    };
+    if (!renderPane(request.full, request.coarse)) return false;
     RenderedView view;
     view.request = id;
     view.level = level;
@@ -357,6 +361,14 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
     view.stats = which.stats();
     view.sceneBytes = which.sceneBytes();
     view.workingBytes = which.workingBytes();
+    // The split view's second pane with the same renderer, and |A - B| from the two float images.
+    if (request.second) {
+        renderer::Image first;
+        if (request.difference) first = which.readback();
+        if (!renderPane(request.second->full, request.second->coarse)) return false;
+        view.secondRgba = pixels(false);
+        if (request.difference) view.difference = ui::differencePane(first, which.readback());
+    }
     m_levelMs[size_t(level)] = msSince(started);
     // Each level's error against the full frame that follows it in the same request.
     if (m_levelPixelsOf != id) {

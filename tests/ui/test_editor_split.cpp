@@ -1,0 +1,103 @@
+// ui layer, end to end: the editor under Xvfb with --split and --split-difference. Save image writes the
+// panes side by side; each pane is what `splatlab render` draws at the pane's size with that pane's filter,
+// the difference pane's RMSE is renderer::compareImages of those two renders, and the viewport shows the
+// panes it saves.
+#include "image_compare.h"
+#include "renderer/io/image.h"
+#include "renderer/math/metrics.h"
+#include "test_paths.h"
+#include "ui/dock_layout.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <tuple>
+
+namespace {
+
+std::string runCapturing(const std::string& command, int& status) {
+    std::string output;
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return output;
+    std::array<char, 4096> buf;
+    while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) output.append(buf.data(), n);
+    const int code = pclose(pipe);
+    status = WIFEXITED(code) ? WEXITSTATUS(code) : -1;
+    return output;
+}
+
+renderer::Image crop(const renderer::Image& image, int x0, int width) {
+    renderer::Image out(width, image.height);
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 4; ++c) out.pixel(x, y)[c] = image.pixel(x0 + x, y)[c];
+    return out;
+}
+
+} // namespace
+
+TEST(EditorSplit, EachPaneIsItsFiltersRenderAndTheDifferenceRmseIsTheirMetric) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    const std::string volume = (testing_support::assetDir() / "volumes" / "headsq.nhdr").string();
+    const std::filesystem::path out = testing_support::testOutputDir(), saved = out / "editor_split_saved.exr",
+                                shot = out / "editor_split.png";
+    const std::string view = "--up -z --camera 30,20,2.5,30 --compositing sheet-front-to-back ";
+    int status = -1;
+    const std::string editor = "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" xvfb-run -a -s "
+                               "\"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor \"" + volume + "\" " + view +
+                               "--split reconstruction,low-pass --split-difference --size 1280x800 --frames 5 "
+                               "--save-image \"" + saved.string() + "\" --screenshot \"" + shot.string() + "\"";
+    const std::string printed = runCapturing(editor, status);
+    ASSERT_EQ(status, 0) << editor << "\n" << printed;
+    const size_t at = printed.find("RMSE ");
+    ASSERT_NE(at, std::string::npos) << "Save image names the difference's RMSE: " << printed;
+    const double rmse = std::atof(printed.c_str() + at + 5);
+
+    const renderer::Image panes = renderer::readImage(saved);
+    ASSERT_EQ(panes.width % 3, 0);
+    const int width = panes.width / 3, height = panes.height;
+    const auto render = [&](const char* filter, const char* name) {
+        const std::filesystem::path file = out / name;
+        const std::string command = "env -u DISPLAY LIBGL_ALWAYS_SOFTWARE=1 \"" SPLATLAB_EXE "\" render \"" + volume +
+                                    "\" " + view + "--filter " + filter + " --frames 1 --size " +
+                                    std::to_string(width) + "x" + std::to_string(height) + " -o \"" +
+                                    file.string() + "\" > /dev/null";
+        EXPECT_EQ(std::system(command.c_str()), 0) << command;
+        return renderer::readImage(file);
+    };
+    const renderer::Image a = render("reconstruction", "split_render_a.exr"), b = render("low-pass", "split_render_b.exr");
+    ASSERT_FALSE(::testing::Test::HasFailure());
+    // The tolerances the editor-against-render tests use (front to back: image_compare.h's renderDifference).
+    for (const auto& [pane, expected, name] : {std::tuple{0, &a, "A"}, std::tuple{1, &b, "B"}}) {
+        const auto d = testing_support::renderDifference(*expected, crop(panes, pane * width, width));
+        EXPECT_LE(d.elsewhere, 1e-5f) << "pane " << name;
+        EXPECT_LE(d.atOpaque, 2e-3f) << "pane " << name;
+    }
+    const renderer::ImageError metric = renderer::compareImages(a, b);
+    EXPECT_GT(metric.rmse, 1e-3) << "reconstruction and low-pass should differ at this view";
+    EXPECT_NEAR(rmse, metric.rmse, 1e-3 * metric.rmse) << printed;
+    std::printf("[ split    ] editor's |A - B| RMSE %.6f, metric of the two renders %.6f (%.2f dB)\n", rmse,
+                metric.rmse, metric.psnrDb);
+
+    // The viewport shows the panes it saved: the left pane below its label, over the background.
+    const renderer::Image screen = renderer::readImage(shot);
+    const ui::DockLayout layout = ui::makeEditorLayout();
+    const ui::Rect node = ui::computeDockRects(layout, {0, 0, 1280, 800}).node[size_t(layout.find("viewport"))];
+    const int x0 = int(node.x), y0 = int(node.bottom()) - height;
+    const float background[3] = {0.055f, 0.060f, 0.075f};
+    double worst = 0.0;
+    for (int y = 40; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float* p = panes.pixel(x, y);
+                const double over = std::clamp(double(p[c]) + (1.0 - p[3]) * background[c], 0.0, 1.0);
+                worst = std::max(worst, std::abs(double(screen.pixel(x0 + x, y0 + y)[c]) - over));
+            }
+    EXPECT_LE(worst, 2.0 / 255.0 + 1e-6) << "the viewport's left pane is not the saved one, see " << shot;
+}
