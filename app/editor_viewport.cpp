@@ -196,7 +196,7 @@ void EditorLoop::startSaveView(const std::filesystem::path& path) {
         ViewRequest view = viewRequest();
         const double opacity = view.heatmap ? std::clamp(m_state.heatmapOpacity, 0.0, 1.0) : 0.0;
         if (view.second) {
-            m_save = PendingSave{.path = path, .split = startSaveSplitView(view)};
+            m_save = PendingSave{.path = path, .heatmapOpacity = 0.0, .images = {}, .split = startSaveSplitView(view)};
             return;
         }
         m_save = PendingSave{
@@ -204,7 +204,8 @@ void EditorLoop::startSaveView(const std::filesystem::path& path) {
                 r.full->render(plane, settings);
                 return std::pair{opacity < 1.0 ? r.full->readback() : renderer::Image(),
                                  opacity > 0.0 ? r.full->readbackHeatmap() : renderer::Image()};
-            })};
+            }),
+            {}};
     });
 }
 

@@ -4,6 +4,7 @@
 #include "render_thread.h"
 #include "ui/split_view.h"
 
+#include "renderer/errors.h"
 #include "renderer/math/metrics.h"
 #include "renderer/model/procedural.h"
 #include "renderer/model/splat_scene.h"
@@ -89,7 +90,7 @@ TEST(SplitView, TheDifferencePaneHasTheMetricsRmseAndColoursEachPixelByItsError)
     expect(2, 1, 0.02 / 0.05);
     // The mean square of the pixels' errors is the square of the image's RMSE.
     EXPECT_NEAR((0.04 * 0.04 + 0.02 * 0.02) / 6.0, metric.rmse * metric.rmse, 1e-9);
-    EXPECT_THROW(ui::differencePane(a, Image(2, 2)), RenderError);
+    EXPECT_THROW(ui::differencePane(a, Image(2, 2)), renderer::RenderError);
 }
 
 // The render thread draws a split request's two panes with their own settings, in one view: each pane's

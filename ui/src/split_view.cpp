@@ -67,7 +67,18 @@ DifferencePane differencePane(const renderer::Image& a, const renderer::Image& b
         perPixel[p] = std::sqrt(sum / 4.0);
         if (!(perPixel[p] <= d.maxError)) d.maxError = std::isfinite(perPixel[p]) ? perPixel[p] : HUGE_VAL;
     }
-    d.scaleMax = niceScaleMax(std::isfinite(d.maxError) ? d.maxError : 1.0);
+    // The scale's top: the 1-2-5 step over the 99th percentile of the pixels that differ at all, so that a
+    // few outliers (silhouette pixels) do not leave the rest dark; larger errors take the top colour.
+    std::vector<double> differing;
+    for (double e : perPixel)
+        if (e > 1e-6) differing.push_back(std::isfinite(e) ? e : 1.0);
+    if (!differing.empty()) {
+        const auto at = differing.begin() + std::ptrdiff_t(std::ceil(0.99 * double(differing.size() - 1)));
+        std::nth_element(differing.begin(), at, differing.end());
+        d.scaleMax = niceScaleMax(*at);
+    } else {
+        d.scaleMax = niceScaleMax(0.0);
+    }
     d.rgba.resize(pixels * 4);
     for (size_t p = 0; p < pixels; ++p) {
         const std::array<uint8_t, 3> rgb = differenceColour(perPixel[p] / d.scaleMax);
