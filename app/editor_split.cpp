@@ -60,10 +60,10 @@ std::optional<glm::dvec2> EditorLoop::pointerInPane() const {
 
 std::future<EditorLoop::SplitImage> EditorLoop::startSaveSplitView(const ViewRequest& view) {
     return m_render->run([view](Renderers& r) {
+        r.full->render(view.plane, view.second->full); // as the view: the first pane last
+        const renderer::Image b = r.full->readback();
         r.full->render(view.plane, view.full);
         const renderer::Image a = r.full->readback();
-        r.full->render(view.plane, view.second->full);
-        const renderer::Image b = r.full->readback();
         SplitImage split;
         if (view.difference) split.difference = ui::differencePane(a, b);
         const int w = a.width, h = a.height, count = view.difference ? 3 : 2;

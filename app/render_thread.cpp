@@ -336,7 +336,6 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
             return false;
         }
     };
-    if (!renderPane(request.full, request.coarse)) return false;
     RenderedView view;
     view.request = id;
     view.level = level;
@@ -356,19 +355,21 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
         renderer::checkGlErrors("render thread: the view's pixels");
         return rgba;
     };
+    // The split view's second pane first, with the same renderer, so that its last frame (the stats, the
+    // timers the Stats panel collects) is the first pane's; |A - B| from the two float images.
+    renderer::Image second;
+    if (request.second) {
+        if (!renderPane(request.second->full, request.second->coarse)) return false;
+        view.secondRgba = pixels(false);
+        if (request.difference) second = which.readback();
+    }
+    if (!renderPane(request.full, request.coarse)) return false;
     view.rgba = pixels(false);
     if (request.heatmap) view.heatmapRgba = pixels(true);
+    if (request.second && request.difference) view.difference = ui::differencePane(which.readback(), second);
     view.stats = which.stats();
     view.sceneBytes = which.sceneBytes();
     view.workingBytes = which.workingBytes();
-    // The split view's second pane with the same renderer, and |A - B| from the two float images.
-    if (request.second) {
-        renderer::Image first;
-        if (request.difference) first = which.readback();
-        if (!renderPane(request.second->full, request.second->coarse)) return false;
-        view.secondRgba = pixels(false);
-        if (request.difference) view.difference = ui::differencePane(first, which.readback());
-    }
     m_levelMs[size_t(level)] = msSince(started);
     // Each level's error against the full frame that follows it in the same request.
     if (m_levelPixelsOf != id) {
