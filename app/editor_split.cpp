@@ -10,8 +10,8 @@ void EditorLoop::splitViewRequest(ViewRequest& request) const {
     if (!split.enabled) return;
     // Each pane is the pane's size, not the viewport's: a frame computes only what is shown.
     const ui::PaneRect pane = ui::splitPaneRects(m_renderWidth, m_renderHeight, split.paneCount()).front();
-    request.plane = renderer::makeImagePlane(m_state.camera, m_doc.scene.centre, m_doc.scene.radius, pane.width,
-                                             pane.height, m_doc.scene.axes);
+    request.plane = renderer::makeImagePlane(m_state.camera, m_doc.scene.centre, m_doc.scene.radius,
+                                             pane.width, pane.height, m_doc.scene.axes);
     const renderer::SplatSettings view = request.full;
     const auto withPane = [&](const ui::SplitPane& p, renderer::SplatSettings& full,
                               std::vector<renderer::SplatSettings>& coarse) {
@@ -33,15 +33,17 @@ void EditorLoop::splitViewRequest(ViewRequest& request) const {
 void EditorLoop::showSplitPanes(RenderedView& view) {
     m_shownPanes = view.secondRgba.empty() ? 1 : view.difference ? 3 : 2;
     if (m_shownPanes > 1) m_secondImage.upload(view.width, view.height, view.secondRgba);
-    if (view.difference) m_differenceImage.upload(view.difference->width, view.difference->height, view.difference->rgba);
+    if (view.difference)
+        m_differenceImage.upload(view.difference->width, view.difference->height, view.difference->rgba);
     view.secondRgba = {};
     if (view.difference) view.difference->rgba = {};
 }
 
 std::vector<ui::ViewportPane> EditorLoop::splitPanes() const {
     if (!m_state.split.enabled || !m_shown || m_shownPanes < 2) return {};
-    std::vector<ui::ViewportPane> panes{{m_image.id(), "A: " + ui::paneLabel(m_state.split.panes[0]), {}},
-                                        {m_secondImage.id(), "B: " + ui::paneLabel(m_state.split.panes[1]), {}}};
+    std::vector<ui::ViewportPane> panes{
+        {m_image.id(), "A: " + ui::paneLabel(m_state.split.panes[0]), {}},
+        {m_secondImage.id(), "B: " + ui::paneLabel(m_state.split.panes[1]), {}}};
     if (m_shownPanes == 3 && m_shown->difference)
         panes.push_back({m_differenceImage.id(), "|A - B|",
                          ui::ViewportDifference{m_shown->difference->rmse, m_shown->difference->psnrDb,
@@ -75,7 +77,9 @@ std::future<EditorLoop::SplitImage> EditorLoop::startSaveSplitView(const ViewReq
                     split.panes.pixel(w + x, y)[c] = b.pixel(x, y)[c];
                     if (split.difference) // the colour scale, opaque: written as it is over any background
                         split.panes.pixel(2 * w + x, y)[c] =
-                            float(split.difference->rgba[(size_t(y) * size_t(w) + size_t(x)) * 4 + size_t(c)]) / 255.0f;
+                            float(
+                                split.difference->rgba[(size_t(y) * size_t(w) + size_t(x)) * 4 + size_t(c)]) /
+                            255.0f;
                 }
         if (split.difference) split.difference->rgba = {};
         return split;

@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <string>
 #include <tuple>
+#include <utility>
 
 namespace {
 
@@ -25,7 +26,8 @@ std::string runCapturing(const std::string& command, int& status) {
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return output;
     std::array<char, 4096> buf;
-    while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) output.append(buf.data(), n);
+    while (size_t n = fread(buf.data(), 1, buf.size(), pipe))
+        output.append(buf.data(), n);
     const int code = pclose(pipe);
     status = WIFEXITED(code) ? WEXITSTATUS(code) : -1;
     return output;
@@ -35,24 +37,45 @@ renderer::Image crop(const renderer::Image& image, int x0, int width) {
     renderer::Image out(width, image.height);
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < width; ++x)
-            for (int c = 0; c < 4; ++c) out.pixel(x, y)[c] = image.pixel(x0 + x, y)[c];
+            for (int c = 0; c < 4; ++c)
+                out.pixel(x, y)[c] = image.pixel(x0 + x, y)[c];
     return out;
 }
 
 } // namespace
 
+TEST(EditorSplit, ASplitThatIsNotTwoFiltersIsRefusedNamingTheFlag) {
+    const std::pair<const char*, const char*> bad[] = {
+        {"--split ewa", "--split: expected two filters as FILTER_A,FILTER_B, got 'ewa'"},
+        {"--split ewa,low-pass,adaptive", "--split: expected two filters"},
+        {"--split ewa,sharp",
+         "--split: unknown filter 'sharp' (known: reconstruction, low-pass, ewa, adaptive)"},
+        {"--split-difference", "--split-difference: needs --split A,B"},
+    };
+    for (const auto& [flags, expected] : bad) {
+        int status = -1; // refused before a window opens: no display needed
+        const std::string output = runCapturing(
+            "env -u DISPLAY \"" SPLATLAB_EXE "\" editor " + std::string(flags) + " 2>&1", status);
+        EXPECT_NE(status, 0) << flags;
+        EXPECT_NE(output.find(expected), std::string::npos) << flags << "\n" << output;
+    }
+}
+
 TEST(EditorSplit, EachPaneIsItsFiltersRenderAndTheDifferenceRmseIsTheirMetric) {
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
     const std::string volume = (testing_support::assetDir() / "volumes" / "headsq.nhdr").string();
-    const std::filesystem::path out = testing_support::testOutputDir(), saved = out / "editor_split_saved.exr",
-                                shot = out / "editor_split.png";
+    const std::filesystem::path out = testing_support::testOutputDir(),
+                                saved = out / "editor_split_saved.exr", shot = out / "editor_split.png";
     const std::string view = "--up -z --camera 30,20,2.5,30 --compositing sheet-front-to-back ";
     int status = -1;
-    const std::string editor = "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" xvfb-run -a -s "
-                               "\"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor \"" + volume + "\" " + view +
-                               "--split reconstruction,low-pass --split-difference --size 1280x800 --frames 5 "
-                               "--save-image \"" + saved.string() + "\" --screenshot \"" + shot.string() + "\"";
+    const std::string editor =
+        "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" xvfb-run -a -s "
+        "\"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor \"" +
+        volume + "\" " + view +
+        "--split reconstruction,low-pass --split-difference --size 1280x800 --frames 5 "
+        "--save-image \"" +
+        saved.string() + "\" --screenshot \"" + shot.string() + "\"";
     const std::string printed = runCapturing(editor, status);
     ASSERT_EQ(status, 0) << editor << "\n" << printed;
     const size_t at = printed.find("RMSE ");
@@ -64,14 +87,15 @@ TEST(EditorSplit, EachPaneIsItsFiltersRenderAndTheDifferenceRmseIsTheirMetric) {
     const int width = panes.width / 3, height = panes.height;
     const auto render = [&](const char* filter, const char* name) {
         const std::filesystem::path file = out / name;
-        const std::string command = "env -u DISPLAY LIBGL_ALWAYS_SOFTWARE=1 \"" SPLATLAB_EXE "\" render \"" + volume +
-                                    "\" " + view + "--filter " + filter + " --frames 1 --size " +
+        const std::string command = "env -u DISPLAY LIBGL_ALWAYS_SOFTWARE=1 \"" SPLATLAB_EXE "\" render \"" +
+                                    volume + "\" " + view + "--filter " + filter + " --frames 1 --size " +
                                     std::to_string(width) + "x" + std::to_string(height) + " -o \"" +
                                     file.string() + "\" > /dev/null";
         EXPECT_EQ(std::system(command.c_str()), 0) << command;
         return renderer::readImage(file);
     };
-    const renderer::Image a = render("reconstruction", "split_render_a.exr"), b = render("low-pass", "split_render_b.exr");
+    const renderer::Image a = render("reconstruction", "split_render_a.exr"),
+                          b = render("low-pass", "split_render_b.exr");
     ASSERT_FALSE(::testing::Test::HasFailure());
     // The tolerances the editor-against-render tests use (front to back: image_compare.h's renderDifference).
     for (const auto& [pane, expected, name] : {std::tuple{0, &a, "A"}, std::tuple{1, &b, "B"}}) {
@@ -88,7 +112,8 @@ TEST(EditorSplit, EachPaneIsItsFiltersRenderAndTheDifferenceRmseIsTheirMetric) {
     // The viewport shows the panes it saved: the left pane below its label, over the background.
     const renderer::Image screen = renderer::readImage(shot);
     const ui::DockLayout layout = ui::makeEditorLayout();
-    const ui::Rect node = ui::computeDockRects(layout, {0, 0, 1280, 800}).node[size_t(layout.find("viewport"))];
+    const ui::Rect node =
+        ui::computeDockRects(layout, {0, 0, 1280, 800}).node[size_t(layout.find("viewport"))];
     const int x0 = int(node.x), y0 = int(node.bottom()) - height;
     const float background[3] = {0.055f, 0.060f, 0.075f};
     double worst = 0.0;

@@ -69,9 +69,11 @@ TEST(SplitView, TheScaleTopIsTheNext125StepAndItsColoursRunDarkToLight) {
 
 TEST(SplitView, TheDifferencePaneHasTheMetricsRmseAndColoursEachPixelByItsError) {
     Image a(3, 2), b(3, 2);
-    for (size_t i = 0; i < a.rgba.size(); ++i) a.rgba[i] = b.rgba[i] = 0.25f;
-    b.pixel(1, 0)[0] = 0.25f + 0.08f;  // one channel off by 0.08: pixel error 0.04
-    for (int c = 0; c < 4; ++c) b.pixel(2, 1)[c] = 0.25f - 0.02f; // all four off by 0.02: error 0.02
+    for (size_t i = 0; i < a.rgba.size(); ++i)
+        a.rgba[i] = b.rgba[i] = 0.25f;
+    b.pixel(1, 0)[0] = 0.25f + 0.08f; // one channel off by 0.08: pixel error 0.04
+    for (int c = 0; c < 4; ++c)
+        b.pixel(2, 1)[c] = 0.25f - 0.02f; // all four off by 0.02: error 0.02
     const ui::DifferencePane d = ui::differencePane(a, b);
     const ImageError metric = compareImages(a, b);
     EXPECT_DOUBLE_EQ(d.rmse, metric.rmse);
@@ -82,7 +84,8 @@ TEST(SplitView, TheDifferencePaneHasTheMetricsRmseAndColoursEachPixelByItsError)
     const auto at = [&](int x, int y) { return &d.rgba[size_t(y * 3 + x) * 4]; };
     const auto expect = [&](int x, int y, double t) {
         const auto c = ui::differenceColour(t);
-        for (int k = 0; k < 3; ++k) EXPECT_EQ(at(x, y)[k], c[size_t(k)]) << x << "," << y;
+        for (int k = 0; k < 3; ++k)
+            EXPECT_EQ(at(x, y)[k], c[size_t(k)]) << x << "," << y;
         EXPECT_EQ(at(x, y)[3], 255);
     };
     expect(0, 0, 0.0);
@@ -108,14 +111,15 @@ TEST(SplitView, TheRenderThreadDrawsEachPaneWithItsSettingsAndTheDifferenceOfTho
     thread->setScenes(std::make_shared<const SplatScene>(scene), {});
     ViewRequest request;
     // Far enough that the kernels are minified: low-pass and reconstruction differ visibly.
-    request.plane = makeImagePlane(Camera{.azimuthDeg = 30, .elevationDeg = 20, .distance = 6.0}, scene.centre,
-                                   scene.radius, 120, 96);
+    request.plane = makeImagePlane(Camera{.azimuthDeg = 30, .elevationDeg = 20, .distance = 6.0},
+                                   scene.centre, scene.radius, 120, 96);
     request.levels = ViewRequest::Levels::FullOnly;
     SplatSettings view;
     view.density = 4.0;
     // Back to front: no early termination, whose refreshes may stop at another slice from run to run.
     request.full = ui::paneSettings(view, {FilterMode::Reconstruction, Compositing::SheetBackToFront});
-    request.second = ViewRequest::SecondPane{ui::paneSettings(view, {FilterMode::LowPass, Compositing::SheetBackToFront}), {}};
+    request.second = ViewRequest::SecondPane{
+        ui::paneSettings(view, {FilterMode::LowPass, Compositing::SheetBackToFront}), {}};
     request.difference = true;
     const uint64_t id = thread->requestView(request);
     thread->waitForView(id);
@@ -131,18 +135,21 @@ TEST(SplitView, TheRenderThreadDrawsEachPaneWithItsSettingsAndTheDifferenceOfTho
         Image image;
     };
     const auto alone = [&](const SplatSettings& settings) {
-        return thread->run([&, settings](Renderers& r) {
-            r.full->render(request.plane, settings);
-            Alone out{std::vector<uint8_t>(120 * 96 * 4), r.full->readback()};
-            glGetTextureImage(r.full->displayTexture(request.background.data()), 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                              GLsizei(out.shown.size()), out.shown.data());
-            return out;
-        }).get();
+        return thread
+            ->run([&, settings](Renderers& r) {
+                r.full->render(request.plane, settings);
+                Alone out{std::vector<uint8_t>(120 * 96 * 4), r.full->readback()};
+                glGetTextureImage(r.full->displayTexture(request.background.data()), 0, GL_RGBA,
+                                  GL_UNSIGNED_BYTE, GLsizei(out.shown.size()), out.shown.data());
+                return out;
+            })
+            .get();
     };
     const Alone a = alone(request.full), b = alone(request.second->full);
     const auto largest = [](const std::vector<uint8_t>& x, const std::vector<uint8_t>& y) {
         int worst = 0;
-        for (size_t i = 0; i < x.size(); ++i) worst = std::max(worst, std::abs(int(x[i]) - int(y[i])));
+        for (size_t i = 0; i < x.size(); ++i)
+            worst = std::max(worst, std::abs(int(x[i]) - int(y[i])));
         return worst;
     };
     EXPECT_LE(largest(shown->rgba, a.shown), 1) << "the left pane is not its settings' image";

@@ -12,7 +12,8 @@ std::vector<PaneRect> splitPaneRects(int width, int height, int count) {
     count = std::max(count, 1);
     const int paneWidth = std::max(1, width / count), paneHeight = std::max(1, height);
     std::vector<PaneRect> panes;
-    for (int i = 0; i < count; ++i) panes.push_back({i * paneWidth, 0, paneWidth, paneHeight});
+    for (int i = 0; i < count; ++i)
+        panes.push_back({i * paneWidth, 0, paneWidth, paneHeight});
     return panes;
 }
 
@@ -26,7 +27,8 @@ renderer::SplatSettings paneSettings(renderer::SplatSettings view, const SplitPa
 }
 
 std::string paneLabel(const SplitPane& pane) {
-    return std::string(renderer::filterModeName(pane.filter)) + ", " + renderer::compositingName(pane.compositing);
+    return std::string(renderer::filterModeName(pane.filter)) + ", " +
+           renderer::compositingName(pane.compositing);
 }
 
 std::array<uint8_t, 3> differenceColour(double t) {
@@ -82,7 +84,8 @@ DifferencePane differencePane(const renderer::Image& a, const renderer::Image& b
     d.rgba.resize(pixels * 4);
     for (size_t p = 0; p < pixels; ++p) {
         const std::array<uint8_t, 3> rgb = differenceColour(perPixel[p] / d.scaleMax);
-        d.rgba[p * 4 + 0] = rgb[0], d.rgba[p * 4 + 1] = rgb[1], d.rgba[p * 4 + 2] = rgb[2], d.rgba[p * 4 + 3] = 255;
+        d.rgba[p * 4 + 0] = rgb[0], d.rgba[p * 4 + 1] = rgb[1], d.rgba[p * 4 + 2] = rgb[2],
+                       d.rgba[p * 4 + 3] = 255;
     }
     return d;
 }

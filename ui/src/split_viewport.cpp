@@ -18,7 +18,8 @@ namespace {
 
 constexpr std::array kFilters{renderer::FilterMode::Reconstruction, renderer::FilterMode::LowPass,
                               renderer::FilterMode::Ewa, renderer::FilterMode::Adaptive};
-constexpr std::array kCompositings{renderer::Compositing::SplatEverySample, renderer::Compositing::SheetBackToFront,
+constexpr std::array kCompositings{renderer::Compositing::SplatEverySample,
+                                   renderer::Compositing::SheetBackToFront,
                                    renderer::Compositing::SheetFrontToBack, renderer::Compositing::XRay};
 
 ImTextureID textureId(unsigned name) { return reinterpret_cast<ImTextureID>(static_cast<intptr_t>(name)); }
@@ -33,13 +34,15 @@ void labelAt(ImDrawList* draw, ImVec2 at, const char* text, ImU32 colour = IM_CO
 
 // The colour scale as a vertical bar at the pane's right edge, 0 at the bottom, scaleMax at the top.
 void drawDifferenceScale(ImDrawList* draw, const ViewportDifference& d, ImVec2 min, ImVec2 max) {
-    const float font = ImGui::GetFontSize(), barW = font * 0.8f, barH = std::min(max.y - min.y - 4 * font, 12 * font);
+    const float font = ImGui::GetFontSize(), barW = font * 0.8f,
+                barH = std::min(max.y - min.y - 4 * font, 12 * font);
     if (barH < 2 * font) return;
     const float x1 = max.x - font * 0.6f, x0 = x1 - barW, y0 = max.y - font * 1.5f - barH, y1 = y0 + barH;
     constexpr int kSteps = 32;
     for (int i = 0; i < kSteps; ++i) { // top step is the scale's top
         const std::array<uint8_t, 3> rgb = differenceColour(1.0 - (double(i) + 0.5) / kSteps);
-        draw->AddRectFilled(ImVec2(x0, y0 + barH * float(i) / kSteps), ImVec2(x1, y0 + barH * float(i + 1) / kSteps),
+        draw->AddRectFilled(ImVec2(x0, y0 + barH * float(i) / kSteps),
+                            ImVec2(x1, y0 + barH * float(i + 1) / kSteps),
                             IM_COL32(rgb[0], rgb[1], rgb[2], 255));
     }
     draw->AddRect(ImVec2(x0, y0), ImVec2(x1, y1), IM_COL32(200, 200, 200, 255));
@@ -60,7 +63,8 @@ bool drawSplitViewSection(EditorState& state, renderer::Compositing viewComposit
     if (ImGui::Checkbox("Split view", &split.enabled)) {
         changed = true;
         if (split.enabled) // both panes start in the view's compositing: only the filters differ
-            for (SplitPane& pane : split.panes) pane.compositing = viewCompositing;
+            for (SplitPane& pane : split.panes)
+                pane.compositing = viewCompositing;
     }
     hint("Two panes side by side at one camera (a drag in either moves both), each with its own filter and\n"
          "compositing; the rest of the settings above are shared. The heatmap is off meanwhile");
@@ -68,7 +72,8 @@ bool drawSplitViewSection(EditorState& state, renderer::Compositing viewComposit
     for (int i = 0; i < 2; ++i) {
         ImGui::PushID(i);
         ImGui::TextUnformatted(i == 0 ? "Left (A)" : "Right (B)");
-        changed |= enumCombo("Filter##pane", split.panes[size_t(i)].filter, kFilters, &renderer::filterModeName);
+        changed |=
+            enumCombo("Filter##pane", split.panes[size_t(i)].filter, kFilters, &renderer::filterModeName);
         changed |= enumCombo("Compositing##pane", split.panes[size_t(i)].compositing, kCompositings,
                              &renderer::compositingName);
         ImGui::PopID();

@@ -49,12 +49,12 @@ std::string paneLabel(const SplitPane& pane);
 // RMSE (EWA_NOTES' metric, which `rmse` and `psnrDb` are).
 struct DifferencePane {
     int width = 0, height = 0;
-    std::vector<uint8_t> rgba;  // each pixel's error on the colour scale, opaque, row 0 at the top
-    double rmse = 0.0;          // renderer::compareImages(a, b)
-    double psnrDb = 0.0;        // its PSNR (+inf for identical images)
-    double scaleMax = 0.0;      // the error at the top of the colour scale: a 1-2-5 step over the 99th
-                                // percentile of the pixels that differ (larger ones take its top colour)
-    double maxError = 0.0;      // the largest pixel error
+    std::vector<uint8_t> rgba; // each pixel's error on the colour scale, opaque, row 0 at the top
+    double rmse = 0.0;         // renderer::compareImages(a, b)
+    double psnrDb = 0.0;       // its PSNR (+inf for identical images)
+    double scaleMax = 0.0;     // the error at the top of the colour scale: a 1-2-5 step over the 99th
+                               // percentile of the pixels that differ (larger ones take its top colour)
+    double maxError = 0.0;     // the largest pixel error
 };
 // Throws RenderError (compareImages) when the sizes differ.
 DifferencePane differencePane(const renderer::Image& a, const renderer::Image& b);
