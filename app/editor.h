@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 struct EditorOptions {
@@ -27,6 +28,10 @@ struct EditorOptions {
     int width = 1280, height = 800;       // window size in screen coordinates
     renderer::SplatSettings settings;     // the starting settings, heatmap included (the command line's)
     double heatmapOpacity = 1.0;          // the heatmap over the image: 0 the image only, 1 the heatmap only
+    // --split A,B: the viewport split in two panes with these filters (both in settings.compositing);
+    // --split-difference adds the |A - B| pane (ui/split_view.h).
+    std::optional<std::pair<renderer::FilterMode, renderer::FilterMode>> split;
+    bool splitDifference = false;
     renderer::WindowSettings window;      // the starting window (--window)
     std::optional<renderer::RawOptions> raw;   // how to read the volume argument if it is headerless raw
     std::vector<std::string> tabs;        // panels brought to the front of their regions (--tab)

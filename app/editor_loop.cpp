@@ -35,6 +35,12 @@ bool EditorLoop::start() {
         m_state.settings = m_options.settings;
         m_state.showHeatmap = m_options.settings.heatmap;
         m_state.heatmapOpacity = m_options.heatmapOpacity;
+        if (m_options.split) {
+            m_state.split.enabled = true;
+            m_state.split.panes = {ui::SplitPane{m_options.split->first, m_options.settings.compositing},
+                                   ui::SplitPane{m_options.split->second, m_options.settings.compositing}};
+            m_state.split.difference = m_options.splitDifference;
+        }
         m_state.window = m_options.window;
         m_state.perf.renderContinuously = m_options.continuous || m_options.spinDegPerS != 0.0;
         if (!(std::abs(m_options.spinDegPerS) <= 90.0))

@@ -99,6 +99,20 @@ class EditorLoop {
     // Settings > Files > Save image (and --save-image): the view as the viewport shows it, at its size,
     // rendered in full on the render thread; finishSaveView writes it once there (wait: at once).
     void startSaveView(const std::filesystem::path& path);
+    // The split view saved: its panes side by side, A | B (| |A - B|), and the difference's figures.
+    struct SplitImage {
+        renderer::Image panes;
+        std::optional<ui::DifferencePane> difference;
+    };
+    std::future<SplitImage> startSaveSplitView(const ViewRequest& view);
+    std::string splitSavedText(const SplitImage& split) const; // " (split: A ... | B ... | |A - B| RMSE ...)"
+
+    // == The split view (editor_split.cpp)
+    void splitViewRequest(ViewRequest& request) const; // each pane's settings, at the pane's size
+    void showSplitPanes(RenderedView& view);           // the second and difference panes into textures
+    std::vector<ui::ViewportPane> splitPanes() const;  // what the viewport lays out (none: one image)
+    // The pointer over the viewport in the view's pixels: in a split view, within the pane it is over.
+    std::optional<glm::dvec2> pointerInPane() const;
     // Returns what was written ("955 x 545 (heatmap)"), or nothing (not yet, or after reporting the failure).
     std::optional<std::string> finishSaveView(bool wait);
     void frameIfAsked();        // --fit, Settings > Camera > Frame or a double-click: framedCamera()
@@ -149,6 +163,10 @@ class EditorLoop {
     ViewTexture m_image;   // the viewport's image (the last finished one)
     ViewTexture m_heatmap; // and its heatmap, when the heatmap is on
     bool m_shownHasHeatmap = false; // the image shown came with its heatmap (m_heatmap holds it)
+    // The split view: the second pane's image and the difference pane's (split_view.h), and how many panes
+    // the image shown has (1: no split).
+    ViewTexture m_secondImage, m_differenceImage;
+    int m_shownPanes = 1;
     int m_renderWidth = 0, m_renderHeight = 0;
     std::optional<RenderedView> m_shown;    // what the viewport shows (its pixels dropped once uploaded)
     uint64_t m_viewRequest = 0;             // the last view asked for
@@ -156,6 +174,7 @@ class EditorLoop {
         std::filesystem::path path;
         double heatmapOpacity = 0.0;   // the heatmap over the image, as the viewport blends it
         std::future<std::pair<renderer::Image, renderer::Image>> images;   // image, heatmap (0 x 0: none)
+        std::future<SplitImage> split;                                     // instead, in a split view
     };
     std::optional<PendingSave> m_save;
     std::optional<std::future<std::vector<uint8_t>>> m_patchModes;

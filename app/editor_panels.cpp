@@ -66,6 +66,8 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
 
 ui::ViewportOverlay EditorLoop::viewportOverlay() const {
     ui::ViewportOverlay overlay;
+    overlay.panes = splitPanes();
+    if (!overlay.panes.empty()) return overlay; // the heatmap belongs to the one image
     if (!m_state.showHeatmap || !m_shown || !m_shownHasHeatmap) return overlay;
     overlay.heatmapTexture = m_heatmap.id();
     if (m_doc.volume)
@@ -138,9 +140,9 @@ void EditorLoop::probeHoveredVoxel() {
     // The voxel under the mouse, for the next frame's tooltip and TF marker: the last full render's
     // view, so not while a drag shows the preview or a window edit left the full scene behind.
     m_state.probe.reset();
-    if (m_viewport.hoverPx && m_lastPlane && m_doc.volume && !m_fullWindowStale && !m_state.preview.shown)
-        if (const auto hit =
-                renderer::probePixel(m_doc.scene, m_state.settings, *m_lastPlane, *m_viewport.hoverPx))
+    const std::optional<glm::dvec2> pointer = pointerInPane(); // a split view's panes show one view
+    if (pointer && m_lastPlane && m_doc.volume && !m_fullWindowStale && !m_state.preview.shown)
+        if (const auto hit = renderer::probePixel(m_doc.scene, m_state.settings, *m_lastPlane, *pointer))
             m_state.probe = ui::EditorState::ProbedVoxel{
                 hit->voxel, m_doc.volume->at(hit->voxel.x, hit->voxel.y, hit->voxel.z)};
     m_state.footprint.reset();

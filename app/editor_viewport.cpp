@@ -128,6 +128,7 @@ ViewRequest EditorLoop::viewRequest() const {
     // While the window is dragged only the levels are re-classified: the finest shows the new window.
     if (m_fullWindowStale && m_doc.preview) request.levels = Levels::FinestOnly;
     request.budgetMs = m_state.preview.budgetMs > 0.0 ? m_state.preview.budgetMs : m_state.preview.defaultBudgetMs;
+    splitViewRequest(request); // a split view: its panes' settings, at a pane's size
     return request;
 }
 
@@ -150,6 +151,7 @@ void EditorLoop::showRenderedView() {
     m_image.upload(view->width, view->height, view->rgba);
     m_shownHasHeatmap = !view->heatmapRgba.empty();
     if (m_shownHasHeatmap) m_heatmap.upload(view->width, view->height, view->heatmapRgba);
+    showSplitPanes(*view);
     view->rgba = {}, view->heatmapRgba = {};
     if (m_probe) m_probe->imageShown(view->request, view->level, InteractiveProbe::Clock::now());
     m_state.preview.shown = view->level > 0;
@@ -193,21 +195,37 @@ void EditorLoop::startSaveView(const std::filesystem::path& path) {
         classifyNow(); // the full scene, with the window on screen
         ViewRequest view = viewRequest();
         const double opacity = view.heatmap ? std::clamp(m_state.heatmapOpacity, 0.0, 1.0) : 0.0;
+        if (view.second) {
+            m_save = PendingSave{.path = path, .heatmapOpacity = 0.0, .images = {}, .split = startSaveSplitView(view)};
+            return;
+        }
         m_save = PendingSave{
             path, opacity, m_render->run([plane = view.plane, settings = view.full, opacity](Renderers& r) {
                 r.full->render(plane, settings);
                 return std::pair{opacity < 1.0 ? r.full->readback() : renderer::Image(),
                                  opacity > 0.0 ? r.full->readbackHeatmap() : renderer::Image()};
-            })};
+            }),
+            {}};
     });
 }
 
 std::optional<std::string> EditorLoop::finishSaveView(bool wait) {
-    if (!m_save || (!wait && m_save->images.wait_for(std::chrono::seconds(0)) != std::future_status::ready))
-        return std::nullopt;
+    if (!m_save) return std::nullopt;
+    const auto ready = [](const auto& f) { return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
+    if (!wait && !(m_save->split.valid() ? ready(m_save->split) : ready(m_save->images))) return std::nullopt;
     PendingSave save = std::move(*m_save);
     m_save.reset();
     std::optional<std::string> written;
+    if (save.split.valid()) {
+        guarded([&] {
+            const SplitImage split = save.split.get();
+            renderer::writeImage(split.panes, save.path, m_state.background.data());
+            written = std::to_string(split.panes.width) + " x " + std::to_string(split.panes.height) +
+                      splitSavedText(split);
+            m_state.imageSaved = "wrote " + save.path.filename().string() + ", " + *written;
+        });
+        return written;
+    }
     guarded([&] {
         auto [image, heatmap] = save.images.get();
         const renderer::Image shown = blendHeatmap(std::move(image), std::move(heatmap), save.heatmapOpacity);

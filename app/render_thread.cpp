@@ -328,11 +328,14 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
         ~InterruptScope() { renderer.setInterrupt({}); }
     } scope{which};
     which.setInterrupt([&] { return superseded(id, started, request.budgetMs, refinement); });
-    try {
-        which.render(request.plane, level == 0 ? request.full : request.coarse[size_t(level - 1)]);
-    } catch (const renderer::Cancelled&) {
-        return false;
-    }
+    const auto renderPane = [&](const renderer::SplatSettings& full, const std::vector<renderer::SplatSettings>& coarse) {
+        try {
+            which.render(request.plane, level == 0 ? full : coarse[size_t(level - 1)]);
+            return true;
+        } catch (const renderer::Cancelled&) {
+            return false;
+        }
+    };
     RenderedView view;
     view.request = id;
     view.level = level;
@@ -352,8 +355,18 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
         renderer::checkGlErrors("render thread: the view's pixels");
         return rgba;
     };
+    // The split view's second pane first, with the same renderer, so that its last frame (the stats, the
+    // timers the Stats panel collects) is the first pane's; |A - B| from the two float images.
+    renderer::Image second;
+    if (request.second) {
+        if (!renderPane(request.second->full, request.second->coarse)) return false;
+        view.secondRgba = pixels(false);
+        if (request.difference) second = which.readback();
+    }
+    if (!renderPane(request.full, request.coarse)) return false;
     view.rgba = pixels(false);
     if (request.heatmap) view.heatmapRgba = pixels(true);
+    if (request.second && request.difference) view.difference = ui::differencePane(which.readback(), second);
     view.stats = which.stats();
     view.sceneBytes = which.sceneBytes();
     view.workingBytes = which.workingBytes();

@@ -7,6 +7,7 @@
 #pragma once
 #include "renderer/gl/splat_renderer.h"
 #include "renderer/model/splat_scene.h"
+#include "ui/split_view.h"
 
 #include <array>
 #include <chrono>
@@ -39,6 +40,14 @@ struct ViewRequest {
                                                  // unit length: renderer::densityFor)
     std::array<float, 3> background{};
     bool heatmap = false; // also the heatmap (RenderedView::heatmapRgba); full.heatmap must be on
+    // The split view's second pane: the same plane drawn again with its own settings (of the full frame and
+    // of each level, as above), at each level right after the first pane; with `difference`, also |A - B|.
+    struct SecondPane {
+        renderer::SplatSettings full;
+        std::vector<renderer::SplatSettings> coarse;
+    };
+    std::optional<SecondPane> second;
+    bool difference = false; // needs `second`
     enum class Levels { Progressive, FullOnly, FinestOnly } levels = Levels::Progressive;
     double budgetMs = 150.0; // a first image within this, from the finest level whose last time fits
 };
@@ -52,8 +61,10 @@ struct RenderedView {
     std::vector<uint8_t> rgba;        // over the background, 8 bits a channel, row 0 at the top
     std::vector<uint8_t> heatmapRgba; // the filter-mode heatmap of the same render, likewise (empty
                                       // unless the request asked for it): the viewport blends the two
+    std::vector<uint8_t> secondRgba;            // the split view's second pane, likewise (empty: none)
+    std::optional<ui::DifferencePane> difference; // |A - B| of the two panes' float images, when asked
     renderer::ImagePlane plane;
-    renderer::FrameStats stats;
+    renderer::FrameStats stats; // of the first pane
     uint64_t sceneBytes = 0, workingBytes = 0;
     // Per level (0: full): its last render and read-back in ms (0: not drawn yet), and the RMSE of its
     // last image against the full frame that replaced it (-1: none yet).

@@ -753,7 +753,8 @@ TEST(Cli, FlagsAndSessionsAcceptTheSameValuesOfEachSetting) {
 TEST(Cli, TheEditorRefusesAFlagBesideASessionThatSetsIt) {
     const std::filesystem::path session = testing_support::testOutputDir() / "refuse_session.json";
     ui::saveSession(ui::EditorState{}, {}, session);
-    for (const char* flag : {"--shading per-splat", "--heatmap", "--tf fire", "--camera 1,2,3,30", "--window p1-99"}) {
+    for (const char* flag : {"--shading per-splat", "--heatmap", "--tf fire", "--camera 1,2,3,30", "--window p1-99",
+                             "--split ewa,low-pass"}) {
         const CliRun e = splatlab("editor --session \"" + session.string() + "\" " + flag);
         EXPECT_NE(e.status, 0) << flag;
         const std::string name = std::string(flag).substr(0, std::string(flag).find(' '));

@@ -58,6 +58,10 @@ ui::EditorState unusualState() {
     s.histogramLog = false;
     s.background = {0.5f, 0.25f, 0.0f};
     s.spaceMouse = {.enabled = false, .speed = 2.5, .invertRotation = true, .invertTranslation = true};
+    s.split = {.enabled = true,
+               .panes = {ui::SplitPane{renderer::FilterMode::LowPass, renderer::Compositing::XRay},
+                         ui::SplitPane{renderer::FilterMode::Adaptive, renderer::Compositing::SheetBackToFront}},
+               .difference = true};
     return s;
 }
 
@@ -109,6 +113,12 @@ void expectSameSession(const ui::EditorState& a, const ui::EditorState& b) {
     EXPECT_EQ(a.spaceMouse.speed, b.spaceMouse.speed);
     EXPECT_EQ(a.spaceMouse.invertRotation, b.spaceMouse.invertRotation);
     EXPECT_EQ(a.spaceMouse.invertTranslation, b.spaceMouse.invertTranslation);
+    EXPECT_EQ(a.split.enabled, b.split.enabled);
+    for (size_t i = 0; i < 2; ++i) {
+        EXPECT_EQ(a.split.panes[i].filter, b.split.panes[i].filter) << "pane " << i;
+        EXPECT_EQ(a.split.panes[i].compositing, b.split.panes[i].compositing) << "pane " << i;
+    }
+    EXPECT_EQ(a.split.difference, b.split.difference);
 }
 
 std::string readText(const std::filesystem::path& p) {
@@ -202,6 +212,9 @@ TEST(Session, AWrongValueAnywhereIsRefusedNamingTheFieldAndChangesNothing) {
         {R"({"splatlab_session": 1, "splatting": {"counters": 1}})", "'splatting.counters'"},
         {R"({"splatlab_session": 1, "view": {"background": [0, 2, 0]}})", "'view.background'"},
         {R"({"splatlab_session": 1, "space_mouse": {"speed": 0}})", "'space_mouse.speed'"},
+        {R"({"splatlab_session": 1, "split": {"filter_b": "sharp"}})", "'split.filter_b'"},
+        {R"({"splatlab_session": 1, "split": {"compositing_a": 2}})", "'split.compositing_a'"},
+        {R"({"splatlab_session": 1, "split": {"enabled": "yes"}})", "'split.enabled'"},
         {R"({"splatlab_session": 1, "transfer_function": {"points": []}})", "no control points"},
     };
     for (auto [text, expected] : bad) {

@@ -7,6 +7,7 @@
 #include "renderer/oracle/demo_scenes.h"
 #include "ui/footprint_inspector.h"
 #include "ui/session.h"
+#include "split_viewport.h"
 #include "widgets.h"
 
 #include <imgui.h>
@@ -26,21 +27,6 @@ namespace {
 bool sliderDouble(const char* label, double& value, double lo, double hi, const char* format,
                   ImGuiSliderFlags flags = 0) {
     return ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &lo, &hi, format, flags);
-}
-
-// A combo over an enum's values, labelled with the renderer's own names for them.
-template <class E, size_t N>
-bool enumCombo(const char* label, E& value, const std::array<E, N>& options, const char* (*nameOf)(E)) {
-    bool changed = false;
-    if (ImGui::BeginCombo(label, nameOf(value))) {
-        for (E option : options) {
-            const bool selected = option == value;
-            if (ImGui::Selectable(nameOf(option), selected) && !selected) value = option, changed = true;
-            if (selected) ImGui::SetItemDefaultFocus();
-        }
-        ImGui::EndCombo();
-    }
-    return changed;
 }
 
 // The axis names renderer::axisFromName() understands; an up vector that is none of them (set
@@ -199,6 +185,9 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
              "With tiles the culling needs chunks of slices: on llvmpipe it pays, on an H100 it cost 1.6-1.8x");
     }
 
+    sectionTitle("Split view");
+    changes.settingsChanged |= drawSplitViewSection(state, s.compositing);
+
     sectionTitle("Shading and surfaces");
     ImGui::BeginDisabled(!state.gradientsReady);
     changes.settingsChanged |= enumCombo("Shading", s.shading,
@@ -330,7 +319,11 @@ ViewportResult drawViewportPanel(EditorState& state, unsigned texture, const Vie
     ImDrawList* draw = ImGui::GetWindowDrawList();
     const auto& bg = state.background;
     draw->AddRectFilled(origin, end, ImGui::GetColorU32(ImVec4(bg[0], bg[1], bg[2], 1.0f)));
-    if (texture != 0) {
+    if (!overlay.panes.empty()) {
+        drawSplitPanes(overlay, origin.x, origin.y, extent.x, extent.y);
+        if (state.inspectFootprint && state.footprint && state.probe)
+            drawFootprintInspector(*state.footprint, state.probe->value, end.x, origin.y);
+    } else if (texture != 0) {
         const auto id = [](unsigned name) { return reinterpret_cast<ImTextureID>(static_cast<intptr_t>(name)); };
         const bool heatmap = state.showHeatmap && overlay.heatmapTexture != 0;
         const double opacity = heatmap ? std::clamp(state.heatmapOpacity, 0.0, 1.0) : 0.0;

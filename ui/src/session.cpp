@@ -140,6 +140,13 @@ void saveSession(const EditorState& state, const std::filesystem::path& volume, 
                  {"heatmap_opacity", state.heatmapOpacity},
                  {"histogram_log", state.histogramLog},
                  {"background", {state.background[0], state.background[1], state.background[2]}}};
+    const SplitView& split = state.split;
+    j["split"] = {{"enabled", split.enabled},
+                  {"filter_a", renderer::filterModeName(split.panes[0].filter)},
+                  {"compositing_a", renderer::compositingName(split.panes[0].compositing)},
+                  {"filter_b", renderer::filterModeName(split.panes[1].filter)},
+                  {"compositing_b", renderer::compositingName(split.panes[1].compositing)},
+                  {"difference", split.difference}};
     j["space_mouse"] = {{"enabled", state.spaceMouse.enabled},
                         {"speed", state.spaceMouse.speed},
                         {"invert_rotation", state.spaceMouse.invertRotation},
@@ -242,6 +249,14 @@ std::filesystem::path loadSession(const std::filesystem::path& file, EditorState
     double background[3] = {next.background[0], next.background[1], next.background[2]};
     view.numbers("background", background, 0.0, 1.0);
     for (int i = 0; i < 3; ++i) next.background[size_t(i)] = float(background[i]);
+
+    const Section split(j, "split", name);
+    split.boolean("enabled", next.split.enabled);
+    split.name("filter_a", next.split.panes[0].filter, &renderer::filterModeFromName);
+    split.name("compositing_a", next.split.panes[0].compositing, &renderer::compositingFromName);
+    split.name("filter_b", next.split.panes[1].filter, &renderer::filterModeFromName);
+    split.name("compositing_b", next.split.panes[1].compositing, &renderer::compositingFromName);
+    split.boolean("difference", next.split.difference);
 
     const Section mouse(j, "space_mouse", name);
     mouse.boolean("enabled", next.spaceMouse.enabled);

@@ -41,6 +41,21 @@ inline bool inputPath(const char* label, std::string& text) {
                             &text);
 }
 
+// A combo over an enum's values, labelled with the renderer's own names for them.
+template <class E, size_t N>
+inline bool enumCombo(const char* label, E& value, const std::array<E, N>& options, const char* (*nameOf)(E)) {
+    bool changed = false;
+    if (ImGui::BeginCombo(label, nameOf(value))) {
+        for (E option : options) {
+            const bool selected = option == value;
+            if (ImGui::Selectable(nameOf(option), selected) && !selected) value = option, changed = true;
+            if (selected) ImGui::SetItemDefaultFocus();
+        }
+        ImGui::EndCombo();
+    }
+    return changed;
+}
+
 // The colour of a GPU pass (renderer::GpuPass) in the pass bar and the Performance chart.
 inline ImColor passColour(int pass, int passes) { return ImColor::HSV(float(pass) / float(passes), 0.55f, 0.85f); }
 

@@ -7,6 +7,7 @@
 #include "renderer/model/transfer_function.h"
 #include "renderer/model/window.h"
 #include "ui/regime_tour.h"
+#include "ui/split_view.h"
 #include "ui/tf_editor.h"
 
 #include <array>
@@ -90,6 +91,7 @@ struct EditorState {
     bool gradientsReady = false;     // the scene has gradients: shading and surface splats can be on
     bool showHeatmap = false;        // the viewport shows the filter-mode heatmap over the image
     double heatmapOpacity = 1.0;     // ...blended: 0 the image only, 1 the heatmap only
+    SplitView split;                 // the viewport in panes, each with its own filter (split_view.h)
     std::optional<RegimeTour> tour;  // the camera dollying near to far and back (Filters panel); none: still
     // Files: the volume shown (set by the app once it loaded), and the Files section's path fields.
     std::filesystem::path loadedVolume;

@@ -111,10 +111,25 @@ struct ViewportResult {
     std::optional<glm::dvec2> hoverPx;
 };
 
-// What the viewport draws over the image while state.showHeatmap is on.
+// The difference pane's figures (ui::DifferencePane without its pixels).
+struct ViewportDifference {
+    double rmse = 0.0, psnrDb = 0.0; // renderer::compareImages of the two panes
+    double scaleMax = 0.0;           // the error at the top of the colour scale
+};
+
+// One pane of the split view: its image (GL name; 0: none yet) and what it shows.
+struct ViewportPane {
+    unsigned texture = 0;
+    std::string label;                            // "reconstruction, sheet-front-to-back"
+    std::optional<ViewportDifference> difference; // the difference pane's figures
+};
+
+// What the viewport draws over the image while state.showHeatmap is on, or instead of it in a split view.
 struct ViewportOverlay {
     unsigned heatmapTexture = 0;          // the filter-mode heatmap of the same render (GL name); 0: none
     std::optional<HeatmapLegend> legend;  // of the view shown; none: no legend (no volume)
+    // The split view's panes, left to right (splitPaneRects); empty: the one image.
+    std::vector<ViewportPane> panes;
 };
 
 // Shows `texture` (a GL texture name, 0 for none) stretched over the panel's whole content region;

@@ -1,0 +1,197 @@
+// ui layer, end to end: the editor under Xvfb with --split and --split-difference. Save image writes the
+// panes side by side; each pane is what `splatlab render` draws at the pane's size with that pane's filter,
+// the difference pane's RMSE is renderer::compareImages of those two renders, and the viewport shows the
+// panes it saves.
+#include "image_compare.h"
+#include "renderer/io/image.h"
+#include "renderer/math/metrics.h"
+#include "test_paths.h"
+#include "ui/dock_layout.h"
+#include "ui/panels.h"
+#include "ui/split_view.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <tuple>
+#include <utility>
+
+namespace {
+
+std::string runCapturing(const std::string& command, int& status) {
+    std::string output;
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return output;
+    std::array<char, 4096> buf;
+    while (size_t n = fread(buf.data(), 1, buf.size(), pipe))
+        output.append(buf.data(), n);
+    const int code = pclose(pipe);
+    status = WIFEXITED(code) ? WEXITSTATUS(code) : -1;
+    return output;
+}
+
+renderer::Image crop(const renderer::Image& image, int x0, int width) {
+    renderer::Image out(width, image.height);
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 4; ++c)
+                out.pixel(x, y)[c] = image.pixel(x0 + x, y)[c];
+    return out;
+}
+
+} // namespace
+
+TEST(EditorSplit, ASplitThatIsNotTwoFiltersIsRefusedNamingTheFlag) {
+    const std::pair<const char*, const char*> bad[] = {
+        {"--split ewa", "--split: expected two filters as FILTER_A,FILTER_B, got 'ewa'"},
+        {"--split ewa,low-pass,adaptive", "--split: expected two filters"},
+        {"--split ewa,sharp",
+         "--split: unknown filter 'sharp' (known: reconstruction, low-pass, ewa, adaptive)"},
+        {"--split-difference", "--split-difference: needs --split A,B"},
+    };
+    for (const auto& [flags, expected] : bad) {
+        int status = -1; // refused before a window opens: no display needed
+        const std::string output = runCapturing(
+            "env -u DISPLAY \"" SPLATLAB_EXE "\" editor " + std::string(flags) + " 2>&1", status);
+        EXPECT_NE(status, 0) << flags;
+        EXPECT_NE(output.find(expected), std::string::npos) << flags << "\n" << output;
+    }
+}
+
+TEST(EditorSplit, EachPaneIsItsFiltersRenderAndTheDifferenceRmseIsTheirMetric) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    const std::string volume = (testing_support::assetDir() / "volumes" / "headsq.nhdr").string();
+    const std::filesystem::path out = testing_support::testOutputDir(),
+                                saved = out / "editor_split_saved.exr", shot = out / "editor_split.png";
+    const std::string view = "--up -z --camera 30,20,2.5,30 --compositing sheet-front-to-back ";
+    int status = -1;
+    const std::string editor =
+        "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" xvfb-run -a -s "
+        "\"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor \"" +
+        volume + "\" " + view +
+        "--split reconstruction,low-pass --split-difference --size 1280x800 --frames 5 "
+        "--save-image \"" +
+        saved.string() + "\" --screenshot \"" + shot.string() + "\"";
+    const std::string printed = runCapturing(editor, status);
+    ASSERT_EQ(status, 0) << editor << "\n" << printed;
+    const size_t at = printed.find("RMSE ");
+    ASSERT_NE(at, std::string::npos) << "Save image names the difference's RMSE: " << printed;
+    const double rmse = std::atof(printed.c_str() + at + 5);
+
+    const renderer::Image panes = renderer::readImage(saved);
+    ASSERT_EQ(panes.width % 3, 0);
+    const int width = panes.width / 3, height = panes.height;
+    const auto render = [&](const char* filter, const char* name) {
+        const std::filesystem::path file = out / name;
+        const std::string command = "env -u DISPLAY LIBGL_ALWAYS_SOFTWARE=1 \"" SPLATLAB_EXE "\" render \"" +
+                                    volume + "\" " + view + "--filter " + filter + " --frames 1 --size " +
+                                    std::to_string(width) + "x" + std::to_string(height) + " -o \"" +
+                                    file.string() + "\" > /dev/null";
+        EXPECT_EQ(std::system(command.c_str()), 0) << command;
+        return renderer::readImage(file);
+    };
+    const renderer::Image a = render("reconstruction", "split_render_a.exr"),
+                          b = render("low-pass", "split_render_b.exr");
+    ASSERT_FALSE(::testing::Test::HasFailure());
+    // The tolerances the editor-against-render tests use (front to back: image_compare.h's renderDifference).
+    for (const auto& [pane, expected, name] : {std::tuple{0, &a, "A"}, std::tuple{1, &b, "B"}}) {
+        const auto d = testing_support::renderDifference(*expected, crop(panes, pane * width, width));
+        EXPECT_LE(d.elsewhere, 1e-5f) << "pane " << name;
+        EXPECT_LE(d.atOpaque, 2e-3f) << "pane " << name;
+    }
+    const renderer::ImageError metric = renderer::compareImages(a, b);
+    EXPECT_GT(metric.rmse, 1e-3) << "reconstruction and low-pass should differ at this view";
+    EXPECT_NEAR(rmse, metric.rmse, 1e-3 * metric.rmse) << printed;
+    std::printf("[ split    ] editor's |A - B| RMSE %.6f, metric of the two renders %.6f (%.2f dB)\n", rmse,
+                metric.rmse, metric.psnrDb);
+
+    // The viewport shows the panes it saved: the left pane below its label, over the background.
+    const renderer::Image screen = renderer::readImage(shot);
+    const ui::DockLayout layout = ui::makeEditorLayout();
+    const ui::Rect node =
+        ui::computeDockRects(layout, {0, 0, 1280, 800}).node[size_t(layout.find("viewport"))];
+    const int x0 = int(node.x), y0 = int(node.bottom()) - height;
+    const float background[3] = {0.055f, 0.060f, 0.075f};
+    double worst = 0.0;
+    for (int y = 40; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float* p = panes.pixel(x, y);
+                const double over = std::clamp(double(p[c]) + (1.0 - p[3]) * background[c], 0.0, 1.0);
+                worst = std::max(worst, std::abs(double(screen.pixel(x0 + x, y0 + y)[c]) - over));
+            }
+    EXPECT_LE(worst, 2.0 / 255.0 + 1e-6) << "the viewport's left pane is not the saved one, see " << shot;
+}
+
+// Synthetic input: a 100 px drag in the right pane turns the one camera both panes show by 30 degrees
+// (kOrbitDegPerPx); afterwards the left pane shows what `render` draws from the turned camera with the left
+// pane's filter, the middle pane the right pane's, and the session the editor closes with keeps the split.
+TEST(EditorSplit, ADragInEitherPaneMovesTheOneCameraAndEachPaneShowsItsFilter) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1 && command -v xdotool > /dev/null 2>&1 && "
+                    "command -v import > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run, xdotool or ImageMagick's import not found";
+    const std::string volume = (testing_support::assetDir() / "volumes" / "headsq.nhdr").string();
+    const std::filesystem::path out = testing_support::testOutputDir("editor_split_drag");
+    std::filesystem::remove(out / "session.json");
+    const ui::DockLayout layout = ui::makeEditorLayout();
+    const ui::Rect node =
+        ui::computeDockRects(layout, {0, 0, 1280, 800}).node[size_t(layout.find("viewport"))];
+    // The viewport's image: the node below its tab bar (the render's height is read from the screenshot).
+    const int dragX = int(node.x + node.w * 0.45f), dragY = int(node.y + node.h * 0.5f);
+    const std::string script = std::string(SPLATLAB_SOURCE_DIR) + "/tests/ui/scripts/split_drag.sh";
+    const std::string command = "LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1280x800x24\" \"" +
+                                script + "\" \"" SPLATLAB_EXE "\" \"" + volume + "\" \"" + out.string() +
+                                "\" " + std::to_string(dragX) + " " + std::to_string(dragY) + " > \"" +
+                                (out / "drive.log").string() + "\" 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0)
+        << "see " << (out / "drive.log") << " and " << (out / "editor.log");
+    std::ifstream in(out / "session.json");
+    ASSERT_TRUE(in) << "no session written";
+    const nlohmann::json session = nlohmann::json::parse(in);
+    EXPECT_NEAR(session["camera"]["azimuth"].get<double>(), 40.0 - 100.0 * ui::kOrbitDegPerPx, 1e-9);
+    EXPECT_EQ(session["split"]["enabled"], true);
+    EXPECT_EQ(session["split"]["filter_a"], "reconstruction");
+    EXPECT_EQ(session["split"]["filter_b"], "low-pass");
+    EXPECT_EQ(session["split"]["difference"], true);
+
+    // The panes on screen against Save image of a scripted run started at the turned camera (the test above
+    // holds each saved pane equal to `render`'s), below the panes' labels, over the background.
+    const std::filesystem::path saved = out / "split_turned.exr";
+    int status = -1;
+    const std::string scripted =
+        "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" xvfb-run -a -s \"-screen 0 "
+        "1280x800x24\" "
+        "\"" SPLATLAB_EXE "\" editor \"" +
+        volume +
+        "\" --up -z --camera 10,20,2.5,30 --compositing sheet-front-to-back "
+        "--split reconstruction,low-pass --split-difference --size 1280x800 --frames 3 --save-image \"" +
+        saved.string() + "\"";
+    const std::string printed = runCapturing(scripted, status);
+    ASSERT_EQ(status, 0) << scripted << "\n" << printed;
+    const renderer::Image panes = renderer::readImage(saved),
+                          screen = renderer::readImage(out / "split_drag.png");
+    const int width = panes.width / 3, x0 = int(node.x), y0 = int(node.bottom()) - panes.height;
+    const float background[3] = {0.055f, 0.060f, 0.075f};
+    for (int pane = 0; pane < 2; ++pane) {
+        double worst = 0.0;
+        for (int y = 40; y < panes.height; ++y)
+            for (int x = 2; x < width; ++x) // past the line between the panes
+                for (int c = 0; c < 3; ++c) {
+                    const float* p = panes.pixel(pane * width + x, y);
+                    const double over = std::clamp(double(p[c]) + (1.0 - p[3]) * background[c], 0.0, 1.0);
+                    worst = std::max(worst,
+                                     std::abs(double(screen.pixel(x0 + pane * width + x, y0 + y)[c]) - over));
+                }
+        // 8-bit rounding twice, and early termination's refreshes (at most 1 - 0.998) between two runs.
+        EXPECT_LE(worst, 2.0 / 255.0 + 2e-3)
+            << "pane " << pane << " after the drag, see " << (out / "split_drag.png");
+    }
+}
