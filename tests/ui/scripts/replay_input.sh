@@ -10,18 +10,12 @@
 # pointer moving on to the right after the release (slow: step by step; burst: at once).
 # The editor closes on SIGTERM and writes OUT_DIR/session.json (--session-out).
 set -euo pipefail
+source "$(dirname "$0")/editor_session.sh"
 exe=$1 out=$2 mode=$3
 cd "$out"
-rm -f "$out/ready"
-SPLATLAB_READY_FILE="$out/ready" SPLATLAB_RENDER_DELAY_MS=2000 "$exe" editor --size 1280x800 \
-  --session-out "$out/session.json" > editor.log 2>&1 &
-pid=$!
-trap 'kill -TERM $pid 2>/dev/null || true' EXIT
-w=$(timeout 60 xdotool search --sync --onlyvisible --name SplatLab | head -1)
 # The bundled bonsai open, its gradients computed (no progress modal holds the input) and a first image
 # on screen; from here every frame takes 2 s.
-for _ in $(seq 600); do [ -e "$out/ready" ] && break; sleep 0.2; done
-[ -e "$out/ready" ] || { echo "the editor was not ready after 120 s"; exit 1; }
+start_editor "$out" SPLATLAB_RENDER_DELAY_MS=2000 "$exe" editor --size 1280x800 --session-out "$out/session.json"
 # The TF curve's point at (129, 164) in this layout (1280x800, bonsai preset): up 20 px.
 if [ "$mode" = slow ]; then
   xdotool mousemove --window "$w" 129 164; sleep 0.3
@@ -62,5 +56,4 @@ else
           mousemove --window "$w" 2 336 mouseup 1 mousemove --window "$w" 1200 700
 fi
 sleep 2
-kill -TERM "$pid"
-wait "$pid"
+stop_editor

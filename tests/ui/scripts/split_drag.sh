@@ -5,22 +5,15 @@
 #   split_drag.sh SPLATLAB VOLUME OUT_DIR DRAG_X DRAG_Y
 # The editor closes on SIGTERM and writes OUT_DIR/session.json (--session-out).
 set -euo pipefail
+source "$(dirname "$0")/editor_session.sh"
 exe=$1 volume=$2 out=$3 x=$4 y=$5
 cd "$out"
-rm -f "$out/ready"
-SPLATLAB_READY_FILE="$out/ready" "$exe" editor "$volume" --up -z --camera 40,20,2.5,30 \
+start_editor "$out" "$exe" editor "$volume" --up -z --camera 40,20,2.5,30 \
   --compositing sheet-front-to-back --split reconstruction,low-pass --split-difference --size 1280x800 \
-  --session-out "$out/session.json" > editor.log 2>&1 &
-pid=$!
-trap 'kill -TERM $pid 2>/dev/null || true' EXIT
-w=$(timeout 60 xdotool search --sync --onlyvisible --name SplatLab | head -1)
-for _ in $(seq 600); do [ -e "$out/ready" ] && break; sleep 0.2; done
-[ -e "$out/ready" ] || { echo "the editor was not ready after 120 s"; exit 1; }
+  --session-out "$out/session.json"
 # 100 px to the right in the right pane, the pointer moving on (off the viewport) after the release.
 xdotool mousemove --window "$w" "$x" "$y" mousedown 1 mousemove --window "$w" $((x + 50)) "$y" \
         mousemove --window "$w" $((x + 100)) "$y" mouseup 1 mousemove --window "$w" 1200 700
 sleep 8 # the turned view's three panes drawn (about a second on llvmpipe)
 import -window root "$out/split_drag.png"
-kill -TERM $pid
-wait $pid
-trap - EXIT
+stop_editor
