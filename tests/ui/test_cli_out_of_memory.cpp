@@ -3,34 +3,20 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "shell_run.h"
 #include "test_paths.h"
 
 #include <array>
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
 
 using ::testing::HasSubstr;
 using ::testing::Not;
 
 namespace {
 
-struct ShellRun {
-    int exitCode = -1;  // -1: killed by a signal (a crash)
-    std::string output; // stdout and stderr together
-};
-
-ShellRun runShell(const std::string& command) {
-    ShellRun r;
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf;
-    while (size_t n = fread(buf.data(), 1, buf.size(), pipe))
-        r.output.append(buf.data(), n);
-    const int status = pclose(pipe);
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+using testing_support::runShell;
+using testing_support::ShellRun;
 
 } // namespace
 
@@ -47,7 +33,7 @@ TEST(CliOutOfMemory, RenderNamesTheVolumeAndTheBuffersThatDidNotFit) {
         "ulimit -v 3145728 && env -u DISPLAY LIBGL_ALWAYS_SOFTWARE=1 SPLATLAB_MEMORY_BUDGET_MB=100000 "
         "\"" SPLATLAB_EXE "\" render \"" +
         headsq + "\" --out \"" + out + "\" --size 8192x8192 --frames 1 2>&1");
-    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_THAT(
         r.output,
         HasSubstr("splatlab: volume 'headsq': out of GPU memory allocating the render targets (4.5 GiB) "

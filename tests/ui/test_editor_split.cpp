@@ -5,6 +5,7 @@
 #include "image_compare.h"
 #include "renderer/io/image.h"
 #include "renderer/math/metrics.h"
+#include "shell_run.h"
 #include "test_paths.h"
 #include "ui/dock_layout.h"
 #include "ui/panels.h"
@@ -25,16 +26,11 @@
 
 namespace {
 
+// The command's output, and its exit code in `status`.
 std::string runCapturing(const std::string& command, int& status) {
-    std::string output;
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return output;
-    std::array<char, 4096> buf;
-    while (size_t n = fread(buf.data(), 1, buf.size(), pipe))
-        output.append(buf.data(), n);
-    const int code = pclose(pipe);
-    status = WIFEXITED(code) ? WEXITSTATUS(code) : -1;
-    return output;
+    testing_support::ShellRun r = testing_support::runShell(command);
+    status = r.status;
+    return std::move(r.output);
 }
 
 renderer::Image crop(const renderer::Image& image, int x0, int width) {
