@@ -8,6 +8,8 @@
 
 #include <filesystem>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace renderer {
 
@@ -56,6 +58,8 @@ Volume loadVolumeInWorldFrame(const std::filesystem::path& path, const std::opti
                               const ProgressCallback& progress = {});
 // The extensions loadVolume() knows, for messages and file dialogs: ".nrrd, .nhdr, ...".
 const char* supportedVolumeTypes();
+// The same as a list for file browsers: the lower-case file extensions loadVolume() reads, with the dot.
+const std::vector<std::string>& volumeFileExtensions();
 
 // Largest volume the loaders accept, in voxels: guards products of lying header fields.
 constexpr size_t kMaxVoxels = size_t(1) << 31;
