@@ -2,6 +2,7 @@
 #include "ui/dock_layout.h"
 
 #include <imgui.h>
+#include <imgui_internal.h> // ImGuiViewportP::GetBuildWorkRect
 
 #include <algorithm>
 #include <cassert>
@@ -198,8 +199,10 @@ DockRects computeDockRects(const DockLayout& layout, Rect window) {
 }
 
 void drawDockSpace(DockLayout& layout, const std::vector<DockPanel>& panels, const std::vector<std::string>& select) {
-    const ImGuiViewport* viewport = ImGui::GetMainViewport();
-    const Rect window{viewport->WorkPos.x, viewport->WorkPos.y, viewport->WorkSize.x, viewport->WorkSize.y};
+    // What a menu bar drawn earlier this frame leaves: WorkPos/WorkSize learn of it a frame late, and a
+    // first frame at another size would frame the first view for another aspect.
+    const ImRect work = static_cast<ImGuiViewportP*>(ImGui::GetMainViewport())->GetBuildWorkRect();
+    const Rect window{work.Min.x, work.Min.y, work.GetWidth(), work.GetHeight()};
     const DockRects rects = computeDockRects(layout, window);
     constexpr ImGuiWindowFlags kFixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
                                         ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoBringToFrontOnFocus |
