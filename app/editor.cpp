@@ -55,6 +55,7 @@ int runEditor(const EditorOptions& options) {
         editor.presentFrame(frame);     // g. UI to the back buffer, on screen; scripted outputs
         if (g_closeRequested && !window.inputPending()) window.close(); // input made before it, seen first
     }
+    editor.saveLayout();
     if (!options.sessionOutPath.empty()) editor.saveSessionTo(options.sessionOutPath);
     return editor.exitCode();
 }

@@ -74,6 +74,7 @@ bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& pa
         m_state.gradientsReady = false;
         m_state.loadedVolume = path;
         m_state.volumeFile = path.string();
+        if (!renderer::demoSceneOfPath(path)) ui::noteRecentFile(m_state, ui::FileKind::Volume, path);
         m_window.setTitle(path);
         std::vector<const renderer::Volume*> levels;
         if (m_doc.preview)

@@ -29,6 +29,20 @@ EditorLoop::EditorLoop(const EditorOptions& options, EditorWindow& window)
 
 bool EditorLoop::start() {
     std::filesystem::path volumePath = m_options.volumePath;
+    // The recent files of earlier runs; a damaged list is reported and replaced, never fatal.
+    m_state.configDir = ui::configFolder();
+    if (!m_state.configDir.empty()) {
+        try {
+            m_state.recentFiles = ui::loadRecentFiles(m_state.configDir);
+        } catch (const renderer::LoadError& e) {
+            std::fprintf(stderr, "splatlab editor: %s (starting with no recent files)\n", e.what());
+        }
+        try {
+            ui::loadDockLayout(m_layout, m_state.configDir);
+        } catch (const renderer::LoadError& e) {
+            std::fprintf(stderr, "splatlab editor: %s (starting with the default layout)\n", e.what());
+        }
+    }
     guarded([&] {
         m_state.camera = m_options.camera;
         m_state.camera.up = renderer::axisFromName(m_options.upAxis);
@@ -162,6 +176,15 @@ void EditorLoop::editForProbe() {
     ui::applyOrbitInput(m_state.camera, {.rotateDxPx = float(10.0 / ui::kOrbitDegPerPx)});
     m_renderPending = true;
     m_probe->editMade(InteractiveProbe::Clock::now());
+}
+
+void EditorLoop::saveLayout() {
+    if (m_state.configDir.empty()) return;
+    try {
+        ui::saveDockLayout(m_layout, m_state.configDir);
+    } catch (const renderer::LoadError& e) {
+        std::fprintf(stderr, "splatlab editor: layout not kept: %s\n", e.what());
+    }
 }
 
 void EditorLoop::saveSessionTo(const std::filesystem::path& file) {

@@ -56,6 +56,8 @@ class EditorLoop {
     void presentFrame(int frame); // editor_loop.cpp: the UI into the back buffer; a scripted run's outputs
 
     int exitCode() const { return m_exitCode; } // 0, or 1 after a scripted run's error
+    // Keeps the dock layout (open panels, their docks, split sizes) in the config folder for the next run.
+    void saveLayout();
     // --session-out: what the editor shows, as Settings > Session > Save writes it; prints what it wrote.
     void saveSessionTo(const std::filesystem::path& file);
 

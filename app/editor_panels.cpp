@@ -117,8 +117,18 @@ void EditorLoop::drawPanels(int frame) {
     if (const auto dropped =
             m_window.takeDroppedFile()) // its panel opens it as its button would (and shows its errors)
         tabsToFront.push_back(ui::dropFile(m_state, *dropped));
+    // The menu bar first: the dock space fills what it leaves of the window.
+    if (ImGui::BeginMainMenuBar()) {
+        if (ImGui::BeginMenu("View")) {
+            ui::drawViewMenuItems(m_layout, m_panels);
+            ImGui::EndMenu();
+        }
+        ImGui::EndMainMenuBar();
+    }
     ui::drawDockSpace(m_layout, m_panels, tabsToFront);
-    // 3. The modals: an error, a volume being read, gradients being computed.
+    // 3. The confirmation of a save, then the modals: an error, a volume being read, gradients being
+    // computed.
+    ui::drawSaveNotice(m_state.saveNotice);
     ui::drawErrorModal(m_state);
     if (ui::drawProgressModal("Opening volume",
                               m_volumeJob ? "Reading " + m_volumeJob->path.filename().string() +

@@ -235,6 +235,8 @@ std::optional<std::string> EditorLoop::finishSaveView(bool wait) {
         else if (save.heatmapOpacity > 0.0) std::snprintf(what, sizeof what, " (heatmap at %.2f)", save.heatmapOpacity);
         written = std::to_string(shown.width) + " x " + std::to_string(shown.height) + what;
         m_state.imageSaved = "wrote " + save.path.filename().string() + ", " + *written;
+        m_state.saveNotice = ui::savedNotice(save.path, *written);
+        ui::noteRecentFile(m_state, ui::FileKind::Image, save.path);
     });
     return written;
 }

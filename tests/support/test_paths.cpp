@@ -30,6 +30,17 @@ std::filesystem::path testOutputDir(const std::string& sub) {
     return p;
 }
 
+namespace {
+// The editor keeps recent files and its layout in SPLATLAB_CONFIG_DIR (ui/file_listing.h): every test
+// binary, and the editors it starts, use a folder under the test output instead of the user's, unless
+// the variable is set already. Runs before main(), so no test can start an editor first.
+[[maybe_unused]] const bool configFolderSet = [] {
+    setenv("SPLATLAB_CONFIG_DIR",
+           (envPath("SPLATLAB_TEST_OUT", SPLATLAB_DEFAULT_TEST_OUT) / "config").c_str(), 0);
+    return true;
+}();
+} // namespace
+
 bool writeFile(const std::filesystem::path& path, const std::string& bytes) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(bytes.data(), std::streamsize(bytes.size()));

@@ -47,6 +47,11 @@ double largestDifference(const renderer::Image& a, const renderer::Image& b, con
     return worst;
 }
 
+// The editor's dock space in its 1280x800 window: below the View menu bar, one ImGui frame high (the
+// 13 px default font plus 3 px of frame padding above and below).
+constexpr float kMenuBarPx = 19.0f;
+const ui::Rect kDockArea{0, kMenuBarPx, 1280, 800 - kMenuBarPx};
+
 ui::Rect shrink(const ui::Rect& r, float top, float fraction) {
     const ui::Rect body{r.x, r.y + top, r.w, r.h - top};
     return {body.x + body.w * fraction, body.y + body.h * fraction, body.w * (1 - 2 * fraction),
@@ -106,7 +111,7 @@ TEST(EditorScreenshot, LargeVolumesPreviewAtHalfResolutionWhileMovingAndSaveTheF
     const renderer::Image smallFull = editorScreenshot("", "editor_small.png");
     ASSERT_FALSE(::testing::Test::HasFailure());
     const ui::DockLayout layout = ui::makeEditorLayout();
-    const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    const ui::DockRects rects = ui::computeDockRects(layout, kDockArea);
     const ui::Rect viewport = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.0f);
     const ui::Rect centre = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.25f);
     const ui::Rect note{viewport.x, viewport.y, 400.0f, 20.0f};   // the preview's line at the top left
@@ -151,7 +156,7 @@ TEST(EditorScreenshot, ViewportShowsTheVolumeAndPanelsDifferFromIt) {
 
     // Regions come from the editor's own layout at this window size. 30 px skips the tab bars.
     const ui::DockLayout layout = ui::makeEditorLayout();
-    const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    const ui::DockRects rects = ui::computeDockRects(layout, kDockArea);
     const ui::Rect viewport = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.0f);
     const ui::Rect centre = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.25f);
     const ui::Rect left = shrink(rects.node[size_t(layout.find("left"))], 30.0f, 0.0f);
@@ -177,7 +182,7 @@ TEST(EditorScreenshot, HeatmapViewShowsFilterColoursInsteadOfTheVolume) {
     const renderer::Image image = editorScreenshot("--filter ewa --heatmap", shot);
     ASSERT_FALSE(::testing::Test::HasFailure());
     const ui::DockLayout layout = ui::makeEditorLayout();
-    const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    const ui::DockRects rects = ui::computeDockRects(layout, kDockArea);
     const ui::Rect centre = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.25f);
     size_t blue = 0, other = 0;
     for (int y = int(centre.y); y < int(centre.bottom()); ++y)
@@ -205,7 +210,7 @@ TEST(EditorScreenshot, HeatmapOverlayAtOpacityZeroIsTheImageAtOneTheHeatmapAndBe
     ASSERT_FALSE(::testing::Test::HasFailure());
     const renderer::Image heatmap = renderer::readImage(saved);
     const ui::DockLayout layout = ui::makeEditorLayout();
-    const ui::Rect node = ui::computeDockRects(layout, {0, 0, 1280, 800}).node[size_t(layout.find("viewport"))];
+    const ui::Rect node = ui::computeDockRects(layout, kDockArea).node[size_t(layout.find("viewport"))];
     // The render fills the viewport below its tab bar; compare above the legend (bottom-left, under 130 px).
     const ui::Rect image{node.x, node.bottom() - float(heatmap.height), float(heatmap.width), float(heatmap.height)};
     const ui::Rect above{image.x, image.y, image.w, image.h - 130.0f};
@@ -247,7 +252,7 @@ TEST(EditorScreenshot, TiledSheetsShowTheSameViewportAsRasterisedSheets) {
     const renderer::Image tiled = editorScreenshot("--compositing sheet-front-to-back", "editor_tiles.png");
     ASSERT_FALSE(::testing::Test::HasFailure());
     const ui::DockLayout layout = ui::makeEditorLayout();
-    const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    const ui::DockRects rects = ui::computeDockRects(layout, kDockArea);
     const ui::Rect viewport = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.0f);
     const ui::Rect centre = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.25f);
     EXPECT_LE(largestDifference(raster, tiled, viewport), 1.5 / 255.0) << "see editor_sheets.png and editor_tiles.png";
@@ -274,7 +279,7 @@ TEST(EditorScreenshot, ASessionOpensTheViewTheFlagsItStandsForWouldOpen) {
         "--tf fire --camera 200,10,2.2,40 --up -z --compositing sheet-front-to-back", "editor_session_flags.png");
     ASSERT_FALSE(::testing::Test::HasFailure());
     const ui::DockLayout layout = ui::makeEditorLayout();
-    const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    const ui::DockRects rects = ui::computeDockRects(layout, kDockArea);
     const ui::Rect viewport = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.0f);
     const ui::Rect centre = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.25f);
     EXPECT_LE(largestDifference(opened, flags, viewport), 1.5 / 255.0) << "see editor_session.png and editor_session_flags.png";
@@ -292,7 +297,7 @@ TEST(EditorScreenshot, SpinTurnsTheCameraAtItsSpeedAndThePerformanceChartFillsIn
     const renderer::Image still = editorScreenshot("--camera 30,15,2.5,30 --up -z", "editor_still.png");
     ASSERT_FALSE(::testing::Test::HasFailure());
     const ui::DockLayout layout = ui::makeEditorLayout();
-    const ui::DockRects rects = ui::computeDockRects(layout, {0, 0, 1280, 800});
+    const ui::DockRects rects = ui::computeDockRects(layout, kDockArea);
     const ui::Rect viewport = shrink(rects.node[size_t(layout.find("viewport"))], 30.0f, 0.0f);
     EXPECT_LE(largestDifference(spun, turned, viewport), 1.5 / 255.0) << "see editor_spin.png, editor_spin_flags.png";
     EXPECT_GT(largestDifference(spun, still, viewport), 0.2) << "the spin did not turn the view (editor_still.png)";

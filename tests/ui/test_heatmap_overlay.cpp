@@ -120,11 +120,16 @@ TEST_F(ImGuiNull, FiltersPanelOpacitySliderDraggedToItsEndsGivesImageOnlyAndHeat
     auto body = [&] { ui::drawFiltersPanel(state, view); };
     frame(body);
     // The slider follows the Heatmap checkbox (beside it, or under it in a narrow column): find it by
-    // where a click changes the opacity, right of the checkbox's label.
+    // where a short drag changes the opacity, right of the checkbox's label (a plain click types).
     float sliderY = -1.0f, sliderX = 110.0f;
     for (float y = 20.0f; y < 100.0f && sliderY < 0.0f; y += 2.0f) {
         const double before = state.heatmapOpacity;
-        click(sliderX, y, body);
+        mouse(sliderX, y, true);
+        frame(body);
+        mouse(sliderX + 20.0f, y, true);
+        frame(body);
+        mouse(sliderX + 20.0f, y, false);
+        frame(body);
         if (state.heatmapOpacity != before) sliderY = y;
     }
     ASSERT_GE(sliderY, 0.0f) << "no opacity slider";

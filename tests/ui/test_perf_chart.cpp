@@ -224,8 +224,8 @@ TEST_F(PerformanceChart, ExportCsvWritesTheRecordedRendersAtomicallyToThePathFie
 // the Performance chart, without scrolling or resizing.
 TEST_F(ImGuiNull, BottomStripShowsMeasuresTableAndTheChartAt1280x800) {
     const ui::DockLayout layout = ui::makeEditorLayout();
-    const ui::Rect bottom =
-        ui::computeDockRects(layout, {0, 0, 1280, 800}).node[size_t(layout.find("bottom"))];
+    const ui::Rect bottom = ui::computeDockRects(layout, {0, 19, 1280, 781})
+                                .node[size_t(layout.find("bottom"))]; // under the menu bar
     windowWidth = bottom.w, windowHeight = bottom.h;
     ui::EditorState state;
     const renderer::ImagePlane plane =

@@ -178,10 +178,20 @@ TEST_F(ImGuiNull, PerformancePanelTurnsContinuousRenderingOnSpinsOnlyThenAndClea
         for (float x = 10.0f; x < 60.0f && !state.perf.renderContinuously; x += 10.0f) click(x, y, body);
     ASSERT_TRUE(state.perf.renderContinuously) << "no Render continuously checkbox";
     EXPECT_EQ(history.samples().size(), 10u);
-    // The spin slider, below it: a click sets a speed.
+    // The spin slider, below it: a drag that ends near its left end sets a speed (a plain click types).
+    auto dragToLeftEnd = [&](float y) {
+        mouse(20.0f, y, true);
+        frame(body);
+        mouse(40.0f, y, true);
+        frame(body);
+        mouse(20.0f, y, true);
+        frame(body);
+        mouse(20.0f, y, false);
+        frame(body);
+    };
     float spinY = -1.0f;
     for (float y = 30.0f; y < 90.0f && spinY < 0.0f; y += 3.0f) {
-        click(20.0f, y, body);
+        dragToLeftEnd(y);
         if (state.perf.spinDegPerS != 0.0) spinY = y;
     }
     ASSERT_GT(spinY, 0.0f) << "no Spin slider";
@@ -189,7 +199,7 @@ TEST_F(ImGuiNull, PerformancePanelTurnsContinuousRenderingOnSpinsOnlyThenAndClea
     EXPECT_GE(state.perf.spinDegPerS, -90.0);
     // Not rendering continuously, the slider takes no clicks.
     state.perf = {};
-    click(20.0f, spinY, body);
+    dragToLeftEnd(spinY);
     EXPECT_EQ(state.perf.spinDegPerS, 0.0);
     // Clear, beside the checkbox.
     for (float y = 20.0f; y < 60.0f && !history.samples().empty(); y += 3.0f)

@@ -2,10 +2,12 @@
 #include "ui/dock_layout.h"
 
 #include <imgui.h>
+#include <imgui_internal.h> // ImGuiViewportP::GetBuildWorkRect
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <utility>
 
 namespace ui {
 
@@ -118,7 +120,75 @@ void drawSplitter(DockLayout& layout, int index, const Rect& area, const Rect& b
     ImGui::GetWindowDrawList()->AddRectFilled(lo, hi, colour);
 }
 
+// The right-click menu on a panel's tab: move it to another leaf, or close it.
+void drawTabMenu(DockLayout& layout, const DockPanel& panel) {
+    if (!ImGui::BeginPopupContextItem()) return;
+    const std::string here = panelRegion(layout, panel);
+    for (const std::string& region : panelRegions(layout))
+        if (region != here && ImGui::MenuItem(("Move to " + region).c_str()))
+            movePanel(layout, panel, region);
+    if (ImGui::MenuItem("Close")) setPanelOpen(layout, panel, false);
+    ImGui::EndPopup();
+}
+
 } // namespace
+
+bool panelMovable(const DockLayout& layout, const DockPanel& panel) {
+    const int node = layout.find(panel.region);
+    return node < 0 || !layout.nodes[size_t(node)].fill;
+}
+
+std::string panelRegion(const DockLayout& layout, const DockPanel& panel) {
+    const auto it = layout.panels.find(panel.title);
+    if (it == layout.panels.end() || !panelMovable(layout, panel)) return panel.region;
+    const int node = layout.find(it->second.region);
+    return node >= 0 && layout.nodes[size_t(node)].isLeaf() ? it->second.region : panel.region;
+}
+
+bool panelOpen(const DockLayout& layout, const DockPanel& panel) {
+    const auto it = layout.panels.find(panel.title);
+    return !panelMovable(layout, panel) || it == layout.panels.end() || it->second.open;
+}
+
+void setPanelOpen(DockLayout& layout, const DockPanel& panel, bool open) {
+    if (!panelMovable(layout, panel) || panelOpen(layout, panel) == open) return;
+    layout.panels[panel.title] = {panelRegion(layout, panel), open};
+    if (open) layout.toFront.push_back(panel.title); // reopened: shown, not behind another tab
+}
+
+void movePanel(DockLayout& layout, const DockPanel& panel, const std::string& region) {
+    if (!panelMovable(layout, panel)) return;
+    layout.panels[panel.title] = {region, true};
+    layout.toFront.push_back(panel.title);
+}
+
+std::vector<std::string> panelRegions(const DockLayout& layout) {
+    std::vector<std::string> regions;
+    for (const DockNode& node : layout.nodes)
+        if (node.isLeaf() && !node.fill) regions.push_back(node.name);
+    return regions;
+}
+
+void drawViewMenuItems(DockLayout& layout, const std::vector<DockPanel>& panels) {
+    for (const DockPanel& panel : panels) {
+        if (!panelMovable(layout, panel)) continue;
+        const bool open = panelOpen(layout, panel);
+        if (ImGui::MenuItem(panel.title.c_str(), nullptr, open)) setPanelOpen(layout, panel, !open);
+    }
+    ImGui::Separator();
+    if (ImGui::BeginMenu("Move to")) {
+        for (const DockPanel& panel : panels) {
+            if (!panelMovable(layout, panel) || !ImGui::BeginMenu(panel.title.c_str())) continue;
+            const std::string here = panelRegion(layout, panel);
+            for (const std::string& region : panelRegions(layout))
+                if (ImGui::MenuItem(region.c_str(), nullptr, region == here) && region != here)
+                    movePanel(layout, panel, region);
+            ImGui::EndMenu();
+        }
+        ImGui::EndMenu();
+    }
+    if (ImGui::MenuItem("Reset layout")) layout = makeEditorLayout();
+}
 
 DockRects computeDockRects(const DockLayout& layout, Rect window) {
     DockRects rects;
@@ -129,13 +199,16 @@ DockRects computeDockRects(const DockLayout& layout, Rect window) {
 }
 
 void drawDockSpace(DockLayout& layout, const std::vector<DockPanel>& panels, const std::vector<std::string>& select) {
-    const ImGuiViewport* viewport = ImGui::GetMainViewport();
-    const Rect window{viewport->WorkPos.x, viewport->WorkPos.y, viewport->WorkSize.x, viewport->WorkSize.y};
+    // What a menu bar drawn earlier this frame leaves: WorkPos/WorkSize learn of it a frame late, and a
+    // first frame at another size would frame the first view for another aspect.
+    const ImRect work = static_cast<ImGuiViewportP*>(ImGui::GetMainViewport())->GetBuildWorkRect();
+    const Rect window{work.Min.x, work.Min.y, work.GetWidth(), work.GetHeight()};
     const DockRects rects = computeDockRects(layout, window);
     constexpr ImGuiWindowFlags kFixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
                                         ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoBringToFrontOnFocus |
                                         ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoSavedSettings;
 
+    const std::vector<std::string> toFront = std::exchange(layout.toFront, {});
     ImGui::PushStyleVar(ImGuiStyleVar_WindowRounding, 0.0f); // docked windows are square (all of them)
     // 1. One window per leaf with a tab bar of the panels docked there.
     for (size_t i = 0; i < layout.nodes.size(); ++i) {
@@ -150,17 +223,28 @@ void drawDockSpace(DockLayout& layout, const std::vector<DockPanel>& panels, con
         }
         ImGui::Begin(("##dock_" + leaf.name).c_str(), nullptr, flags);
         if (leaf.fill) ImGui::PopStyleVar();
+        bool any = false;
         if (ImGui::BeginTabBar("##tabs")) {
             for (const DockPanel& panel : panels) {
-                if (panel.region != leaf.name) continue;
-                const bool front = std::find(select.begin(), select.end(), panel.title) != select.end();
-                if (ImGui::BeginTabItem(panel.title.c_str(), nullptr, front ? ImGuiTabItemFlags_SetSelected : 0)) {
+                const bool front = std::ranges::find(select, panel.title) != select.end() ||
+                                   std::ranges::find(toFront, panel.title) != toFront.end();
+                if (front) setPanelOpen(layout, panel, true);
+                if (panelRegion(layout, panel) != leaf.name || !panelOpen(layout, panel)) continue;
+                any = true;
+                const bool movable = panelMovable(layout, panel);
+                bool open = true;
+                const bool shown = ImGui::BeginTabItem(panel.title.c_str(), movable ? &open : nullptr,
+                                                       front ? ImGuiTabItemFlags_SetSelected : 0);
+                if (movable) drawTabMenu(layout, panel);
+                if (shown) {
                     panel.draw();
                     ImGui::EndTabItem();
                 }
+                if (!open) setPanelOpen(layout, panel, false);
             }
             ImGui::EndTabBar();
         }
+        if (!any) ImGui::TextDisabled("Closed panels open again from the View menu");
         ImGui::End();
     }
     // 2. Host window covering the whole window behind the leaves: it owns the splitter bars. ImGui puts

@@ -170,9 +170,11 @@ bool drawHeatmapControls(EditorState& state, const FiltersView& view) {
     ImGui::BeginDisabled(!state.showHeatmap);
     ImGui::SetNextItemWidth(-FLT_MIN);   // to the column's edge
     float opacity = float(state.heatmapOpacity);
-    if (ImGui::SliderFloat("##heatmap_opacity", &opacity, 0.0f, 1.0f, "opacity %.2f"))
+    if (numberField("##heatmap_opacity", opacity, [&] {
+            return ImGui::SliderFloat("##heatmap_opacity", &opacity, 0.0f, 1.0f, "opacity %.2f");
+        }))
         state.heatmapOpacity = double(std::clamp(opacity, 0.0f, 1.0f));
-    hint("How much of the heatmap over the image: 0 the image only, 1 the heatmap only");
+    numberHint("How much of the heatmap over the image: 0 the image only, 1 the heatmap only");
     ImGui::EndDisabled();
     // The tour moves through the depths where the filter changes: none in an orthographic view.
     const bool canTour = view.plane && !view.plane->orthographic;

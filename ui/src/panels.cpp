@@ -5,6 +5,7 @@
 #include "renderer/errors.h"
 #include "renderer/model/transfer_function.h"
 #include "renderer/oracle/demo_scenes.h"
+#include "ui/file_browser.h"
 #include "ui/footprint_inspector.h"
 #include "ui/session.h"
 #include "split_viewport.h"
@@ -26,7 +27,9 @@ namespace {
 
 bool sliderDouble(const char* label, double& value, double lo, double hi, const char* format,
                   ImGuiSliderFlags flags = 0) {
-    return ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &lo, &hi, format, flags);
+    return numberField(label, value, [&] {
+        return ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &lo, &hi, format, flags);
+    });
 }
 
 // The axis names renderer::axisFromName() understands; an up vector that is none of them (set
@@ -81,9 +84,12 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     ImGui::PushItemWidth(-ImGui::GetFontSize() * 7.0f); // leaves room for the labels on the right
 
     sectionTitle("Files");
-    inputPath("Volume", state.volumeFile);
-    hint("A volume file: .nrrd/.nhdr, .mhd/.mha, .nii(.gz), .slc, .dat, .tif, .raw (dims and type in the name),\n"
-         "or a folder of slices");
+    // A volume picked in the browser opens at once: opening it is all that field is for.
+    if (pathField(
+            "Volume", state.volumeFile, FileKind::Volume, state,
+            "A volume file: .nrrd/.nhdr, .mhd/.mha, .nii(.gz), .slc, .dat, .tif, .raw (dims and type in the "
+            "name),\nor a folder of slices"))
+        changes.openVolume = true;
     if (ImGui::Button("Open volume") || takePendingFile(state, FileAction::OpenVolume)) changes.openVolume = true;
     const std::optional<std::string> shownScene = renderer::demoSceneOfPath(state.loadedVolume);
     if (ImGui::BeginCombo("Demo scene", shownScene ? shownScene->c_str() : "(pick one)", ImGuiComboFlags_HeightLarge)) {
@@ -98,11 +104,12 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     if (shownScene)
         for (const renderer::DemoSceneInfo& scene : renderer::demoSceneList())
             if (scene.name == *shownScene) textWrapped("Look for: %s", scene.lookFor.c_str());
-    inputPath("Session", state.sessionFile);
-    hint("A session (JSON): the volume's path, transfer function, window, camera and every setting");
+    pathField("Session", state.sessionFile, FileKind::Session, state,
+              "A session (JSON): the volume's path, transfer function, window, camera and every setting");
     if (ImGui::Button("Open session") || takePendingFile(state, FileAction::OpenSession)) {
         try {
             changes.sessionVolume = loadSession(state.sessionFile, state);
+            noteRecentFile(state, FileKind::Session, state.sessionFile);
             changes.sessionOpened = changes.settingsChanged = changes.cameraChanged = true;
         } catch (const renderer::LoadError& e) {
             state.errorMessage = e.what();
@@ -112,13 +119,16 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     if (ImGui::Button("Save session")) {
         try {
             saveSession(state, state.loadedVolume, state.sessionFile);
+            state.saveNotice = savedNotice(state.sessionFile);
+            noteRecentFile(state, FileKind::Session, state.sessionFile);
         } catch (const renderer::LoadError& e) {
             state.errorMessage = e.what();
         }
     }
-    inputPath("Image", state.imageFile);
-    hint("The view as rendered, at the viewport's size (the heatmap when the viewport shows it):\n"
-         ".png over the background, 8-bit; .exr or .tif premultiplied float RGBA, as splatlab render writes");
+    pathField(
+        "Image", state.imageFile, FileKind::Image, state,
+        "The view as rendered, at the viewport's size (the heatmap when the viewport shows it):\n"
+        ".png over the background, 8-bit; .exr or .tif premultiplied float RGBA, as splatlab render writes");
     if (ImGui::Button("Save image")) changes.saveImage = true;
     if (!state.imageSaved.empty()) {
         sameLineIfFits(state.imageSaved.c_str());
@@ -145,7 +155,9 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
         numberHint("Reconstruction only where a kernel spans more than 1 px / c_min (paper: 0.3)");
         changes.settingsChanged |= sliderDouble("c_max", s.cMax, 0.0, 8.0, "%.2f");
         numberHint("Low-pass only where a kernel spans less than 1 px / c_max (0: the paper's 2 (1 + tan^2(fovY/2) (1 + (W/H)^2)), from the image corner)");
-        changes.settingsChanged |= ImGui::SliderInt("Patch size", &s.patchSize, 1, 32);
+        changes.settingsChanged |= numberField(
+            "Patch size", s.patchSize, [&] { return ImGui::SliderInt("Patch size", &s.patchSize, 1, 32); });
+        numberHint("Slice voxels per patch side; each patch takes one filter (1: every voxel)");
         changes.settingsChanged |= sliderDouble("Hysteresis", s.hysteresis, 0.0, 0.5, "%.2f");
         numberHint("A patch changes filter only when a threshold is crossed by this factor (no flicker while orbiting)");
     }
@@ -174,8 +186,10 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
         s.compositing == renderer::Compositing::SplatEverySample) {
         changes.settingsChanged |= sliderDouble("Opaque at", s.opaqueAlpha, 0.9, 1.0, "%.3f");
         numberHint("Early termination: pixels this opaque take no more splats (1: never)");
-        changes.settingsChanged |= ImGui::SliderInt("Refresh every", &s.opaqueRefreshSlices, 0, 64,
-                                                    s.opaqueRefreshSlices <= 0 ? "auto" : "%d slices");
+        changes.settingsChanged |= numberField("Refresh every", s.opaqueRefreshSlices, [&] {
+            return ImGui::SliderInt("Refresh every", &s.opaqueRefreshSlices, 0, 64,
+                                    s.opaqueRefreshSlices <= 0 ? "auto" : "%d slices");
+        });
         numberHint("How often the opaque pixels are found again (auto: every slice with tiles, every 8 rasterised).\n"
              "Splats whose 8x8 pixel tiles were all opaque are culled before they are drawn; which tiles\n"
              "are opaque is taken at each refresh rasterised, once a chunk of 16 or more slices with tiles");
@@ -543,11 +557,24 @@ bool drawWindowSection(EditorState& state, const WindowView& view) {
     if (w.mode == renderer::WindowMode::Custom) {
         const float speed = std::max((range.hi - range.lo) / 500.0f, 1e-6f);
         float lo = w.custom.lo, hi = w.custom.hi;
-        if (ImGui::DragFloatRange2("Low / high", &lo, &hi, speed, range.lo, range.hi, "%.4g", "%.4g",
-                                   ImGuiSliderFlags_AlwaysClamp) &&
-            lo < hi)
-            w.custom = {lo, hi};
-        hint("In the data's own units (e.g. Hounsfield units for CT); drag or Ctrl+click to type");
+        // Two fields, each through numberField (DragFloatRange2 would take Ctrl+click to type).
+        const float half = (ImGui::CalcItemWidth() - ImGui::GetStyle().ItemInnerSpacing.x) * 0.5f;
+        ImGui::SetNextItemWidth(half);
+        bool edited = numberField("##window_low", lo, [&] {
+            return ImGui::DragFloat("##window_low", &lo, speed, range.lo, hi, "%.4g",
+                                    ImGuiSliderFlags_AlwaysClamp);
+        });
+        numberHint("Low end of the window, in the data's own units (e.g. Hounsfield units for CT)");
+        ImGui::SameLine(0.0f, ImGui::GetStyle().ItemInnerSpacing.x);
+        ImGui::SetNextItemWidth(half);
+        edited |= numberField("##window_high", hi, [&] {
+            return ImGui::DragFloat("##window_high", &hi, speed, lo, range.hi, "%.4g",
+                                    ImGuiSliderFlags_AlwaysClamp);
+        });
+        numberHint("High end of the window, in the data's own units");
+        ImGui::SameLine(0.0f, ImGui::GetStyle().ItemInnerSpacing.x);
+        ImGui::TextUnformatted("Low / high");
+        if (edited && lo < hi) w.custom = {lo, hi};
     }
     // Three ranges, each kept whole on a line.
     const std::pair<const char*, renderer::ValueRange> ranges[] = {

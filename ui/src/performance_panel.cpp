@@ -37,6 +37,8 @@ void drawChartControls(EditorState& state, PerfHistory& history) {
             writePerfCsv(perf.csvFile, history.samples());
             perf.csvSaved = "wrote " + std::to_string(history.samples().size()) + " renders to " +
                             std::filesystem::path(perf.csvFile).filename().string();
+            state.saveNotice =
+                savedNotice(perf.csvFile, std::to_string(history.samples().size()) + " renders");
         } catch (const renderer::LoadError& e) {
             state.errorMessage = e.what();
         }
@@ -75,7 +77,9 @@ void drawPerformancePanel(EditorState& state, PerfHistory& history, const std::f
     ImGui::BeginDisabled(!perf.renderContinuously);
     float spin = float(perf.spinDegPerS);
     ImGui::SetNextItemWidth(ImGui::GetFontSize() * 10.0f);
-    if (ImGui::SliderFloat("Spin (deg/s)", &spin, -90.0f, 90.0f, "%.0f")) perf.spinDegPerS = double(spin);
+    if (numberField("Spin (deg/s)", spin,
+                    [&] { return ImGui::SliderFloat("Spin (deg/s)", &spin, -90.0f, 90.0f, "%.0f"); }))
+        perf.spinDegPerS = double(spin);
     numberHint("Turn the camera about the vertical while rendering continuously:\n"
          "every render is a new view (a turn past a diagonal uploads that axis's lists)");
     ImGui::EndDisabled();

@@ -1,5 +1,6 @@
 // The Transfer function panel: presets, the curve editor over the histogram, the selected point's
 // fields, and TF files. The edit rules are tf_editor.h's; this file only maps ImGui input onto them.
+#include "ui/file_browser.h"
 #include "ui/panels.h"
 #include "ui/tf_editor.h"
 #include "widgets.h"
@@ -208,15 +209,20 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
         ImGui::Text("Point %d of %zu", state.tfSelected + 1, tf.points.size());
         double data = toDataUnits(p.value, view.window);
         const double lo = view.window.lo, hi = view.window.hi;
-        if (ImGui::DragScalar("Value", ImGuiDataType_Double, &data, float((hi - lo) / 1000.0), &lo, &hi, "%.5g")) {
+        if (numberField("Value", data, [&] {
+                return ImGui::DragScalar("Value", ImGuiDataType_Double, &data, float((hi - lo) / 1000.0), &lo,
+                                         &hi, "%.5g");
+            })) {
             moveControlPoint(tf, state.tfSelected, fromDataUnits(data, view.window), p.opacity);
             state.tfEdited = changed = true;
         }
         numberHint("In the data's own units; a point stays between its neighbours");
         double opacity = p.opacity;
         const double zero = 0.0, one = 1.0;
-        if (ImGui::SliderScalar("Extinction", ImGuiDataType_Double, &opacity, &zero, &one, "%.4g",
-                                axis == OpacityAxis::Log ? ImGuiSliderFlags_Logarithmic : 0)) {
+        if (numberField("Extinction", opacity, [&] {
+                return ImGui::SliderScalar("Extinction", ImGuiDataType_Double, &opacity, &zero, &one, "%.4g",
+                                           axis == OpacityAxis::Log ? ImGuiSliderFlags_Logarithmic : 0);
+            })) {
             moveControlPoint(tf, state.tfSelected, p.value, opacity);
             state.tfEdited = changed = true;
         }
@@ -240,11 +246,12 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
 
     // 4. Files: load replaces the curve; save writes the points (atomically) and names the TF after the file.
     ImGui::Spacing();
-    inputPath("File", state.tfFile);
-    hint("A TF file (JSON): the format of assets/presets/*.json and of --tf FILE");
+    pathField("File", state.tfFile, FileKind::TransferFunction, state,
+              "A TF file (JSON): the format of assets/presets/*.json and of --tf FILE");
     if (ImGui::Button("Load") || takePendingFile(state, FileAction::LoadTransferFunction)) {
         try {
             replace(renderer::loadTransferFunction(state.tfFile));
+            noteRecentFile(state, FileKind::TransferFunction, state.tfFile);
         } catch (const renderer::LoadError& e) {
             state.errorMessage = e.what();
         }
@@ -258,6 +265,8 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
             tf.name = named.name;
             state.tfGestureStart->name = named.name;   // naming is not an edit to undo
             state.tfEdited = false;
+            state.saveNotice = savedNotice(state.tfFile);
+            noteRecentFile(state, FileKind::TransferFunction, state.tfFile);
         } catch (const renderer::LoadError& e) {
             state.errorMessage = e.what();
         }

@@ -2,6 +2,7 @@
 #pragma once
 #include "renderer/gl/splat_renderer.h"
 #include "ui/editor_state.h"
+#include "ui/number_field.h"
 #include "ui/text_wrap.h"
 
 #include <imgui.h>
@@ -20,11 +21,10 @@ inline void hint(const char* text) {
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
 }
 
-// hint() for a slider or a drag field, saying how to type a value: a plain click sets the value where it
-// lands, which users do not expect.
+// hint() for a numeric field drawn through numberField(), saying how to use it.
 inline void numberHint(const char* text) {
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-        ImGui::SetTooltip("%s\nCtrl+click to type a value", text);
+        ImGui::SetTooltip("%s\nClick to type a value, drag to change it", text);
 }
 
 // ImGui 1.86's InputText takes a fixed buffer; this grows the std::string as the user types.

@@ -361,6 +361,12 @@ Volume loadNrrd(const std::filesystem::path& path, const ProgressCallback& progr
     return volume;
 }
 
+const std::vector<std::string>& volumeFileExtensions() {
+    static const std::vector<std::string> extensions{".nrrd", ".nhdr", ".mhd", ".mha",  ".nii", ".nii.gz",
+                                                     ".slc",  ".dat",  ".tif", ".tiff", ".raw", ".raw.gz"};
+    return extensions;
+}
+
 const char* supportedVolumeTypes() {
     return ".nrrd, .nhdr, .mhd, .mha, .nii, .nii.gz, .slc, .dat, .tif, .tiff, .raw, .raw.gz, a folder of "
            ".tif/.png slices or a slice pattern such as slice_%03d.png";

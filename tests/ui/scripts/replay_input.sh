@@ -16,44 +16,44 @@ cd "$out"
 # The bundled bonsai open, its gradients computed (no progress modal holds the input) and a first image
 # on screen; from here every frame takes 2 s.
 start_editor "$out" SPLATLAB_RENDER_DELAY_MS=2000 "$exe" editor --size 1280x800 --session-out "$out/session.json"
-# The TF curve's point at (129, 164) in this layout (1280x800, bonsai preset): up 20 px.
+# The TF curve's point at (129, 183) in this layout (1280x800 under the 19 px menu bar, bonsai preset): up 20 px.
 if [ "$mode" = slow ]; then
-  xdotool mousemove --window "$w" 129 164; sleep 0.3
+  xdotool mousemove --window "$w" 129 183; sleep 0.3
   xdotool mousedown 1; sleep 0.3
-  xdotool mousemove --window "$w" 129 154; sleep 0.3
-  xdotool mousemove --window "$w" 129 144; sleep 0.3
+  xdotool mousemove --window "$w" 129 173; sleep 0.3
+  xdotool mousemove --window "$w" 129 163; sleep 0.3
   xdotool mouseup 1; sleep 0.3
-  xdotool mousemove --window "$w" 1200 700; sleep 0.5
+  xdotool mousemove --window "$w" 1200 719; sleep 0.5
 else
-  xdotool mousemove --window "$w" 129 164 mousedown 1 mousemove --window "$w" 129 154 \
-          mousemove --window "$w" 129 144 mouseup 1 mousemove --window "$w" 1200 700
+  xdotool mousemove --window "$w" 129 183 mousedown 1 mousemove --window "$w" 129 173 \
+          mousemove --window "$w" 129 163 mouseup 1 mousemove --window "$w" 1200 719
   sleep 0.5
   # A second gesture on the same point, then one Ctrl+Z (the TF panel has focus): back to the first's end.
-  xdotool mousemove --window "$w" 129 144 mousedown 1 mousemove --window "$w" 129 124 mouseup 1 \
-          mousemove --window "$w" 129 400 key ctrl+z
+  xdotool mousemove --window "$w" 129 163 mousedown 1 mousemove --window "$w" 129 143 mouseup 1 \
+          mousemove --window "$w" 129 419 key ctrl+z
   sleep 0.5
   # The viewport: 100 px right and 20 px down, the pointer moving on after the release.
-  xdotool mousemove --window "$w" 800 300 mousedown 1 mousemove --window "$w" 850 310 \
-          mousemove --window "$w" 900 320 mouseup 1 mousemove --window "$w" 1200 700
+  xdotool mousemove --window "$w" 800 319 mousedown 1 mousemove --window "$w" 850 329 \
+          mousemove --window "$w" 900 339 mouseup 1 mousemove --window "$w" 1200 719
   sleep 0.5
   # The TF panel's file field: click, select all, type a name; then Save.
-  xdotool mousemove --window "$w" 120 327 click 1 key ctrl+a type --delay 5 typed_tf.json
-  xdotool mousemove --window "$w" 75 354 click 1
+  xdotool mousemove --window "$w" 120 346 click 1 key ctrl+a type --delay 5 typed_tf.json
+  xdotool mousemove --window "$w" 75 373 click 1
 fi
-# The fifth point at (189, 121): a click selects it, and its fields appear with the Opacity slider at y 336
+# The fifth point at (189, 140): a click selects it, and its fields appear with the Opacity slider at y 355
 # (x 9..244).
-xdotool mousemove --window "$w" 189 121 click 1 mousemove --window "$w" 1200 700
+xdotool mousemove --window "$w" 189 140 click 1 mousemove --window "$w" 1200 719
 sleep 0.5
 if [ "$mode" = slow ]; then
-  xdotool mousemove --window "$w" 150 336; sleep 0.3
+  xdotool mousemove --window "$w" 150 355; sleep 0.3
   xdotool mousedown 1; sleep 0.3
-  xdotool mousemove --window "$w" 60 336; sleep 0.3
-  xdotool mousemove --window "$w" 2 336; sleep 0.3
+  xdotool mousemove --window "$w" 60 355; sleep 0.3
+  xdotool mousemove --window "$w" 2 355; sleep 0.3
   xdotool mouseup 1; sleep 0.3
-  xdotool mousemove --window "$w" 1200 700
+  xdotool mousemove --window "$w" 1200 719
 else
-  xdotool mousemove --window "$w" 150 336 mousedown 1 mousemove --window "$w" 60 336 \
-          mousemove --window "$w" 2 336 mouseup 1 mousemove --window "$w" 1200 700
+  xdotool mousemove --window "$w" 150 355 mousedown 1 mousemove --window "$w" 60 355 \
+          mousemove --window "$w" 2 355 mouseup 1 mousemove --window "$w" 1200 719
 fi
 sleep 2
 stop_editor

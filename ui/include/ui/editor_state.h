@@ -6,7 +6,9 @@
 #include "renderer/model/splat_settings.h"
 #include "renderer/model/transfer_function.h"
 #include "renderer/model/window.h"
+#include "ui/file_browser.h"
 #include "ui/regime_tour.h"
+#include "ui/save_notice.h"
 #include "ui/split_view.h"
 #include "ui/tf_editor.h"
 
@@ -75,6 +77,7 @@ struct EditorState {
     std::optional<renderer::TransferFunction> tfGestureStart;   // the TF before the gesture under way
     std::array<float, 3> background{0.055f, 0.060f, 0.075f}; // linear RGB behind the volume
     std::string errorMessage; // shown in a modal until dismissed; empty when none
+    SaveNotice saveNotice;    // "Saved FILE" in the corner after any save, fading (save_notice.h)
     // The voxel the mouse points at in the viewport (renderer::probePixel) and its value in data units:
     // the viewport's tooltip shows it and the Transfer function panel marks the value on its axis. Empty
     // while the mouse is elsewhere, a button is down, or the pixel sees only air.
@@ -101,6 +104,9 @@ struct EditorState {
     std::string imageFile = "view.png";   // Save image: PNG over the background, or EXR/TIFF float RGBA
     std::string imageSaved;               // what the last Save image wrote (set by the app)
     FileAction pendingFile = FileAction::None;   // a dropped file its panel opens when next drawn
+    FileBrowserState fileBrowser;                // the Browse popup's folder and pick (file_browser.h)
+    RecentFiles recentFiles;                     // per kind, newest first; kept in configDir between runs
+    std::filesystem::path configDir; // where the editor keeps its settings; empty: nowhere (tests)
     SpaceMouseMapping spaceMouse;
     std::string spaceMouseStatus;    // the device found, or why there is none (set by the app)
     PerfSettings perf;

@@ -8,6 +8,8 @@
 
 #include <filesystem>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace renderer {
 
@@ -56,6 +58,8 @@ Volume loadVolumeInWorldFrame(const std::filesystem::path& path, const std::opti
                               const ProgressCallback& progress = {});
 // The extensions loadVolume() knows, for messages and file dialogs: ".nrrd, .nhdr, ...".
 const char* supportedVolumeTypes();
+// The same as a list for file browsers: the lower-case file extensions loadVolume() reads, with the dot.
+const std::vector<std::string>& volumeFileExtensions();
 
 // Bytes one volume's voxels may take as 32-bit floats: SPLATLAB_MEMORY_BUDGET_MB when set, else half of
 // what this process may use (physical memory, or a lower `ulimit -v` / `-d`). Every loader refuses a
