@@ -173,7 +173,8 @@ TEST(TransferFunctionFile, BadFieldsAreRefusedNamingTheFileAndTheField) {
     const std::string opacities = R"("opacity": [{"value": 0, "opacity": 0}, {"value": 10, "opacity": 1}])";
     const std::pair<std::string, std::string> bad[] = {
         {"{", "not valid JSON"},
-        {"[]", "expected a JSON object"},
+        {"7", "expected a JSON object"},
+        {"[]", "an empty preset list"},   // a list is a ParaView preset list
         {R"({"version": 2, )" + colours + "}", "field 'opacity': missing"},
         {R"({"version": 2, )" + opacities + "}", "field 'colour': missing"},
         {R"({"version": 2, "colour": [], )" + opacities + "}", "field 'colour': has no control points"},

@@ -120,7 +120,8 @@ void drawColourBar(ImDrawList* draw, const Rect& bar, float gradientH, const ren
 
 bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& view) {
     renderer::TransferFunction& tf = state.tf;
-    const renderer::ValueRange window = view.window;
+    // With no window yet (no volume shown), the canvas spans 0..1: a TF in window fractions shows as it is.
+    const renderer::ValueRange window = view.window.hi > view.window.lo ? view.window : renderer::ValueRange{0.0f, 1.0f};
     bool changed = false;
     auto replace = [&](renderer::TransferFunction loaded) {
         tf = std::move(loaded);
@@ -130,7 +131,7 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     };
     // A TF in window fractions (a built-in preset, a version-1 file) is fixed in data units over the window
     // it is shown with: from now on the window no longer moves it. The LUT is the same.
-    if (tf.windowFractions && window.hi > window.lo && view.windowSettled) {
+    if (tf.windowFractions && view.window.hi > view.window.lo && view.windowSettled) {
         tf = renderer::inDataUnits(tf, window);
         if (state.tfGestureStart) *state.tfGestureStart = renderer::inDataUnits(*state.tfGestureStart, window);
         changed = true;
@@ -331,7 +332,7 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     numberHint("Drag to move every colour stop and opacity point by the same amount (data units)");
     ImGui::TextUnformatted("Rescale to");
     const std::pair<RescaleTarget, renderer::ValueRange> targets[] = {{RescaleTarget::DataRange, view.dataRange},
-                                                                      {RescaleTarget::Window, window},
+                                                                      {RescaleTarget::Window, view.window},
                                                                       {RescaleTarget::Percentile, view.percentile},
                                                                       {RescaleTarget::Visible, view.visible}};
     for (const auto& [target, range] : targets) {

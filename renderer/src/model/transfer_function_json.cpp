@@ -5,6 +5,7 @@
 #include "renderer/errors.h"
 #include "renderer/io/atomic_file.h"
 #include "renderer/io/json_file.h"
+#include "renderer/model/paraview_preset.h"
 
 #include <nlohmann/json.hpp>
 
@@ -140,6 +141,8 @@ TransferFunction transferFunctionFromJson(const nlohmann::json& j, const std::st
 
 TransferFunction loadTransferFunction(const std::filesystem::path& path) {
     const nlohmann::json j = readJsonFile(path, "a transfer function (.json)");
+    // A ParaView preset (a list of presets, or one with "RGBPoints") is imported.
+    if (j.is_array() || (j.is_object() && j.contains("RGBPoints"))) return transferFunctionFromParaView(j, path.string());
     return transferFunctionFromJson(j, path.string(), path.stem().string());
 }
 

@@ -87,7 +87,8 @@ TransferFunction rescaled(const TransferFunction& tf, double lo, double hi);
 std::vector<std::string> builtinPresetNames();
 // Throws RenderError listing the names if unknown, LoadError naming the file if a bundled one is bad.
 TransferFunction builtinPreset(const std::string& name);
-TransferFunction loadTransferFunction(const std::filesystem::path& path);   // throws LoadError
+// A SplatLab TF file, or a ParaView preset (paraview_preset.h), whichever the JSON is. Throws LoadError.
+TransferFunction loadTransferFunction(const std::filesystem::path& path);
 void saveTransferFunction(const TransferFunction& tf, const std::filesystem::path& path);  // atomic
 std::string transferFunctionText(const TransferFunction& tf);   // what saveTransferFunction writes
 // The JSON of a TF file (version 2), and back (version 1 or 2; sessions embed it): `source` names the
