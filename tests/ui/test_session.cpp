@@ -346,6 +346,8 @@ TEST_F(ImGuiNull, ADroppedFileOpensAsItsPanelsButtonWouldOnce) {
     };
     auto transferFunction = [&] { tfChanged |= ui::drawTransferFunctionPanel(state, unitWindowView()); };
 
+    frame(transferFunction);   // the first frame fixes the preset's window fractions in data units
+    tfChanged = false;
     // A volume: Settings' Open volume, pressed once.
     EXPECT_STREQ(ui::dropFile(state, volume), "Settings");
     EXPECT_EQ(state.volumeFile, volume.string());

@@ -43,23 +43,23 @@ else
           mousemove --window "$w" 900 320 mouseup 1 mousemove --window "$w" 1200 700
   sleep 0.5
   # The TF panel's file field: click, select all, type a name; then Save.
-  xdotool mousemove --window "$w" 120 327 click 1 key ctrl+a type --delay 5 typed_tf.json
-  xdotool mousemove --window "$w" 75 354 click 1
+  xdotool mousemove --window "$w" 120 439 click 1 key ctrl+a type --delay 5 typed_tf.json
+  xdotool mousemove --window "$w" 75 466 click 1
 fi
-# The fifth point at (189, 121): a click selects it, and its fields appear with the Opacity slider at y 336
-# (x 9..244).
+# The fifth point at (189, 121): a click selects it, and its fields appear with the Extinction slider at
+# y 351# (x 9..244).
 xdotool mousemove --window "$w" 189 121 click 1 mousemove --window "$w" 1200 700
 sleep 0.5
 if [ "$mode" = slow ]; then
-  xdotool mousemove --window "$w" 150 336; sleep 0.3
+  xdotool mousemove --window "$w" 150 351; sleep 0.3
   xdotool mousedown 1; sleep 0.3
-  xdotool mousemove --window "$w" 60 336; sleep 0.3
-  xdotool mousemove --window "$w" 2 336; sleep 0.3
+  xdotool mousemove --window "$w" 60 351; sleep 0.3
+  xdotool mousemove --window "$w" 2 351; sleep 0.3
   xdotool mouseup 1; sleep 0.3
   xdotool mousemove --window "$w" 1200 700
 else
-  xdotool mousemove --window "$w" 150 336 mousedown 1 mousemove --window "$w" 60 336 \
-          mousemove --window "$w" 2 336 mouseup 1 mousemove --window "$w" 1200 700
+  xdotool mousemove --window "$w" 150 351 mousedown 1 mousemove --window "$w" 60 351 \
+          mousemove --window "$w" 2 351 mouseup 1 mousemove --window "$w" 1200 700
 fi
 sleep 2
 kill -TERM "$pid"
