@@ -47,7 +47,7 @@ else
   xdotool mousemove --window "$w" 75 466 click 1
 fi
 # The fifth point at (189, 121): a click selects it, and its fields appear with the Extinction slider at
-# y 351# (x 9..244).
+# y 351 (x 9..244).
 xdotool mousemove --window "$w" 189 121 click 1 mousemove --window "$w" 1200 700
 sleep 0.5
 if [ "$mode" = slow ]; then
