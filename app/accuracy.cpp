@@ -208,8 +208,8 @@ void densityTable(Report& r, const AccuracyArgs& args, const std::vector<HardCas
 // density halved so the extinction per object unit matches): what the kernels lose of the signal.
 void kernelScaleTable(Report& r, const AccuracyArgs& args) {
     const int n = args.marschnerLobb, size = 4 * n; // 16^3 at 64x64: voxels ~3 px apart
-    const TransferFunction tf{
-        "ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.24}, {1.0, {1.0, 0.8, 0.3}, 0.8}}};
+    const TransferFunction tf = fromSharedPoints(
+        "ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.24}, {1.0, {1.0, 0.8, 0.3}, 0.8}});
     const ValueRange window{0.0f, 1.0f}; // the signal's range, so both grids classify alike
     const Camera camera{30, 20, 2.5, 30.0};
     const SplatScene coarse = buildSplatScene(makeMarschnerLobb(n), tf, window);

@@ -35,7 +35,7 @@ void EditorLoop::openDemoScene(const std::string& name, bool withLook, bool with
     guarded([&] {
         if (withLook) {
             m_state.tf = renderer::demoScene(name, 1).tf; // a TF does not depend on the image
-            m_state.tfSelected = -1;
+            m_state.tfSelected = m_state.tfColourSelected = -1;
             m_state.window.mode = renderer::WindowMode::DataRange;
             // Unlit at density 1, as the hard cases and their ground truth (the Filters panel's Measure).
             m_state.settings.density = 1.0;

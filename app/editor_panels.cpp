@@ -16,7 +16,12 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
         {"Transfer function", "left",
          [this] {
              m_tfChanged = ui::drawTransferFunctionPanel(
-                 m_state, {.histogram = m_doc.volume ? &m_doc.histogram : nullptr, .window = shownWindow()});
+                 m_state, {.histogram = m_doc.volume ? &m_doc.histogram : nullptr,
+                           .window = shownWindow(),
+                           .dataRange = m_doc.volume ? m_doc.volume->range : renderer::ValueRange{},
+                           .percentile = m_doc.percentile,
+                           .visible = m_hasScene ? renderer::visibleValueRange(m_doc.scene) : renderer::ValueRange{},
+                           .windowSettled = !m_volumeJob && !m_classifyJob && !m_fullWindowStale && !m_windowChanged});
              m_windowChanged =
                  ui::drawWindowSection(m_state, {.volume = m_doc.volume ? &*m_doc.volume : nullptr,
                                                  .histogram = &m_doc.histogram,

@@ -10,6 +10,7 @@
 #include "renderer/errors.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/model/gradients.h"
+#include "renderer/model/paraview_preset.h"
 #include "renderer/oracle/demo_scenes.h"
 #include "renderer/oracle/ground_truth.h"
 #include "renderer/math/metrics.h"
@@ -553,13 +554,15 @@ int runCompare(const std::string& a, const std::string& b, const std::string& di
 
 // `splatlab tf`: the built-in presets' names, or one TF (a preset or a JSON file) as the JSON file the
 // editor loads, so a preset can be the start of a user's own.
-int runTf(const std::string& spec, const std::string& out) {
+int runTf(const std::string& spec, const std::string& out, bool paraView) {
     if (spec.empty()) {
         for (const std::string& name : builtinPresetNames()) std::printf("%s\n", name.c_str());
         return 0;
     }
     const TransferFunction tf = transferFunctionFromSpec(spec);
-    if (out.empty()) std::fputs(transferFunctionText(tf).c_str(), stdout);
+    if (paraView && out.empty()) std::fputs(paraViewPresetText(tf).c_str(), stdout);
+    else if (paraView) saveParaViewPreset(tf, out);
+    else if (out.empty()) std::fputs(transferFunctionText(tf).c_str(), stdout);
     else saveTransferFunction(tf, out);
     return 0;
 }
@@ -631,10 +634,13 @@ int main(int argc, char** argv) {
     addRawFlags(info, infoRaw);
 
     std::string tfSpec, tfOut;
+    bool tfParaView = false;
     auto* tfCommand = app.add_subcommand("tf", "List the built-in transfer functions, or print one as the JSON file "
                                                "the editor and --tf load");
     tfCommand->add_option("name", tfSpec, "A preset name or a JSON file (none: list the presets)");
     tfCommand->add_option("--out", tfOut, "Write it to this file instead of printing it");
+    tfCommand->add_flag("--paraview", tfParaView,
+                        "As a ParaView colour-map preset (JSON: RGBPoints, Points) its Color Map Editor imports");
 
     AccuracyArgs acc;
     auto* accuracy = addAccuracyCommand(app, acc);
@@ -704,7 +710,7 @@ int main(int argc, char** argv) {
         if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);
         if (*info) return runInfo(infoPath, rawOptions(infoRaw), infoGradients);
         if (*accuracy) return runAccuracy(acc);
-        if (*tfCommand) return runTf(tfSpec, tfOut);
+        if (*tfCommand) return runTf(tfSpec, tfOut, tfParaView);
         if (*phantom) return runPhantom(phantomArgs);
         // No volume and no session: the bundled bonsai (assets/volumes/MANIFEST.md) as it looks best, each
         // default giving way to its flag. Its trunk grows along +y. It is framed from a three-quarter view

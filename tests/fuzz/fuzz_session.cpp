@@ -12,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         ui::loadSession(path, state);
         const renderer::Camera& c = state.camera;
         if (!(c.distance > 0.0) || !std::isfinite(c.azimuthDeg) || !(std::abs(glm::length(c.up) - 1.0) < 1e-9)) std::abort();
-        if (!(state.settings.density > 0.0) || state.settings.patchSize < 1 || state.tf.points.empty()) std::abort();
+        if (!(state.settings.density > 0.0) || state.settings.patchSize < 1 || state.tf.colours.empty() || state.tf.opacities.empty()) std::abort();
         if (state.window.mode == renderer::WindowMode::Custom && !(state.window.custom.lo < state.window.custom.hi))
             std::abort();
     } catch (const renderer::LoadError&) {

@@ -9,7 +9,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const auto path = fuzz::writeInput("fuzz_tf.json", data, size);
     try {
         const renderer::TransferFunction tf = renderer::loadTransferFunction(path);
-        for (const glm::vec4& c : renderer::bakeLut(tf))
+        for (const glm::vec4& c : renderer::bakeLut(tf, {-1000.0f, 3000.0f}))
             if (!std::isfinite(c.r) || !std::isfinite(c.a) || c.a < 0.0f || c.a > 1.0f) std::abort();
     } catch (const renderer::LoadError&) {
     }

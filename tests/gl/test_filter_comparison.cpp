@@ -16,7 +16,7 @@ using namespace renderer;
 namespace {
 
 TransferFunction opaqueRamp() {
-    return {"ramp", {{0.0, {0.1, 0.1, 0.1}, 0.3}, {1.0, {1.0, 1.0, 1.0}, 0.9}}};
+    return fromSharedPoints("ramp", {{0.0, {0.1, 0.1, 0.1}, 0.3}, {1.0, {1.0, 1.0, 1.0}, 0.9}});
 }
 
 } // namespace
@@ -47,7 +47,7 @@ TEST_F(GlTest, EachFiltersErrorIsItsCropAgainstTheGroundTruthAndMinifiedReconstr
     // A 1-voxel checkerboard of thin emitting material far away: kernels of about 0.2 px. Without the
     // screen filter the pattern aliases; low-pass, EWA and adaptive keep it smooth. (Thin: opaque
     // material saturates EWA's blurred optical depth, docs/accuracy.md "Filtering each footprint".)
-    const TransferFunction blackWhite{"bw", {{0.0, {0.0, 0.0, 0.0}, 1.0}, {1.0, {1.0, 1.0, 1.0}, 1.0}}};
+    const TransferFunction blackWhite = fromSharedPoints("bw", {{0.0, {0.0, 0.0, 0.0}, 1.0}, {1.0, {1.0, 1.0, 1.0}, 1.0}});
     const SplatScene scene = buildSplatScene(makeCheckerboard({24, 24, 24}, 1), blackWhite);
     Camera far;
     far.distance = 12.0;

@@ -17,7 +17,7 @@ using namespace renderer;
 namespace {
 
 TransferFunction ramp(double opacity = 0.9) {
-    return {"test-ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.2}, {1.0, {1.0, 0.8, 0.3}, opacity}}};
+    return fromSharedPoints("test-ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.2}, {1.0, {1.0, 0.8, 0.3}, opacity}});
 }
 
 struct Frame {
@@ -149,8 +149,8 @@ TEST_F(GlTest, RasterisedSheetsCountTheSlicesTheySkipOffTheImage) {
                 v.values[(size_t(z) * 24 + size_t(y)) * 24 + size_t(x)] = corner ? 0.8f : r < 6.0 ? 0.6f : 0.0f;
             }
     updateRange(v);
-    const TransferFunction clearAir{"clear-air", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.2, {0.2, 0.4, 1.0}, 0.0},
-                                                  {1.0, {1.0, 0.8, 0.3}, 0.9}}};
+    const TransferFunction clearAir = fromSharedPoints("clear-air", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.2, {0.2, 0.4, 1.0}, 0.0},
+                                                  {1.0, {1.0, 0.8, 0.3}, 0.9}});
     const Frame f = frame(v, clearAir, Camera{.azimuthDeg = 0, .elevationDeg = 89, .fovYDeg = 10}, 48, 48);
     ASSERT_EQ(chooseTraversal(f.plane).axis, 2) << "the corner column must cross every slice";
     SplatRenderer r;

@@ -18,7 +18,7 @@ using namespace renderer;
 namespace {
 
 TransferFunction ramp(double opacity = 0.9) {
-    return {"test-ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.2}, {1.0, {1.0, 0.8, 0.3}, opacity}}};
+    return fromSharedPoints("test-ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.2}, {1.0, {1.0, 0.8, 0.3}, opacity}});
 }
 
 SplatSettings tiled(Compositing mode) {
@@ -71,7 +71,7 @@ SceneView wallsAndFill() {
             }
     }
     updateRange(v);
-    const TransferFunction step{"step", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.5, {0.2, 0.4, 1.0}, 0.0}, {1.0, {1.0, 0.8, 0.3}, 1.0}}};
+    const TransferFunction step = fromSharedPoints("step", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.5, {0.2, 0.4, 1.0}, 0.0}, {1.0, {1.0, 0.8, 0.3}, 1.0}});
     w.scene = buildSplatScene(v, step);
     EXPECT_LT(glm::length(w.scene.centre - centre), 1e-9) << "the plane must frame the scene";
     EXPECT_NEAR(w.scene.radius, radius, 1e-9);
@@ -181,7 +181,7 @@ TEST_F(GlTest, TiledSplattingRefreshesAfterSlicesWithoutSplatsLikeTheCpu) {
         for (int i = 0; i < v.dims.x * v.dims.y; ++i) v.values[size_t(z) * 256 + size_t(i)] = 1.0f;
     updateRange(v);
     // Zero exactly transparent (the ramp's first class keeps a trace of opacity): empty slices.
-    const TransferFunction step{"step", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.5, {0.2, 0.4, 1.0}, 0.0}, {1.0, {1.0, 0.8, 0.3}, 1.0}}};
+    const TransferFunction step = fromSharedPoints("step", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.5, {0.2, 0.4, 1.0}, 0.0}, {1.0, {1.0, 0.8, 0.3}, 1.0}});
     const SplatScene scene = buildSplatScene(v, step);
     const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 10, .elevationDeg = 75}, scene.centre, scene.radius, 64, 64);
     ASSERT_EQ(chooseTraversal(plane).axis, 2);
@@ -238,7 +238,7 @@ TEST_F(GlTest, TiledSplattingCoversImagesOfManyTilesAndEmptyFrames) {
     EXPECT_GT(imageStats(cpu).coveredFraction, 0.8);
     EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu, "gl_tiles_many");
     // A fully transparent TF: nothing is binned, the image is cleared.
-    const TransferFunction clear{"clear", {{0.0, {1.0, 1.0, 1.0}, 0.0}, {1.0, {1.0, 1.0, 1.0}, 0.0}}};
+    const TransferFunction clear = fromSharedPoints("clear", {{0.0, {1.0, 1.0, 1.0}, 0.0}, {1.0, {1.0, 1.0, 1.0}, 0.0}});
     SplatScene empty = scene;
     setTransferFunction(empty, clear);
     r.setLut(empty.lut);
@@ -253,7 +253,7 @@ TEST_F(GlTest, TiledSplattingCoversImagesOfManyTilesAndEmptyFrames) {
 // voxels lost splats in the record pass. Each frame here matches the CPU oracle, or tiles refuse it with
 // the reason and auto rasterises it: never a wrong image.
 TEST_F(GlTest, TiledSplattingKeepsEveryEntryOfCrowdedTilesWithinTheDriversLoopLimit) {
-    const TransferFunction faint{"faint", {{0.0, {1.0, 0.6, 0.2}, 0.02}, {1.0, {0.2, 0.6, 1.0}, 0.04}}};
+    const TransferFunction faint = fromSharedPoints("faint", {{0.0, {1.0, 0.6, 0.2}, 0.02}, {1.0, {0.2, 0.6, 1.0}, 0.04}});
     const Camera fromAbove{.azimuthDeg = 0, .elevationDeg = 80};
     // Slices of 190 x 190 and 300 x 300 voxels on one 8x8 tile: 36,100 entries a slice (two slices go in
     // parts) and 90,000 (one slice is too many for the loop limit).

@@ -36,7 +36,8 @@ TEST(EditorDemoScenes, EachSceneOpensInItsTfAndViewAndItsSessionOpensItAgain) {
         EXPECT_FALSE(s.contains("volume"));
         const renderer::DemoScene scene = renderer::demoScene(info.name, 100);
         EXPECT_EQ(s["transfer_function"]["name"], info.name);
-        EXPECT_EQ(s["transfer_function"]["points"].size(), scene.tf.points.size());
+        EXPECT_EQ(s["transfer_function"]["colour"].size(), scene.tf.colours.size());
+        EXPECT_EQ(s["transfer_function"]["opacity"].size(), scene.tf.opacities.size());
         EXPECT_EQ(s["window"]["mode"], "data range");
         EXPECT_DOUBLE_EQ(s["camera"]["azimuth"].get<double>(), scene.camera.azimuthDeg);
         EXPECT_DOUBLE_EQ(s["camera"]["elevation"].get<double>(), scene.camera.elevationDeg);

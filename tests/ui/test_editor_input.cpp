@@ -49,13 +49,13 @@ TEST(EditorInput, SlowFramesNeitherLoseNorReinterpretInput) {
     ASSERT_TRUE(slow.contains("transfer_function") && burst.contains("transfer_function"));
 
     // The bundled bonsai's preset, with its fourth point raised by the 20 px drag.
-    const nlohmann::json& points = slow["transfer_function"]["points"];
+    const nlohmann::json& points = slow["transfer_function"]["opacity"];
     ASSERT_EQ(points.size(), 6u);
     EXPECT_GT(points[3]["opacity"].get<double>(), 0.55) << "the slow drag did not move the point";
     EXPECT_EQ(points[4]["opacity"].get<double>(), 0.0) << "the slow slider drag did not end at its left end";
-    EXPECT_EQ(burst["transfer_function"]["points"][4]["opacity"].get<double>(), 0.0)
+    EXPECT_EQ(burst["transfer_function"]["opacity"][4]["opacity"].get<double>(), 0.0)
         << "the burst's slider drag did not end where the button was released";
-    EXPECT_EQ(burst["transfer_function"]["points"], points)
+    EXPECT_EQ(burst["transfer_function"]["opacity"], points)
         << "the burst's drag, second drag and Ctrl+Z left another curve than the slow drag";
 
     // 100 px right and 20 px down from the bundled view's azimuth 30, elevation 20.

@@ -20,11 +20,18 @@ namespace {
 
 using testing::HasSubstr;
 
+// The TF panel shown over the window 0..1, with no histogram and no Rescale ranges.
+ui::TransferFunctionView unitWindowView() {
+    ui::TransferFunctionView view;
+    view.window = {0.0f, 1.0f};
+    return view;
+}
+
 // A state with every saved field away from its default.
 ui::EditorState unusualState() {
     ui::EditorState s;
     s.tf = renderer::builtinPreset("fire");
-    s.tf.points[2].colour = {0.25, 0.5, 0.75};
+    s.tf.colours[2].colour = {0.25, 0.5, 0.75};
     s.window.mode = renderer::WindowMode::Custom;
     s.window.custom = {-500.0f, 1500.0f};
     s.camera.azimuthDeg = -123.5;
@@ -67,12 +74,9 @@ ui::EditorState unusualState() {
 
 void expectSameSession(const ui::EditorState& a, const ui::EditorState& b) {
     EXPECT_EQ(a.tf.name, b.tf.name);
-    ASSERT_EQ(a.tf.points.size(), b.tf.points.size());
-    for (size_t i = 0; i < a.tf.points.size(); ++i) {
-        EXPECT_EQ(a.tf.points[i].value, b.tf.points[i].value);
-        EXPECT_EQ(a.tf.points[i].colour, b.tf.points[i].colour);
-        EXPECT_EQ(a.tf.points[i].opacity, b.tf.points[i].opacity);
-    }
+    EXPECT_EQ(a.tf.colours, b.tf.colours);
+    EXPECT_EQ(a.tf.opacities, b.tf.opacities);
+    EXPECT_EQ(a.tf.windowFractions, b.tf.windowFractions);
     EXPECT_EQ(a.window.mode, b.window.mode);
     EXPECT_EQ(a.window.custom.lo, b.window.custom.lo);
     EXPECT_EQ(a.window.custom.hi, b.window.custom.hi);
@@ -353,8 +357,10 @@ TEST_F(ImGuiNull, ADroppedFileOpensAsItsPanelsButtonWouldOnce) {
         changes.openVolume |= c.openVolume;
         changes.sessionOpened |= c.sessionOpened;
     };
-    auto transferFunction = [&] { tfChanged |= ui::drawTransferFunctionPanel(state, {.histogram = nullptr, .window = {0, 1}}); };
+    auto transferFunction = [&] { tfChanged |= ui::drawTransferFunctionPanel(state, unitWindowView()); };
 
+    frame(transferFunction);   // the first frame fixes the preset's window fractions in data units
+    tfChanged = false;
     // A volume: Settings' Open volume, pressed once.
     EXPECT_STREQ(ui::dropFile(state, volume), "Settings");
     EXPECT_EQ(state.volumeFile, volume.string());
@@ -381,8 +387,8 @@ TEST_F(ImGuiNull, ADroppedFileOpensAsItsPanelsButtonWouldOnce) {
     EXPECT_STREQ(ui::dropFile(state, dir / "dropped_tf.JSON"), "Transfer function");
     frame(transferFunction);
     EXPECT_TRUE(tfChanged);
-    EXPECT_EQ(state.tf.points.size(), renderer::builtinPreset("soft").points.size());
-    EXPECT_EQ(state.tf.points.back().opacity, renderer::builtinPreset("soft").points.back().opacity);
+    EXPECT_EQ(state.tf.opacities.size(), renderer::builtinPreset("soft").opacities.size());
+    EXPECT_EQ(state.tf.opacities.back().opacity, renderer::builtinPreset("soft").opacities.back().opacity);
     EXPECT_EQ(state.pendingFile, ui::FileAction::None);
 
     // A JSON that does not parse: the TF loader's error, naming the file.

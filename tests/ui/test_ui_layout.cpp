@@ -178,7 +178,8 @@ namespace {
 
 void expectSameState(const ui::EditorState& a, const ui::EditorState& b) {
     EXPECT_EQ(a.tf.name, b.tf.name);
-    EXPECT_EQ(a.tf.points.size(), b.tf.points.size());
+    EXPECT_EQ(a.tf.colours.size(), b.tf.colours.size());
+    EXPECT_EQ(a.tf.opacities.size(), b.tf.opacities.size());
     EXPECT_EQ(a.settings.kernelScale, b.settings.kernelScale);
     EXPECT_EQ(a.settings.cutoffSigmas, b.settings.cutoffSigmas);
     EXPECT_EQ(a.settings.density, b.settings.density);
@@ -673,7 +674,7 @@ TEST_F(ImGuiNull, PanelTextFitsInSmallAndLargeWindows) {
     const std::tuple<const char*, std::function<void()>, std::vector<float>> panels[] = {
         {"Settings", [&] { ui::drawSettingsPanel(state); }, leftColumn},
         {"Transfer function",
-         [&] { ui::drawTransferFunctionPanel(state, {.histogram = nullptr, .window = {0, 3926}}); }, leftColumn},
+         [&] { ui::drawTransferFunctionPanel(state, {.histogram = nullptr, .window = {0, 3926}, .dataRange = {}, .percentile = {}, .visible = {}}); }, leftColumn},
         {"Stats", [&] { ui::drawStatsPanel(stats); }, bottomStrip},
         {"Help", [&] { ui::drawHelpPanel(); }, bottomStrip},
         {"Performance", [&] { ui::drawPerformancePanel(state, history); }, bottomStrip},

@@ -24,11 +24,11 @@ using namespace renderer;
 namespace {
 
 TransferFunction flat(double opacity, glm::dvec3 colour = {1, 1, 1}) {
-    return {"flat", {{0.0, colour, opacity}, {1.0, colour, opacity}}};
+    return fromSharedPoints("flat", {{0.0, colour, opacity}, {1.0, colour, opacity}});
 }
 
 TransferFunction ramp() {
-    return {"ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.3}, {1.0, {1.0, 0.8, 0.3}, 0.9}}};
+    return fromSharedPoints("ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.3}, {1.0, {1.0, 0.8, 0.3}, 0.9}});
 }
 
 // A volume of one value at half opacity: every voxel a splat.
@@ -590,7 +590,7 @@ TEST(GroundTruth, XRaySumsTheRayWithoutAttenuationTheSameFromEitherSide) {
     pair.dims = {2, 1, 1};
     pair.values = {0.0f, 1.0f};
     const SplatScene scene =
-        buildSplatScene(pair, TransferFunction{"red-blue", {{0.0, {1, 0, 0}, 0.8}, {1.0, {0, 0, 1}, 0.8}}});
+        buildSplatScene(pair, fromSharedPoints("red-blue", {{0.0, {1, 0, 0}, 0.8}, {1.0, {0, 0, 1}, 0.8}}));
     GroundTruthOptions o;
     o.supersample = 0;
     o.tolerance = 1e-9;

@@ -22,7 +22,8 @@ TEST(DemoScenes, EveryHardCaseAndTheBoardOpenByNameWithWhatToLookFor) {
         const DemoScene scene = demoScene(s.name, 545);
         EXPECT_GT(scene.volume.voxelCount(), 0u) << s.name;
         EXPECT_EQ(scene.volume.name, s.name);
-        EXPECT_GE(scene.tf.points.size(), 2u) << s.name;
+        EXPECT_GE(scene.tf.colours.size(), 2u) << s.name;
+        EXPECT_GE(scene.tf.opacities.size(), 2u) << s.name;
     }
     EXPECT_EQ(names, expected) << "a hard case has no demo scene, or the menu's order differs from hardCases()";
     EXPECT_EQ(demoScene("board-512", 545).volume.dims, glm::ivec3(512, 512, 3));

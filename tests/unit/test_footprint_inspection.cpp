@@ -12,7 +12,7 @@ using namespace renderer;
 
 namespace {
 
-const TransferFunction kRamp{"ramp", {{0.0, {1, 1, 1}, 0.0}, {1.0, {1, 1, 1}, 1.0}}};
+const TransferFunction kRamp = fromSharedPoints("ramp", {{0.0, {1, 1, 1}, 0.0}, {1.0, {1, 1, 1}, 1.0}});
 
 } // namespace
 

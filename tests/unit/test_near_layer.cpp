@@ -119,7 +119,7 @@ TEST(NearLayer, TakesAtMostItsBoundAndCountsTheRest) {
     v.dims = {21, 21, 21};
     v.values.assign(v.voxelCount(), 1.0f);
     updateRange(v);
-    const SplatScene scene = buildSplatScene(v, {"solid", {{0.0, {1, 1, 1}, 0.2}, {1.0, {1, 1, 1}, 0.2}}});
+    const SplatScene scene = buildSplatScene(v, fromSharedPoints("solid", {{0.0, {1, 1, 1}, 0.2}, {1.0, {1, 1, 1}, 0.2}}));
     SplatSettings s;
     s.kernelScale = 2.5;
     const ImagePlane plane = makeImagePlane({30, 20, 0.05, 120.0}, scene.centre, scene.radius, 32, 32);

@@ -24,7 +24,7 @@ Volume ball() {
     return v;
 }
 
-const TransferFunction kRamp{"ramp", {{0.0, {1, 1, 1}, 0.0}, {1.0, {1, 1, 1}, 1.0}}};
+const TransferFunction kRamp = fromSharedPoints("ramp", {{0.0, {1, 1, 1}, 0.0}, {1.0, {1, 1, 1}, 1.0}});
 
 } // namespace
 
@@ -62,6 +62,6 @@ TEST(PixelProbe, AFainterTfOrThinnerDensityReachesTheThresholdDeeperOrNotAtAll) 
     EXPECT_NEAR(thin->depth - dense->depth, 6.0, 1.0);
     settings.density = 0.01;  // 16 voxels through the ball: alpha 0.15
     EXPECT_FALSE(probePixel(scene, settings, plane, {32.0, 32.0}).has_value());
-    setTransferFunction(scene, TransferFunction{"clear", {{0.0, {1, 1, 1}, 0.0}, {1.0, {1, 1, 1}, 0.0}}});
+    setTransferFunction(scene, fromSharedPoints("clear", {{0.0, {1, 1, 1}, 0.0}, {1.0, {1, 1, 1}, 0.0}}));
     EXPECT_FALSE(probePixel(scene, SplatSettings{}, plane, {32.0, 32.0}).has_value());
 }

@@ -188,7 +188,7 @@ std::filesystem::path loadSession(const std::filesystem::path& file, EditorState
     if (j.contains("transfer_function")) {
         next.tf = renderer::transferFunctionFromJson(j["transfer_function"], name + " (transfer_function)",
                                                      next.tf.name);
-        next.tfSelected = -1;
+        next.tfSelected = next.tfColourSelected = -1;
         next.tfEdited = false;
     }
 

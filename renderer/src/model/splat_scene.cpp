@@ -199,9 +199,21 @@ void addGradients(SplatScene& s, const GradientField& field) {
 }
 
 void setTransferFunction(SplatScene& s, const TransferFunction& tf) {
-    s.lut = bakeLut(tf);
+    s.lut = bakeLut(tf, s.window);
     s.visibleVoxels = 0;
     for (size_t c = 0; c < s.classVoxels.size(); ++c) s.visibleVoxels += s.lut[c].a > 0.0f ? s.classVoxels[c] : 0;
+}
+
+ValueRange visibleValueRange(const SplatScene& s) {
+    int first = -1, last = -1;
+    for (int c = 0; c < kLutSize && size_t(c) < s.classVoxels.size() && size_t(c) < s.lut.size(); ++c)
+        if (s.classVoxels[size_t(c)] > 0 && s.lut[size_t(c)].a > 0.0f) {
+            if (first < 0) first = c;
+            last = c;
+        }
+    if (first < 0) return {};
+    const double lo = s.window.lo, span = double(s.window.hi) - double(s.window.lo);
+    return {float(lo + span * first / kLutSize), float(lo + span * (last + 1) / kLutSize)};
 }
 
 std::array<bool, kBuckets> activeBuckets(const Lut& lut) {

@@ -1,16 +1,12 @@
-// Transfer functions: piecewise-linear control points, the baked LUT, built-in presets and JSON I/O.
+// Transfer functions: the two piecewise-linear functions, the baked LUT, whole-TF edits (shift, rescale,
+// window fractions to data units) and the built-in presets. JSON I/O is transfer_function_json.cpp's.
 #include "renderer/model/transfer_function.h"
 
-#include "renderer/io/atomic_file.h"
 #include "renderer/errors.h"
-#include "renderer/io/json_file.h"
-
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <sstream>
 
 namespace renderer {
 
@@ -23,7 +19,7 @@ struct Preset {
     std::vector<ControlPoint> points;
 };
 
-// Built-in presets over the normalised domain. CT presets assume air near 0 and bone near the top.
+// Built-in presets over window fractions. CT presets assume air near 0 and bone near the top.
 const std::vector<Preset>& presets() {
     static const std::vector<Preset> table = {
         {"ct-skin-bone",
@@ -44,38 +40,47 @@ const std::vector<Preset>& presets() {
     return table;
 }
 
-std::string validate(TransferFunction& tf) {
-    if (tf.points.empty()) return "has no control points, expected at least 1";
-    for (const auto& p : tf.points) {
-        auto finite01 = [](double x) { return std::isfinite(x) && x >= 0.0 && x <= 1.0; };
-        if (!finite01(p.value)) return "a point's value is " + std::to_string(p.value) + ", expected [0,1]";
-        if (!finite01(p.opacity)) return "a point's opacity is " + std::to_string(p.opacity) + ", expected [0,1]";
-        if (!finite01(p.colour.r) || !finite01(p.colour.g) || !finite01(p.colour.b))
-            return "a point's colour is outside [0,1]";
-    }
-    std::stable_sort(tf.points.begin(), tf.points.end(),
-                     [](const ControlPoint& a, const ControlPoint& b) { return a.value < b.value; });
-    return {};
+// The points around `value` in a sorted list, and how far between them: the end point's own outside.
+template <class Point, class Get>
+auto interpolate(const std::vector<Point>& pts, double value, Get get) {
+    auto hi = std::lower_bound(pts.begin(), pts.end(), value, [](const Point& p, double x) { return p.value < x; });
+    if (hi == pts.begin()) return get(*hi);
+    if (hi == pts.end()) return get(pts.back());
+    const Point& lo = *(hi - 1);
+    const double w = (hi->value > lo.value) ? (value - lo.value) / (hi->value - lo.value) : 1.0;
+    return glm::mix(get(lo), get(*hi), w);
 }
 
 } // namespace
 
-glm::dvec4 evaluate(const TransferFunction& tf, double value) {
-    const auto& pts = tf.points;
-    if (pts.empty()) return glm::dvec4(0.0);
-    auto hi = std::lower_bound(pts.begin(), pts.end(), value,
-                               [](const ControlPoint& p, double x) { return p.value < x; });
-    if (hi == pts.begin()) return glm::dvec4(hi->colour, hi->opacity);
-    if (hi == pts.end()) return glm::dvec4(pts.back().colour, pts.back().opacity);
-    const auto& lo = *(hi - 1);
-    const double w = (hi->value > lo.value) ? (value - lo.value) / (hi->value - lo.value) : 1.0;
-    return glm::mix(glm::dvec4(lo.colour, lo.opacity), glm::dvec4(hi->colour, hi->opacity), w);
+TransferFunction fromSharedPoints(std::string name, const std::vector<ControlPoint>& points) {
+    TransferFunction tf;
+    tf.name = std::move(name);
+    tf.windowFractions = true;
+    for (const ControlPoint& p : points) {
+        tf.colours.push_back({p.value, p.colour});
+        tf.opacities.push_back({p.value, p.opacity});
+    }
+    return tf;
 }
 
-Lut bakeLut(const TransferFunction& tf) {
+glm::dvec4 evaluate(const TransferFunction& tf, double value) {
+    const glm::dvec3 colour = tf.colours.empty()
+                                  ? glm::dvec3(0.0)
+                                  : interpolate(tf.colours, value, [](const ColourPoint& p) { return p.colour; });
+    const double opacity = tf.opacities.empty()
+                               ? 0.0
+                               : interpolate(tf.opacities, value, [](const OpacityPoint& p) { return p.opacity; });
+    return glm::dvec4(colour, opacity);
+}
+
+Lut bakeLut(const TransferFunction& tf, ValueRange window) {
     Lut lut(kLutSize, glm::vec4(0.0f));
-    for (int i = 0; i < kLutSize; ++i)
-        lut[i] = glm::vec4(evaluate(tf, (i + 0.5) / kLutSize));   // the value at the centre of class i
+    const double lo = window.lo, span = double(window.hi) - double(window.lo);
+    for (int i = 0; i < kLutSize; ++i) {
+        const double t = (i + 0.5) / kLutSize;   // the middle of class i, as a fraction of the window
+        lut[size_t(i)] = glm::vec4(evaluate(tf, tf.windowFractions ? t : lo + t * span));
+    }
     return lut;
 }
 
@@ -83,6 +88,48 @@ uint16_t classOf(float value, float lo, float hi) {
     if (!(hi > lo) || !std::isfinite(value)) return 0;
     const double t = (double(value) - lo) / (double(hi) - lo);
     return uint16_t(std::clamp(int(std::floor(t * kLutSize)), 0, kLutSize - 1));
+}
+
+TransferFunction inDataUnits(const TransferFunction& tf, ValueRange window) {
+    if (!tf.windowFractions || !(window.hi > window.lo)) return tf;
+    TransferFunction out = tf;
+    out.windowFractions = false;
+    const double lo = window.lo, hi = window.hi;
+    // lo * (1 - t) + hi * t: exactly lo at 0 and hi at 1, so the TF's ends stay on the window's.
+    const auto toData = [&](double t) { return lo * (1.0 - t) + hi * t; };
+    for (auto& p : out.colours) p.value = toData(p.value);
+    for (auto& p : out.opacities) p.value = toData(p.value);
+    return out;
+}
+
+TfExtent extentOf(const TransferFunction& tf) {
+    if (tf.colours.empty() && tf.opacities.empty()) return {};
+    TfExtent e{INFINITY, -INFINITY};
+    for (const auto& p : tf.colours) e.lo = std::min(e.lo, p.value), e.hi = std::max(e.hi, p.value);
+    for (const auto& p : tf.opacities) e.lo = std::min(e.lo, p.value), e.hi = std::max(e.hi, p.value);
+    return e;
+}
+
+TransferFunction shifted(const TransferFunction& tf, double offset) {
+    TransferFunction out = tf;
+    for (auto& p : out.colours) p.value += offset;
+    for (auto& p : out.opacities) p.value += offset;
+    return out;
+}
+
+TransferFunction rescaled(const TransferFunction& tf, double lo, double hi) {
+    if (!std::isfinite(lo) || !std::isfinite(hi) || !(hi > lo))
+        throw RenderError("cannot rescale a transfer function onto " + std::to_string(lo) + " .. " +
+                          std::to_string(hi) + ": expected finite ends, low below high");
+    const TfExtent from = extentOf(tf);
+    if (!(from.hi > from.lo)) return shifted(tf, 0.5 * (lo + hi) - from.lo);
+    TransferFunction out = tf;
+    const double scale = (hi - lo) / (from.hi - from.lo);
+    // The ends land exactly on lo and hi; the rest in proportion.
+    const auto map = [&](double v) { return v == from.hi ? hi : v == from.lo ? lo : lo + (v - from.lo) * scale; };
+    for (auto& p : out.colours) p.value = map(p.value);
+    for (auto& p : out.opacities) p.value = map(p.value);
+    return out;
 }
 
 // The bundled preset files, NAME.json in the assets' presets folder, by name, sorted; a file named like
@@ -111,73 +158,12 @@ std::vector<std::string> builtinPresetNames() {
 
 TransferFunction builtinPreset(const std::string& name) {
     for (const auto& p : presets())
-        if (name == p.name) return {p.name, p.points};
+        if (name == p.name) return fromSharedPoints(p.name, p.points);
     for (const auto& [fileName, path] : bundledPresetFiles())
         if (name == fileName) return loadTransferFunction(path);
     std::string known;
     for (const auto& n : builtinPresetNames()) known += (known.empty() ? "" : ", ") + n;
     throw RenderError("unknown transfer-function preset '" + name + "' (known: " + known + ")");
-}
-
-// The format written; a file of a later one is refused rather than half read.
-constexpr int kTransferFunctionVersion = 1;
-
-nlohmann::json toJson(const TransferFunction& tf) {
-    nlohmann::json j;
-    j["version"] = kTransferFunctionVersion;
-    j["name"] = tf.name;
-    j["points"] = nlohmann::json::array();
-    for (const auto& p : tf.points)
-        j["points"].push_back({{"value", p.value},
-                               {"colour", {p.colour.r, p.colour.g, p.colour.b}},
-                               {"opacity", p.opacity}});
-    return j;
-}
-
-TransferFunction transferFunctionFromJson(const nlohmann::json& j, const std::string& source,
-                                          const std::string& defaultName) {
-    TransferFunction tf;
-    tf.name = defaultName;
-    try {
-        if (!j.is_object()) throw LoadError(source, "", "expected a JSON object");
-        if (j.contains("version")) {
-            const nlohmann::json& version = j["version"];
-            if (!version.is_number_integer() || version.get<long long>() < 1)
-                throw LoadError(source, "version", version.dump() + ", expected a whole number >= 1");
-            if (version.get<long long>() > kTransferFunctionVersion)
-                throw LoadError(source, "version",
-                                version.dump() + " is newer than this SplatLab reads (" +
-                                    std::to_string(kTransferFunctionVersion) + ")");
-        }
-        if (j.contains("name")) tf.name = j.at("name").get<std::string>();
-        if (!j.contains("points") || !j["points"].is_array())
-            throw LoadError(source, "points", "missing, expected an array of control points");
-        for (const auto& p : j["points"]) {
-            ControlPoint c;
-            c.value = p.at("value").get<double>();
-            const auto col = p.at("colour").get<std::vector<double>>();
-            if (col.size() != 3) throw LoadError(source, "colour", "has " + std::to_string(col.size()) +
-                                                                      " values, expected 3 (r, g, b)");
-            c.colour = {col[0], col[1], col[2]};
-            c.opacity = p.at("opacity").get<double>();
-            tf.points.push_back(c);
-        }
-    } catch (const nlohmann::json::exception& e) {
-        throw LoadError(source, "points", std::string("expected {value, colour[3], opacity}: ") + e.what());
-    }
-    if (auto err = validate(tf); !err.empty()) throw LoadError(source, "points", err);
-    return tf;
-}
-
-TransferFunction loadTransferFunction(const std::filesystem::path& path) {
-    const nlohmann::json j = readJsonFile(path, "a transfer function (.json)");
-    return transferFunctionFromJson(j, path.string(), path.stem().string());
-}
-
-std::string transferFunctionText(const TransferFunction& tf) { return toJson(tf).dump(2) + "\n"; }
-
-void saveTransferFunction(const TransferFunction& tf, const std::filesystem::path& path) {
-    writeFileAtomically(path, transferFunctionText(tf));
 }
 
 TransferFunction transferFunctionFromSpec(const std::string& spec) {

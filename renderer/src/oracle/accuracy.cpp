@@ -37,11 +37,10 @@ ViewedVolume grazingCheckerboard(int board, int cell, int width, int height) {
     v.name = "grazing-checkerboard-" + std::to_string(board);
     v.volume = makeCheckerboard({board, board, 3}, cell);
     // Both values opaque, as in 000 fig. 8 ("all voxels classified as non-transparent").
-    v.tf = {"black-white",
-            {{0.0, {0.0, 0.0, 0.0}, 1.0},
-             {0.49, {0.0, 0.0, 0.0}, 1.0},
-             {0.51, {1, 1, 1}, 1.0},
-             {1.0, {1, 1, 1}, 1.0}}};
+    v.tf = fromSharedPoints("black-white", {{0.0, {0.0, 0.0, 0.0}, 1.0},
+                                            {0.49, {0.0, 0.0, 0.0}, 1.0},
+                                            {0.51, {1, 1, 1}, 1.0},
+                                            {1.0, {1, 1, 1}, 1.0}});
     // Eye above the middle of the near edge at board / 64 over the top face, looking along +x and
     // pitched 21 degrees down: the top row meets the board just short of its far edge.
     const double b = board;

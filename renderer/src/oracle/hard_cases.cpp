@@ -12,15 +12,16 @@ namespace renderer {
 namespace {
 
 TransferFunction ramp(const char* name, double opacity) {
-    return {name, {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.3 * opacity}, {1.0, {1.0, 0.8, 0.3}, opacity}}};
+    return fromSharedPoints(name, {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.3 * opacity}, {1.0, {1.0, 0.8, 0.3}, opacity}});
 }
 
 TransferFunction solid(double opacity) {
-    return {"solid", {{0.0, {0.9, 0.9, 0.9}, opacity}, {1.0, {0.9, 0.9, 0.9}, opacity}}};
+    return fromSharedPoints("solid", {{0.0, {0.9, 0.9, 0.9}, opacity}, {1.0, {0.9, 0.9, 0.9}, opacity}});
 }
 
 TransferFunction binary() {   // 0 transparent, 1 opaque white: checkerboards and zebras
-    return {"binary", {{0.0, {0, 0, 0}, 0.0}, {0.49, {0, 0, 0}, 0.0}, {0.51, {1, 1, 1}, 1.0}, {1.0, {1, 1, 1}, 1.0}}};
+    return fromSharedPoints("binary",
+                            {{0.0, {0, 0, 0}, 0.0}, {0.49, {0, 0, 0}, 0.0}, {0.51, {1, 1, 1}, 1.0}, {1.0, {1, 1, 1}, 1.0}});
 }
 
 Volume zebra(int n, int period) {
@@ -66,11 +67,10 @@ std::vector<HardCase> nearEyeCases() {
     cases[1].name = "thin-ball";
     cases[1].what = "the camera inside an optically thin ball";
     cases[1].volume = ninePattern("ball9", true);
-    cases[1].tf = {"thin",
-                   {{0.0, {0.9, 0.6, 0.3}, 0.0},
-                    {0.49, {0.9, 0.6, 0.3}, 0.0},
-                    {0.51, {0.9, 0.6, 0.3}, 0.15},
-                    {1.0, {0.9, 0.6, 0.3}, 0.15}}};
+    cases[1].tf = fromSharedPoints("thin", {{0.0, {0.9, 0.6, 0.3}, 0.0},
+                                            {0.49, {0.9, 0.6, 0.3}, 0.0},
+                                            {0.51, {0.9, 0.6, 0.3}, 0.15},
+                                            {1.0, {0.9, 0.6, 0.3}, 0.15}});
     cases[1].camera = {30, 20, 0.3, 60.0};
     return cases;
 }

@@ -37,23 +37,23 @@ else
           mousemove --window "$w" 900 339 mouseup 1 mousemove --window "$w" 1200 719
   sleep 0.5
   # The TF panel's file field: click, select all, type a name; then Save.
-  xdotool mousemove --window "$w" 120 346 click 1 key ctrl+a type --delay 5 typed_tf.json
-  xdotool mousemove --window "$w" 75 373 click 1
+  xdotool mousemove --window "$w" 120 458 click 1 key ctrl+a type --delay 5 typed_tf.json
+  xdotool mousemove --window "$w" 75 485 click 1
 fi
-# The fifth point at (189, 140): a click selects it, and its fields appear with the Opacity slider at y 355
-# (x 9..244).
+# The fifth point at (189, 140): a click selects it, and its fields appear with the Extinction slider at
+# y 370 (x 9..244).
 xdotool mousemove --window "$w" 189 140 click 1 mousemove --window "$w" 1200 719
 sleep 0.5
 if [ "$mode" = slow ]; then
-  xdotool mousemove --window "$w" 150 355; sleep 0.3
+  xdotool mousemove --window "$w" 150 370; sleep 0.3
   xdotool mousedown 1; sleep 0.3
-  xdotool mousemove --window "$w" 60 355; sleep 0.3
-  xdotool mousemove --window "$w" 2 355; sleep 0.3
+  xdotool mousemove --window "$w" 60 370; sleep 0.3
+  xdotool mousemove --window "$w" 2 370; sleep 0.3
   xdotool mouseup 1; sleep 0.3
   xdotool mousemove --window "$w" 1200 719
 else
-  xdotool mousemove --window "$w" 150 355 mousedown 1 mousemove --window "$w" 60 355 \
-          mousemove --window "$w" 2 355 mouseup 1 mousemove --window "$w" 1200 719
+  xdotool mousemove --window "$w" 150 370 mousedown 1 mousemove --window "$w" 60 370 \
+          mousemove --window "$w" 2 370 mouseup 1 mousemove --window "$w" 1200 719
 fi
 sleep 2
 stop_editor

@@ -69,8 +69,10 @@ struct EditorState {
     // The transfer function the scene is classified with; the Transfer function panel edits it.
     renderer::TransferFunction tf = renderer::builtinPreset("ct-skin-bone");
     bool tfEdited = false;             // points changed since the preset or file was loaded or saved
-    int tfSelected = -1;               // the control point the panel edits; -1: none
+    int tfSelected = -1;               // the opacity point the panel edits; -1: none
+    int tfColourSelected = -1;         // the colour stop the panel edits; -1: none (one of the two at most)
     float tfGrabDx = 0, tfGrabDy = 0;  // while dragging: point minus mouse at the press, pixels
+    double tfShift = 0.0;              // the Shift field's offset (data units) during its drag; 0 between
     std::string tfFile = "transfer_function.json";   // the panel's Load / Save path
     bool tfLogOpacity = false;                       // the curve's opacity axis in decades (tf_editor.h)
     TfHistory tfHistory;                             // undo / redo, a step per gesture

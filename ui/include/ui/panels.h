@@ -51,12 +51,21 @@ const char* dropFile(EditorState& state, const std::filesystem::path& file);
 
 struct TransferFunctionView {
     const renderer::Histogram* histogram = nullptr; // of the whole volume, drawn behind the curve; null: none
-    renderer::ValueRange window;                    // the data values the TF's 0..1 spans (the scene's window)
+    renderer::ValueRange window;                    // the data values the canvas spans (the scene's window)
+    // Rescale's targets (data units); an empty range (lo == hi) disables its button.
+    renderer::ValueRange dataRange;                 // the volume's min..max
+    renderer::ValueRange percentile;                // p1..p99
+    renderer::ValueRange visible;                   // the values of the voxels drawn now (visibleValueRange)
+    // False while a volume loads or the scene is re-classified: a TF in window fractions waits for the
+    // window it will be shown with before it is fixed in data units.
+    bool windowSettled = true;
 };
 
-// Preset; the curve over the histogram (drag a point to move it, click empty space to add one,
-// right-click a point to remove it) and the colour bar; the selected point's value in data units,
-// opacity and colour; Load and Save of TF files (JSON, written atomically). A file that fails to load
+// Preset; the opacity curve over the histogram (drag a point to move it, click empty space to add one,
+// right-click a point to remove it) and under it the colour bar with its stops (the same gestures, across
+// only); the selected point's value in data units and its opacity or colour; Shift and Rescale of the
+// whole TF; Load and Save of TF files (JSON, written atomically). A TF in window fractions (a built-in
+// preset, a version-1 file) is fixed in data units over view.window when the panel first shows it. A file that fails to load
 // or save sets state.errorMessage. Returns whether state.tf changed: the app then re-bakes the LUT,
 // which is all a TF edit uploads.
 bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& view);

@@ -1,6 +1,7 @@
 // The rules behind the Transfer function panel's curve, as pure functions (tests drive them with no
-// ImGui): where a control point sits on the canvas, which one the mouse picks, and the edits. Values
-// are the TF's normalised domain (0..1 over the window), opacity 0..1 upwards; the points stay sorted.
+// ImGui): where an opacity point or colour stop sits, which one the mouse picks, and the edits. The canvas
+// spans the window (a fraction 0..1 across), the TF's values are data units, opacity 0..1 upwards; the
+// points stay sorted.
 #pragma once
 #include "renderer/model/transfer_function.h"
 #include "renderer/model/volume.h"
@@ -27,20 +28,33 @@ CanvasPoint tfToCanvas(const Rect& canvas, double value, double opacity, Opacity
 void canvasToTf(const Rect& canvas, CanvasPoint p, double& value, double& opacity,
                 OpacityAxis axis = OpacityAxis::Linear);
 
-// The control point drawn nearest to `mouse`, if within radiusPx; -1 when none is.
-int pickControlPoint(const renderer::TransferFunction& tf, const Rect& canvas, CanvasPoint mouse, float radiusPx,
-                     OpacityAxis axis = OpacityAxis::Linear);
+// The opacity point drawn nearest to `mouse`, if within radiusPx; -1 when none is. Values are data units,
+// shown over `window` (the canvas's left and right edges).
+int pickOpacityPoint(const renderer::TransferFunction& tf, renderer::ValueRange window, const Rect& canvas,
+                     CanvasPoint mouse, float radiusPx, OpacityAxis axis = OpacityAxis::Linear);
+// The colour stop nearest to `mouse` across (stops are drawn as markers spanning `bar`'s height), if
+// within radiusPx of it across and inside the bar's rows; -1 when none is.
+int pickColourStop(const renderer::TransferFunction& tf, renderer::ValueRange window, const Rect& bar,
+                   CanvasPoint mouse, float radiusPx);
 
-// Adds a point at `value` with `opacity` and the colour the TF already has there, so the colours do
-// not change; returns its index.
-int insertControlPoint(renderer::TransferFunction& tf, double value, double opacity);
+// Adds an opacity point at `value` with `opacity`; the colours do not change. Returns its index.
+int insertOpacityPoint(renderer::TransferFunction& tf, double value, double opacity);
+// Adds a colour stop at `value` with the colour the TF already has there; opacity does not change.
+int insertColourStop(renderer::TransferFunction& tf, double value);
 
-// Moves point `index`: its value stays between its neighbours' (the order never changes under a
-// drag), opacity within 0..1. Non-finite inputs leave that coordinate as it was.
-void moveControlPoint(renderer::TransferFunction& tf, int index, double value, double opacity);
+// Moves a point: its value stays between its neighbours' (the order never changes under a drag), opacity
+// within 0..1. Non-finite inputs leave that coordinate as it was; an index out of range does nothing.
+// Each touches only its own function: a colour stop's move never changes opacity, and the reverse.
+void moveOpacityPoint(renderer::TransferFunction& tf, int index, double value, double opacity);
+void moveColourStop(renderer::TransferFunction& tf, int index, double value);
 
-// Removes point `index` unless only two are left (a TF needs a start and an end); returns whether it did.
-bool removeControlPoint(renderer::TransferFunction& tf, int index);
+// Removes a point unless only two are left in its function (a start and an end); returns whether it did.
+bool removeOpacityPoint(renderer::TransferFunction& tf, int index);
+bool removeColourStop(renderer::TransferFunction& tf, int index);
+
+// The ranges the panel's Rescale maps the TF's extent onto (renderer::rescaled).
+enum class RescaleTarget { DataRange, Window, Percentile, Visible };
+const char* rescaleTargetName(RescaleTarget target);   // "data", "window", "1-99 %", "visible"
 
 // Undo and redo of TF edits, a step per gesture (a drag, a typed field, a preset, a file).
 constexpr size_t kTfHistorySteps = 100;
@@ -54,8 +68,10 @@ struct TfHistory {
     bool redoInto(renderer::TransferFunction& tf);
 };
 
-// Data units <-> the TF's normalised domain over `window` (what the panel shows and types).
-double toDataUnits(double value, renderer::ValueRange window);
+// A fraction of `window` (the canvas's width) <-> data units. fromDataUnits clamps to 0..1 (where the
+// mouse can be); windowFraction does not (where a point outside the window would be drawn).
+double toDataUnits(double fraction, renderer::ValueRange window);
 double fromDataUnits(double data, renderer::ValueRange window);
+double windowFraction(double data, renderer::ValueRange window);
 
 } // namespace ui

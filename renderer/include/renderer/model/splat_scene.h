@@ -86,6 +86,9 @@ SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, Val
 void addGradients(SplatScene& scene, const GradientField& field);
 // A TF edit: re-bakes the LUT and recounts visible voxels; the lists stay.
 void setTransferFunction(SplatScene& scene, const TransferFunction& tf);
+// The data values of the voxels the LUT draws (opacity > 0): from the lowest such class's lower edge to
+// the highest's upper edge, over the scene's window. {0, 0} when none is drawn.
+ValueRange visibleValueRange(const SplatScene& scene);
 
 // Buckets holding at least one class with opacity > 0: the only ones drawn.
 std::array<bool, kBuckets> activeBuckets(const Lut& lut);

@@ -1,8 +1,10 @@
-// Transfer function: control points over the normalised value domain [0,1] -> an RGBA lookup table.
+// Transfer function: a colour function and an opacity function, each piecewise linear over its own
+// points, positioned in the data's units (HU for CT) -> an RGBA lookup table over the scene's window.
 // Opacity is extinction per unit length (EWA_NOTES): a point's `opacity` times SplatSettings::density
-// is the extinction per voxel length. Presets are JSON files; the control points are what is saved.
+// is the extinction per voxel length. Files and presets are JSON (docs/formats.md); the points are saved.
 #pragma once
 #include "renderer/math/glm_config.h"
+#include "renderer/model/volume.h"
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -13,40 +15,84 @@
 
 namespace renderer {
 
-struct ControlPoint {
-    double value = 0.0;        // normalised data value in [0,1] (0 = range.lo, 1 = range.hi)
+struct ColourPoint {
+    double value = 0.0;        // position (data units, or a fraction of the window: TransferFunction)
     glm::dvec3 colour{1.0};    // linear RGB in [0,1]
+    bool operator==(const ColourPoint&) const = default;
+};
+
+struct OpacityPoint {
+    double value = 0.0;        // position, as ColourPoint::value
     double opacity = 0.0;      // in [0,1]; 0 makes voxels of this value invisible (never drawn)
-    bool operator==(const ControlPoint&) const = default;
+    bool operator==(const OpacityPoint&) const = default;
 };
 
 struct TransferFunction {
     std::string name;
-    std::vector<ControlPoint> points;   // sorted by value; piecewise linear between them
+    std::vector<ColourPoint> colours;      // sorted by value; piecewise linear between them
+    std::vector<OpacityPoint> opacities;   // sorted by value; piecewise linear between them
+    // True for version-1 files and the built-in presets: positions are 0..1 of whichever window the TF
+    // meets (0 = window.lo). inDataUnits() fixes them over one window; the editor does so when it takes
+    // the TF, so a later window change no longer moves it.
+    bool windowFractions = false;
     bool operator==(const TransferFunction&) const = default;
 };
+
+// A version-1 point: colour and opacity at one shared position, a fraction of the window. The built-in
+// presets and tests are written this way; fromSharedPoints splits them into the two functions.
+struct ControlPoint {
+    double value = 0.0;
+    glm::dvec3 colour{1.0};
+    double opacity = 0.0;
+};
+TransferFunction fromSharedPoints(std::string name, const std::vector<ControlPoint>& points);
 
 // Entries of the lookup table both the CPU oracle and the GL path index with a voxel's class.
 constexpr int kLutSize = 4096;
 using Lut = std::vector<glm::vec4>;     // kLutSize entries: rgb colour, a = opacity
 
-// Colour (rgb) and opacity (a) at normalised `value`: linear between the points around it, the end
-// points' own outside them (black and transparent with no points). bakeLut samples it per class.
+// Colour (rgb) and opacity (a) at `value` (the TF's own units): each linear between its points around
+// it, its end points' own outside them (black, transparent with no points).
 glm::dvec4 evaluate(const TransferFunction& tf, double value);
-Lut bakeLut(const TransferFunction& tf);
+// The LUT spans `window`, the scene's classification range (classOf): entry i is the TF at the data
+// value in the middle of class i. Why the window and not the TF's extent: a voxel's class then does not
+// depend on the TF, so a TF edit re-bakes these 4096 entries and nothing else (the editor's drag stays
+// instant), and the classes are finest where the user looks. Values outside the window read its end
+// classes, so the TF's own end values whenever its points lie inside the window, as every version-1 TF's
+// do (their 0 and 1 are the window's ends); a TF reaching past the window shows, beyond it, its value at
+// the window's edge: widen the window to see the rest.
+Lut bakeLut(const TransferFunction& tf, ValueRange window);
 // Class of a value: which LUT entry it reads. Normalises over [lo, hi] and clamps; NaN gets class 0.
 uint16_t classOf(float value, float lo, float hi);
 
-// Presets by name: those in code ("ct-skin-bone", "ct-bone", "grey-ramp", "soft", "fire"), then each
-// NAME.json of the bundled assets/presets ("bonsai"), sorted.
+// == Whole-TF edits (pure; the TF panel's Shift and Rescale)
+
+// The TF with window fractions turned into data units over `window` (unchanged if already in data units
+// or the window is empty). Fraction 0 gives window.lo and 1 window.hi exactly.
+TransferFunction inDataUnits(const TransferFunction& tf, ValueRange window);
+// The lowest and highest position of any colour or opacity point ({0, 0} with none).
+struct TfExtent {
+    double lo = 0.0, hi = 0.0;
+};
+TfExtent extentOf(const TransferFunction& tf);
+// Every point moved by `offset` (the TF's units).
+TransferFunction shifted(const TransferFunction& tf, double offset);
+// The TF's extent mapped linearly onto [lo, hi] (lo < hi): its first point lands on lo, its last on hi,
+// the rest in proportion. A TF whose points all sit at one value is moved to the middle of [lo, hi].
+// Throws RenderError for a non-finite or empty target.
+TransferFunction rescaled(const TransferFunction& tf, double lo, double hi);
+
+// Presets by name: those in code ("ct-skin-bone", "ct-bone", "grey-ramp", "soft", "fire"; window
+// fractions), then each NAME.json of the bundled assets/presets ("bonsai", "ct-hu-skin-bone"), sorted.
 std::vector<std::string> builtinPresetNames();
 // Throws RenderError listing the names if unknown, LoadError naming the file if a bundled one is bad.
 TransferFunction builtinPreset(const std::string& name);
-TransferFunction loadTransferFunction(const std::filesystem::path& path);   // throws LoadError
+// A SplatLab TF file, or a ParaView preset (paraview_preset.h), whichever the JSON is. Throws LoadError.
+TransferFunction loadTransferFunction(const std::filesystem::path& path);
 void saveTransferFunction(const TransferFunction& tf, const std::filesystem::path& path);  // atomic
 std::string transferFunctionText(const TransferFunction& tf);   // what saveTransferFunction writes
-// The JSON of a TF file, and back (sessions embed it): `source` names the file in errors, and
-// `defaultName` is the name when the JSON gives none. Throws LoadError naming the field.
+// The JSON of a TF file (version 2), and back (version 1 or 2; sessions embed it): `source` names the
+// file in errors, and `defaultName` is the name when the JSON gives none. Throws LoadError naming the field.
 nlohmann::json toJson(const TransferFunction& tf);
 TransferFunction transferFunctionFromJson(const nlohmann::json& j, const std::string& source,
                                           const std::string& defaultName);
