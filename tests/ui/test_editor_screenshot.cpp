@@ -1,6 +1,7 @@
 // ui layer, end to end: the real editor runs under Xvfb (Mesa llvmpipe) and writes a screenshot; the
 // test checks that the viewport shows the volume and that the panels look unlike the viewport. It
 // compares regions with each other, never with a stored image.
+#include "editor_window.h"
 #include "image_compare.h"
 #include "renderer/io/image.h"
 #include "renderer/model/procedural.h"
@@ -47,10 +48,9 @@ double largestDifference(const renderer::Image& a, const renderer::Image& b, con
     return worst;
 }
 
-// The editor's dock space in its 1280x800 window: below the View menu bar, one ImGui frame high (the
-// 13 px default font plus 3 px of frame padding above and below).
-constexpr float kMenuBarPx = 19.0f;
-const ui::Rect kDockArea{0, kMenuBarPx, 1280, 800 - kMenuBarPx};
+// The editor's dock space in its 1280x800 window (editor_window.h).
+using testing_support::kMenuBarPx;
+const ui::Rect kDockArea = testing_support::kEditorDockArea;
 
 ui::Rect shrink(const ui::Rect& r, float top, float fraction) {
     const ui::Rect body{r.x, r.y + top, r.w, r.h - top};

@@ -2,6 +2,7 @@
 // panes side by side; each pane is what `splatlab render` draws at the pane's size with that pane's filter,
 // the difference pane's RMSE is renderer::compareImages of those two renders, and the viewport shows the
 // panes it saves.
+#include "editor_window.h"
 #include "image_compare.h"
 #include "renderer/io/image.h"
 #include "renderer/math/metrics.h"
@@ -113,7 +114,7 @@ TEST(EditorSplit, EachPaneIsItsFiltersRenderAndTheDifferenceRmseIsTheirMetric) {
     const renderer::Image screen = renderer::readImage(shot);
     const ui::DockLayout layout = ui::makeEditorLayout();
     const ui::Rect node =
-        ui::computeDockRects(layout, {0, 0, 1280, 800}).node[size_t(layout.find("viewport"))];
+        ui::computeDockRects(layout, testing_support::kEditorDockArea).node[size_t(layout.find("viewport"))];
     const int x0 = int(node.x), y0 = int(node.bottom()) - height;
     const float background[3] = {0.055f, 0.060f, 0.075f};
     double worst = 0.0;
@@ -139,7 +140,7 @@ TEST(EditorSplit, ADragInEitherPaneMovesTheOneCameraAndEachPaneShowsItsFilter) {
     std::filesystem::remove(out / "session.json");
     const ui::DockLayout layout = ui::makeEditorLayout();
     const ui::Rect node =
-        ui::computeDockRects(layout, {0, 0, 1280, 800}).node[size_t(layout.find("viewport"))];
+        ui::computeDockRects(layout, testing_support::kEditorDockArea).node[size_t(layout.find("viewport"))];
     // The viewport's image: the node below its tab bar (the render's height is read from the screenshot).
     const int dragX = int(node.x + node.w * 0.45f), dragY = int(node.y + node.h * 0.5f);
     const std::string script = std::string(SPLATLAB_SOURCE_DIR) + "/tests/ui/scripts/split_drag.sh";

@@ -1,6 +1,7 @@
 // The Performance chart you can inspect: Pause freezes the recorded renders while renders go on, the
 // wheel and a drag zoom and pan over them, hovering a render gives its pass breakdown, and Export CSV
 // writes rows equal to the recorded values; the bottom strip shows Measure's table and the chart at 1280x800.
+#include "editor_window.h"
 #include "imgui_null.h"
 #include "test_paths.h"
 #include "ui/dock_layout.h"
@@ -224,7 +225,7 @@ TEST_F(PerformanceChart, ExportCsvWritesTheRecordedRendersAtomicallyToThePathFie
 // the Performance chart, without scrolling or resizing.
 TEST_F(ImGuiNull, BottomStripShowsMeasuresTableAndTheChartAt1280x800) {
     const ui::DockLayout layout = ui::makeEditorLayout();
-    const ui::Rect bottom = ui::computeDockRects(layout, {0, 19, 1280, 781})
+    const ui::Rect bottom = ui::computeDockRects(layout, testing_support::kEditorDockArea)
                                 .node[size_t(layout.find("bottom"))]; // under the menu bar
     windowWidth = bottom.w, windowHeight = bottom.h;
     ui::EditorState state;

@@ -22,7 +22,9 @@ class SaveNoticeTest : public ImGuiNull {
         return [this] {
             loadId = ImGui::GetID("Load");
             saveId = ImGui::GetID("Save");
-            ui::drawTransferFunctionPanel(state, {.histogram = nullptr, .window = {-1000.0f, 3000.0f}});
+            ui::TransferFunctionView view;
+            view.window = {-1000.0f, 3000.0f};
+            ui::drawTransferFunctionPanel(state, view);
             ui::drawSaveNotice(state.saveNotice);
         };
     }

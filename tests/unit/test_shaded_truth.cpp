@@ -23,8 +23,8 @@ struct ShadedView {
 // Marschner-Lobb's ripples give gradients in every direction; a mostly opaque ramp shows them lit.
 ShadedView shadedView() {
     const Volume volume = makeMarschnerLobb(16);
-    const TransferFunction tf{"ramp", {{0.0, {0.9, 0.8, 0.7}, 0.0}, {0.4, {0.9, 0.8, 0.7}, 0.0},
-                                       {0.6, {1.0, 0.9, 0.8}, 0.8}, {1.0, {1.0, 1.0, 1.0}, 1.0}}};
+    const TransferFunction tf = fromSharedPoints("ramp", {{0.0, {0.9, 0.8, 0.7}, 0.0}, {0.4, {0.9, 0.8, 0.7}, 0.0},
+                                                          {0.6, {1.0, 0.9, 0.8}, 0.8}, {1.0, {1.0, 1.0, 1.0}, 1.0}});
     ShadedView v{buildSplatScene(volume, tf), {}};
     addGradients(v.scene, *computeGradients(volume));
     v.plane = makeImagePlane(Camera{30, 20, 2.5, 30.0}, v.scene.centre, v.scene.radius, 32, 32);
