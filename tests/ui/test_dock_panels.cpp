@@ -1,6 +1,7 @@
 // Panels in the dock layout: closed from the View menu, still closed after a restart (the layout kept in
 // the config folder), back with Reset layout; moved to another dock from their tab's right-click menu.
 // Driven through ImGui with synthetic input, as the editor draws them: a menu bar, then the dock space.
+#include "imgui_null.h"
 #include "renderer/errors.h"
 #include "test_paths.h"
 #include "ui/dock_layout.h"
@@ -17,26 +18,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class DockPanels : public testing::Test {
+class DockPanels : public ImGuiNull {
   protected:
     ui::DockLayout layout = ui::makeEditorLayout();
     std::vector<ui::DockPanel> panels;
     std::set<std::string> drawn; // the panels whose contents were drawn in the last frame
 
     void SetUp() override {
-        ImGui::CreateContext();
-        ImGuiIO& io = ImGui::GetIO();
-        io.DisplaySize = ImVec2(1280, 800);
-        io.DeltaTime = 1.0f / 60.0f;
-        io.IniFilename = nullptr;
-        unsigned char* pixels = nullptr;
-        int w = 0, h = 0;
-        io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
+        ImGuiNull::SetUp();
         for (const auto& [title, region] : std::vector<std::pair<std::string, std::string>>{
                  {"Settings", "left"}, {"Viewport", "viewport"}, {"Stats", "bottom"}, {"Help", "bottom"}})
             panels.push_back({title, region, [this, title] { drawn.insert(title); }});
     }
-    void TearDown() override { ImGui::DestroyContext(); }
 
     void frame() {
         drawn.clear();
