@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
 
 using namespace renderer;
@@ -27,6 +28,23 @@ TEST(DemoScenes, EveryHardCaseAndTheBoardOpenByNameWithWhatToLookFor) {
     }
     EXPECT_EQ(names, expected) << "a hard case has no demo scene, or the menu's order differs from hardCases()";
     EXPECT_EQ(demoScene("board-512", 545).volume.dims, glm::ivec3(512, 512, 3));
+}
+
+// A demo scene builds only its own case; built alone, each case equals itself built among all.
+TEST(DemoScenes, ACaseBuiltAloneEqualsItBuiltAmongAll) {
+    for (const HardCase& all : hardCases(1)) {
+        const std::vector<HardCase> alone = hardCases(1, all.name);
+        ASSERT_EQ(alone.size(), 1u) << all.name;
+        EXPECT_EQ(alone[0].volume.dims, all.volume.dims) << all.name;
+        EXPECT_EQ(alone[0].volume.spacing, all.volume.spacing) << all.name;
+        EXPECT_EQ(alone[0].volume.origin, all.volume.origin) << all.name;
+        EXPECT_EQ(0, std::memcmp(alone[0].volume.values.data(), all.volume.values.data(),
+                                 all.volume.values.size() * sizeof(float)))
+            << all.name;   // bytes, so NaNs compare equal
+        EXPECT_EQ(alone[0].camera.distance, all.camera.distance) << all.name;
+        EXPECT_EQ(alone[0].tf.opacities.size(), all.tf.opacities.size()) << all.name;
+    }
+    EXPECT_TRUE(hardCases(1, "no-such-case").empty());
 }
 
 // The board's view looks from just above its near edge, panned in pixels: its pan grows with the image.

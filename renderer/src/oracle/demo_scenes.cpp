@@ -76,12 +76,11 @@ DemoScene demoScene(const std::string& name, int heightPx) {
         scene.tf = std::move(board.tf);
         scene.camera = board.camera;
     } else {
-        for (HardCase& c : hardCases(kHardCaseScale))
-            if (c.name == name) {
-                scene.volume = std::move(c.volume);
-                scene.tf = std::move(c.tf);
-                scene.camera = c.camera;
-            }
+        for (HardCase& c : hardCases(kHardCaseScale, name)) {
+            scene.volume = std::move(c.volume);
+            scene.tf = std::move(c.tf);
+            scene.camera = c.camera;
+        }
         // The case looks along the stripes' normal (it tests compositing along a ray); a class sees them
         // from the side.
         if (name == "zebra") scene.camera.azimuthDeg = 60.0;

@@ -75,15 +75,17 @@ std::vector<HardCase> nearEyeCases() {
     return cases;
 }
 
-std::vector<HardCase> hardCases(int scale) {
+std::vector<HardCase> hardCases(int scale, const std::string& only) {
     const int s = std::max(scale, 1);
     const int img = 48 * s;
     std::vector<HardCase> cases;
-    auto add = [&](std::string name, std::string what, Volume v, TransferFunction tf, Camera cam) {
+    // Volumes are built only for the cases asked for: a demo scene wants one of them, not all.
+    auto add = [&](std::string name, std::string what, auto makeVolume, TransferFunction tf, Camera cam) {
+        if (!only.empty() && name != only) return;
         HardCase c;
         c.name = std::move(name);
         c.what = std::move(what);
-        c.volume = std::move(v);
+        c.volume = makeVolume();
         c.tf = std::move(tf);
         c.camera = cam;
         c.width = c.height = img;
@@ -91,66 +93,64 @@ std::vector<HardCase> hardCases(int scale) {
     };
 
     add("near-plane", "camera inside the volume: voxels at and behind the near plane",
-        makeSphereShells(10 * s, 4.0 * s, 1.5 * s), ramp("ramp", 0.6), {30, 20, 0.45, 90.0});
-    add("far-away", "volume 3 px across: sub-pixel footprints must not vanish", makeMarschnerLobb(12 * s),
+        [&] { return makeSphereShells(10 * s, 4.0 * s, 1.5 * s); }, ramp("ramp", 0.6), {30, 20, 0.45, 90.0});
+    add("far-away", "volume 3 px across: sub-pixel footprints must not vanish", [&] { return makeMarschnerLobb(12 * s); },
         ramp("ramp", 1.0), {30, 20, 60.0, 30.0});
-    {
-        Volume v = makeCheckerboard({64 * s, 64 * s, 3}, 4);
-        add("grazing-checkerboard", "000 fig. 8: checkerboard slab seen at 4 degrees, magnified to minified",
-            std::move(v), binary(), {10, 4, 1.1, 40.0});
-    }
-    {
-        Volume v = makeMarschnerLobb(12 * s);
-        v.spacing = {1.0, 1.0, 100.0};
-        add("anisotropic-1-100", "spacing 1:1:100: needle-like kernels", std::move(v), ramp("ramp", 0.5),
-            {40, 30, 2.2, 30.0});
-    }
-    add("zebra", "001 fig. 8: stripes at the grid's highest frequency, minified", zebra(16 * s, 1), binary(),
-        {0, 10, 6.0, 30.0});
-    add("marschner-lobb", "the standard reconstruction test signal", makeMarschnerLobb(16 * s), ramp("ramp", 0.8),
-        {30, 20, 2.5, 30.0});
-    {
-        Volume v = makeMarschnerLobb(12 * s);
-        v.origin = {1e6, -1e6, 1e6};
-        add("huge-coordinates", "volume 1e6 units from the origin (float precision)", std::move(v),
-            ramp("ramp", 0.8), {30, 20, 2.5, 30.0});
-    }
-    add("fov-1", "1 degree field of view (nearly parallel rays)", makeMarschnerLobb(12 * s), ramp("ramp", 0.8),
-        {30, 20, 75.0, 1.0});
-    add("fov-170", "170 degree field of view: strong off-axis distortion", makeMarschnerLobb(12 * s),
+    add("grazing-checkerboard", "000 fig. 8: checkerboard slab seen at 4 degrees, magnified to minified",
+        [&] { return makeCheckerboard({64 * s, 64 * s, 3}, 4); }, binary(), {10, 4, 1.1, 40.0});
+    add("anisotropic-1-100", "spacing 1:1:100: needle-like kernels",
+        [&] {
+            Volume v = makeMarschnerLobb(12 * s);
+            v.spacing = {1.0, 1.0, 100.0};
+            return v;
+        },
+        ramp("ramp", 0.5), {40, 30, 2.2, 30.0});
+    add("zebra", "001 fig. 8: stripes at the grid's highest frequency, minified", [&] { return zebra(16 * s, 1); },
+        binary(), {0, 10, 6.0, 30.0});
+    add("marschner-lobb", "the standard reconstruction test signal", [&] { return makeMarschnerLobb(16 * s); },
+        ramp("ramp", 0.8), {30, 20, 2.5, 30.0});
+    add("huge-coordinates", "volume 1e6 units from the origin (float precision)",
+        [&] {
+            Volume v = makeMarschnerLobb(12 * s);
+            v.origin = {1e6, -1e6, 1e6};
+            return v;
+        },
+        ramp("ramp", 0.8), {30, 20, 2.5, 30.0});
+    add("fov-1", "1 degree field of view (nearly parallel rays)", [&] { return makeMarschnerLobb(12 * s); },
+        ramp("ramp", 0.8), {30, 20, 75.0, 1.0});
+    add("fov-170", "170 degree field of view: strong off-axis distortion", [&] { return makeMarschnerLobb(12 * s); },
         ramp("ramp", 0.8), {30, 20, 1.2, 170.0});
     {
         Camera c{30, 20, 2.5, 30.0};
         c.orthographic = true;
-        add("orthographic", "parallel projection: the constant affine map", makeMarschnerLobb(12 * s),
+        add("orthographic", "parallel projection: the constant affine map", [&] { return makeMarschnerLobb(12 * s); },
             ramp("ramp", 0.8), c);
     }
-    {
-        Volume v = makeCheckerboard({16 * s, 16 * s, 48 * s}, 1024);   // one cell: constant 0
-        add("thin-slices", "48 slices of 1 % opacity each: accumulation precision", std::move(v), solid(0.01),
-            {0, 80, 2.5, 30.0});
-    }
-    {
-        Volume v = makeMarschnerLobb(10 * s);
-        for (size_t i = 0; i < v.values.size(); i += 7) v.values[i] = std::numeric_limits<float>::quiet_NaN();
-        for (size_t i = 3; i < v.values.size(); i += 11) v.values[i] = std::numeric_limits<float>::infinity();
-        updateRange(v);
-        add("nan-inf-values", "every 7th voxel NaN, every 11th +Inf", std::move(v), ramp("ramp", 0.8),
-            {30, 20, 2.5, 30.0});
-    }
-    {
-        Volume v = makeCheckerboard({8 * s, 8 * s, 8 * s}, 1024);   // constant 0
-        add("constant-volume", "every voxel the same value (empty value range)", std::move(v), solid(0.3),
-            {30, 20, 2.5, 30.0});
-    }
-    {
-        Volume v;
-        v.name = "one-voxel";
-        v.dims = {1, 1, 1};
-        v.values = {1.0f};
-        v.range = {1.0f, 1.0f};
-        add("one-voxel", "a single voxel (zero bounding radius)", std::move(v), solid(0.8), {30, 20, 2.5, 30.0});
-    }
+    add("thin-slices", "48 slices of 1 % opacity each: accumulation precision",
+        [&] { return makeCheckerboard({16 * s, 16 * s, 48 * s}, 1024); },   // one cell: constant 0
+        solid(0.01), {0, 80, 2.5, 30.0});
+    add("nan-inf-values", "every 7th voxel NaN, every 11th +Inf",
+        [&] {
+            Volume v = makeMarschnerLobb(10 * s);
+            for (size_t i = 0; i < v.values.size(); i += 7) v.values[i] = std::numeric_limits<float>::quiet_NaN();
+            for (size_t i = 3; i < v.values.size(); i += 11) v.values[i] = std::numeric_limits<float>::infinity();
+            updateRange(v);
+            return v;
+        },
+        ramp("ramp", 0.8), {30, 20, 2.5, 30.0});
+    add("constant-volume", "every voxel the same value (empty value range)",
+        [&] { return makeCheckerboard({8 * s, 8 * s, 8 * s}, 1024); },   // constant 0
+        solid(0.3), {30, 20, 2.5, 30.0});
+    add("one-voxel", "a single voxel (zero bounding radius)",
+        [] {
+            Volume v;
+            v.name = "one-voxel";
+            v.dims = {1, 1, 1};
+            v.values = {1.0f};
+            v.range = {1.0f, 1.0f};
+            return v;
+        },
+        solid(0.8), {30, 20, 2.5, 30.0});
     return cases;
 }
 

@@ -23,7 +23,8 @@ struct HardCase {
 };
 
 // scale 1: test size (small volumes, 48x48 images); larger scales grow volumes and images for reports.
-std::vector<HardCase> hardCases(int scale = 1);
+// `only` names one case to build (none if no case has that name); empty builds them all.
+std::vector<HardCase> hardCases(int scale = 1, const std::string& only = {});
 
 // The near-eye views of issue 33's audit, where the near layer (near_layer.h) carries the image: the
 // camera on a voxel centre inside a volume ("voxel-centre", a 9^3 radial ramp, the eye 1e-3 bounding
