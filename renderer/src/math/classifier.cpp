@@ -36,7 +36,7 @@ FilterMode classifyDepth(double u2, const ImagePlane& plane, const AdaptiveThres
                          double hysteresis) {
     // At or behind the near plane a kernel is as magnified as it gets (and is culled when drawn).
     if (!plane.orthographic && !(u2 > plane.nearDepth)) return FilterMode::Reconstruction;
-    const double pxPerUnit = plane.orthographic ? plane.fPx : plane.fPx / u2;
+    const double pxPerUnit = plane.pxPerUnit(u2);
     double reconAbove = t.reconstructionAbovePx, lowPassBelow = t.lowPassBelowPx;
     if (hysteresis > 0.0 && previous != FilterMode::Adaptive) {   // enter by 1 + h, leave by 1 / (1 + h)
         const double band = 1.0 + hysteresis;
@@ -54,8 +54,8 @@ std::optional<FilterMode> uniformAdaptiveFilter(glm::ivec3 dims, glm::dvec3 orig
     const glm::dvec2 depths = plane.depthRange(dims, origin, spacing);
     const double u2min = depths.x, u2max = depths.y;
     if (!plane.orthographic && !(u2min > plane.nearDepth)) return std::nullopt;
-    const double pxMax = plane.orthographic ? plane.fPx : plane.fPx / u2min;
-    const double pxMin = plane.orthographic ? plane.fPx : plane.fPx / u2max;
+    const double pxMax = plane.pxPerUnit(u2min);
+    const double pxMin = plane.pxPerUnit(u2max);
     const AdaptiveThresholds t = adaptiveThresholds(spacing, plane, s);
     // Each threshold as far as hysteresis can move it (classifyDepth), and 0.1 % for float rounding.
     const double band = (1.0 + std::max(s.hysteresis, 0.0)) * kFloatMargin;

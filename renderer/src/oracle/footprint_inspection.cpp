@@ -37,7 +37,7 @@ std::optional<FootprintInspection> inspectFootprint(const SplatScene& scene, con
         projectKernel(u, varCamera, plane.fPx, FilterMode::LowPass, glm::dmat2(1.0), plane.orthographic).variancePx;
     out.ewa = projectKernel(u, varCamera, plane.fPx, FilterMode::Ewa, glm::dmat2(1.0), plane.orthographic).variancePx;
     out.thresholds = adaptiveThresholds(scene.spacing, plane, settings);
-    const double pxPerUnit = plane.orthographic ? plane.fPx : plane.fPx / u.z;
+    const double pxPerUnit = plane.pxPerUnit(u.z);
     out.kernelPx = glm::dvec2(out.thresholds.sigmaMin, out.thresholds.sigmaMax) * pxPerUnit;
     out.filterDepths = filterDepths(out.thresholds, plane);
     out.patchFilter = settings.filter != FilterMode::Adaptive

@@ -42,6 +42,8 @@ struct ImagePlane {
     glm::dvec3 viewDirObject{0.0};    // unit viewing direction (towards the scene) in object space
 
     glm::dvec3 toCamera(glm::dvec3 t) const { return viewFromObject * t + translation; }
+    // Pixels an object unit spans at camera depth u2, across the view (the adaptive classifier's scale).
+    double pxPerUnit(double u2) const { return orthographic ? fPx : fPx / u2; }
     // Camera-space positions of the corner voxel centres of a dims-sized grid at origin/spacing. Every
     // voxel centre lies in their box, so depth (linear) and any convex function of u take their
     // extremes over the voxels among these eight.
