@@ -28,6 +28,7 @@ class GalleryPanel : public ImGuiNull {
 
     void SetUp() override {
         ImGuiNull::SetUp();
+        windowHeight = 800; // the gallery comes last in the panel
         view.window = {-1000.0f, 3000.0f};
         state.tf = renderer::inDataUnits(renderer::builtinPreset("grey-ramp"), view.window);
         state.tfGalleryOpen = true;
@@ -55,7 +56,7 @@ TEST_F(GalleryPanel, ClickingAThumbnailAppliesThatPreset) {
     ASSERT_GE(view.gallery.size(), 3u);
     // The second thumbnail: found by hovering down the first's column, then along its row.
     const std::string first = view.gallery[0].name, second = view.gallery[1].name;
-    const float y = findItem(thumbnailId(first), 40.0f, 0.0f, 600.0f, body());
+    const float y = findItem(thumbnailId(first), 40.0f, 0.0f, 780.0f, body());
     ASSERT_GE(y, 0.0f) << "no thumbnail of " << first;
     const float x = findItemInRow(thumbnailId(second), y, body());
     ASSERT_GE(x, 0.0f) << "the second thumbnail is not beside the first";
@@ -72,10 +73,23 @@ TEST_F(GalleryPanel, ClickingAThumbnailAppliesThatPreset) {
     EXPECT_EQ(state.tf, galleryPreset(first, view.window));
 }
 
-TEST_F(GalleryPanel, AClosedGalleryTakesNoClicks) {
+// The Gallery button beside Undo and Redo opens and closes it; closed, it shows no thumbnail to click.
+TEST_F(GalleryPanel, TheGalleryButtonOpensAndClosesIt) {
     state.tfGalleryOpen = false;
-    EXPECT_LT(findItem(thumbnailId(view.gallery[0].name), 40.0f, 0.0f, 600.0f, body()), 0.0f);
-    EXPECT_FALSE(changed);
+    EXPECT_LT(findItem(thumbnailId(view.gallery[0].name), 40.0f, 0.0f, 780.0f, body()), 0.0f);
+    ImGuiID buttonId = 0, loadId = 0;
+    frame([&] { buttonId = ImGui::GetID("Gallery"), loadId = ImGui::GetID("Load"); });
+    // The row of Load, Save, Undo and Redo, found by Load at its left; the Gallery button along it.
+    const float buttonY = findItem(loadId, 20.0f, 0.0f, 780.0f, body());
+    ASSERT_GE(buttonY, 0.0f) << "no Load button";
+    const float buttonX = findItemInRow(buttonId, buttonY, body());
+    ASSERT_GE(buttonX, 0.0f) << "no Gallery button on Load's row";
+    click(buttonX, buttonY, body());
+    EXPECT_TRUE(state.tfGalleryOpen);
+    EXPECT_GE(findItem(thumbnailId(view.gallery[0].name), 40.0f, buttonY, 780.0f, body()), 0.0f);
+    click(buttonX, buttonY, body());
+    EXPECT_FALSE(state.tfGalleryOpen);
+    EXPECT_FALSE(changed) << "opening the gallery changed the TF";
 }
 
 // The editor's gallery end to end, on the bundled head CT: its render thread draws each preset into a

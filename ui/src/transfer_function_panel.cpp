@@ -199,14 +199,6 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     }
     hint("Transfer functions: value -> colour and extinction; the built-in ones, then each NAME.json in\n"
          "assets/presets. Picking one replaces the curve below");
-    ImGui::SetNextItemOpen(state.tfGalleryOpen);
-    state.tfGalleryOpen = ImGui::CollapsingHeader("Gallery");
-    if (state.tfGalleryOpen)
-        if (const std::optional<std::string> name = drawGallery(view.gallery)) try {
-                replace(renderer::inDataUnits(renderer::builtinPreset(*name), window));
-            } catch (const std::exception& e) { // a bundled file that is not a TF, or one since removed
-                state.errorMessage = e.what();
-            }
 
     // 2. The opacity curve. One button over the canvas takes left presses (pick or add, then drag) and
     //    right clicks (remove).
@@ -461,6 +453,22 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     ImGui::BeginDisabled(state.tfHistory.redo.empty());
     if (ImGui::Button("Redo") || ctrlY || (ctrlZ && keys.KeyShift)) step(true);
     ImGui::EndDisabled();
+    // 8. The Gallery: its button on the same row (closed, the panel keeps its height, so nothing moves),
+    //    its thumbnails under the row while open.
+    ImGui::SameLine();
+    if (state.tfGalleryOpen) ImGui::PushStyleColor(ImGuiCol_Button, ImGui::GetStyleColorVec4(ImGuiCol_ButtonActive));
+    const bool toggled = ImGui::Button("Gallery");
+    if (state.tfGalleryOpen) ImGui::PopStyleColor();
+    if (toggled) state.tfGalleryOpen = !state.tfGalleryOpen;
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("%s the thumbnails of the presets, each drawn on this volume; click one to apply it",
+                          state.tfGalleryOpen ? "Hide" : "Show");
+    if (state.tfGalleryOpen)
+        if (const std::optional<std::string> name = drawGallery(view.gallery)) try {
+                replace(renderer::inDataUnits(renderer::builtinPreset(*name), window));
+            } catch (const std::exception& e) { // a bundled file that is not a TF, or one since removed
+                state.errorMessage = e.what();
+            }
     // A gesture ends when no widget is held: a drag released, a field left, or an instant edit (a
     // preset, a file, a removal). What it changed becomes one undo step.
     if (!ImGui::IsAnyItemActive()) {
