@@ -71,8 +71,8 @@ struct TransferFunctionView {
 // Preset; the opacity curve over the histogram (drag a point to move it, click empty space to add one,
 // right-click a point to remove it) and under it the colour bar with its stops (the same gestures, across
 // only); the selected point's value in data units and its opacity or colour; Shift and Rescale of the
-// whole TF; Load and Save of TF files (JSON, written atomically). The Gallery (state.tfGalleryOpen) shows
-// view.gallery's thumbnails; a click on one applies that preset as the Preset combo would. A TF in window
+// whole TF; Load and Save of TF files (JSON, written atomically). The Gallery button (state.tfGalleryOpen)
+// shows view.gallery's thumbnails under the file row; a click on one applies that preset as the Preset combo would. A TF in window
 // fractions (a built-in preset, a version-1 file) is fixed in data units over view.window when the panel
 // first shows it. A file that fails to load or save sets state.errorMessage. Returns whether state.tf
 // changed: the app then re-bakes the LUT, which is all a TF edit uploads.
