@@ -12,6 +12,7 @@
 #include "renderer/io/volume_io.h"
 
 #include <epoxy/gl.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -170,4 +171,37 @@ TEST(PresetGallery, EachThumbnailIsAHeadlessRenderOfItsPreset) {
     const auto d = testing_support::renderDifference(after, headless.readback());
     EXPECT_LE(d.elsewhere, 1e-5f);
     EXPECT_LE(d.atOpaque, 2e-3f);
+}
+
+// A Slicer presets.xml dropped on the window goes to the TF panel's Load, which imports its first preset;
+// FILE.xml#NAME typed into the File field picks another, and what the import leaves out is noted.
+TEST_F(GalleryPanel, LoadImportsASlicerPresetNamedInTheFileField) {
+    const auto file = testing_support::testOutputDir("slicer") / "panel_presets.xml";
+    ASSERT_TRUE(testing_support::writeFile(file, R"(<MRML>
+  <VolumeProperty name="Flat" scalarOpacity="4 0 0 100 0.5" colorTransfer="8 0 0 0 0 100 1 1 1"/>
+  <VolumeProperty name="Edges" gradientOpacity="4 0 0 50 1" scalarOpacity="4 -500 0 900 0.8"
+    colorTransfer="8 -500 1 0 0 900 1 1 0"/>
+</MRML>)"));
+    EXPECT_STREQ(ui::dropFile(state, file), "Transfer function");
+    frame(body());
+    EXPECT_TRUE(changed);
+    EXPECT_EQ(state.tf.name, "Flat");
+    EXPECT_EQ(state.tf.opacities, (std::vector<renderer::OpacityPoint>{{0, 0.0}, {100, 0.5}}));
+    EXPECT_THAT(state.saveNotice.text, testing::HasSubstr("holds 2 presets; took the first, Flat"));
+
+    changed = false;
+    state.tfFile = file.string() + "#Edges";
+    state.pendingFile = ui::FileAction::LoadTransferFunction;
+    frame(body());
+    EXPECT_TRUE(changed);
+    EXPECT_EQ(state.tf.name, "Edges");
+    EXPECT_EQ(state.tf.opacities, (std::vector<renderer::OpacityPoint>{{-500, 0.0}, {900, 0.8}}));
+    EXPECT_THAT(state.saveNotice.text, testing::HasSubstr("gradient opacity is not applied yet"));
+    EXPECT_TRUE(state.errorMessage.empty()) << state.errorMessage;
+
+    state.tfFile = file.string() + "#Bone";
+    state.pendingFile = ui::FileAction::LoadTransferFunction;
+    frame(body());
+    EXPECT_THAT(state.errorMessage, testing::HasSubstr("no preset named 'Bone' (it holds: Flat, Edges)"));
+    EXPECT_EQ(state.tf.name, "Edges") << "a failed load changed the TF";
 }
