@@ -70,6 +70,7 @@ bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& pa
         next.volume = std::move(loaded.volume);
         m_hasScene = true;
         m_doc = std::move(next);
+        ++m_volumesShown;
         m_state.preview.available = m_doc.preview != nullptr;
         m_state.gradientsReady = false;
         m_state.loadedVolume = path;

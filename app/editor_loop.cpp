@@ -61,7 +61,12 @@ bool EditorLoop::start() {
             throw renderer::RenderError("--spin takes -90 to 90 degrees a second, got " +
                                         std::to_string(m_options.spinDegPerS));
         m_state.perf.spinDegPerS = m_options.spinDegPerS;
-        m_state.tf = renderer::transferFunctionFromSpec(m_options.tfSpec);
+        std::vector<std::string> notes;
+        m_state.tf = renderer::transferFunctionFromSpec(m_options.tfSpec, &notes);
+        for (const std::string& note : notes)
+            std::fprintf(stderr, "splatlab editor: note: %s\n", note.c_str());
+        if (!notes.empty())
+            m_state.saveNotice = ui::SaveNotice{.text = notes.front(), .folder = {}, .shownAtS = -1.0};
         if (m_options.sessionPath.empty()) return;
         // The session replaces what the flags set; a volume argument replaces the session's volume.
         const std::filesystem::path sessionVolume = ui::loadSession(m_options.sessionPath, m_state);
@@ -111,16 +116,16 @@ bool EditorLoop::knobDeflected() const {
 
 void EditorLoop::waitForInput() {
     // Idle: sleep until an event (the render thread posts one with each image); 16 ms to read a 3D mouse,
-    // 50 ms while a job's progress is shown, else half a second (for the GPU timers): a UI frame takes the
-    // same cores as the render in flight (llvmpipe), so frames nothing asked for slow it down. Scripted,
-    // an edit to render, queued input or the knob deflected: keep going.
+    // 50 ms while a job's progress is shown (or the gallery draws), else half a second (for the GPU timers):
+    // a UI frame takes the same cores as the render in flight (llvmpipe), so frames nothing asked for slow it
+    // down. Scripted, an edit to render, queued input or the knob deflected: keep going.
     if (m_scripted || m_renderPending || m_tfPending || knobDeflected() || m_state.perf.renderContinuously ||
         m_window.inputPending())
         glfwPollEvents();
     else
-        glfwWaitEventsTimeout(m_spaceMouse->connected()                         ? 0.016
-                              : m_volumeJob || m_gradientJob || m_comparison ? 0.05
-                                                                              : 0.5);
+        glfwWaitEventsTimeout(m_spaceMouse->connected()                                             ? 0.016
+                              : m_volumeJob || m_gradientJob || m_comparison || m_gallery.drawing() ? 0.05
+                                                                                                    : 0.5);
     m_frameStart = InteractiveProbe::Clock::now();
     if (m_hasScene) m_perfHistory.addTimes(m_render->latestStats());
     takeRenderErrors();

@@ -8,6 +8,7 @@
 #include "editor_jobs.h"
 #include "editor_window.h"
 #include "interactive_probe.h"
+#include "preset_gallery.h"
 #include "render_thread.h"
 #include "view_texture.h"
 
@@ -27,6 +28,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 class EditorLoop {
@@ -123,6 +125,8 @@ class EditorLoop {
     void renderIfPending();     // asks the render thread for the view (scripted runs wait for it)
     void showRenderedView();    // the newest finished image into the viewport's texture
     void countPatchesIfShown(); // the Filters panel's patches per filter
+    void drawGalleryIfOpen();   // the TF panel's Gallery: the next preset's thumbnail (preset_gallery.h)
+    std::optional<ThumbnailSource> thumbnailSource() const; // none while the scene is being re-classified
     void takeRenderErrors();    // what the render thread failed at, reported
 
     // == The panels (editor_panels.cpp)
@@ -191,6 +195,11 @@ class EditorLoop {
     // (computed on the render thread after a full frame, while the panel is shown).
     std::optional<renderer::ImagePlane> m_lastPlane;
     std::optional<std::array<uint64_t, 3>> m_patchCounts;
+    // The TF panel's Gallery: its thumbnails are of the volume shown (the count of volumes shown so far),
+    // the window and whether shading could be on; any change draws them again.
+    PresetGallery m_gallery;
+    uint64_t m_volumesShown = 0;
+    std::optional<std::tuple<uint64_t, float, float, bool>> m_galleryOf;
     bool m_filtersShown = false, m_patchCountsStale = true;
     ui::FiltersChanges m_filtersChanges;
     std::unique_ptr<FilterComparisonJob> m_comparison;

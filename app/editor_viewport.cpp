@@ -26,6 +26,46 @@ void EditorLoop::renderViewport() {
     showRenderedView();
     // 4. The Filters panel's patches per filter, of the full frame shown.
     countPatchesIfShown();
+    // 5. The TF panel's Gallery, after the view: one preset's thumbnail at a time.
+    drawGalleryIfOpen();
+}
+
+std::optional<ThumbnailSource> EditorLoop::thumbnailSource() const {
+    if (!m_hasScene || !m_doc.volume || m_classifyJob || m_fullWindowStale) return std::nullopt;
+    ThumbnailSource source;
+    source.plane = thumbnailPlane(m_doc.scene, m_state.camera.up);
+    source.settings = m_state.settings;
+    source.settings.heatmap = false;
+    if (!m_state.gradientsReady) { // as the view: unshaded until the gradients are computed
+        source.settings.shading = renderer::SplatSettings::Shading::None;
+        source.settings.surfaceFlatten = 1.0;
+    }
+    source.window = m_doc.scene.window;
+    source.shownLut = m_doc.scene.lut;
+    // A large scan's thumbnails come from the finest level small enough (a 96-pixel image needs no more).
+    if (m_doc.volume->voxelCount() > kThumbnailMaxVoxels && m_doc.preview)
+        for (size_t k = 0; k < m_doc.preview->levels.size(); ++k) {
+            const Level& level = m_doc.preview->levels[k];
+            if (level.volume.voxelCount() > kThumbnailMaxVoxels && k + 1 < m_doc.preview->levels.size())
+                continue;
+            source.level = int(k) + 1;
+            source.window = level.scene.window;
+            source.shownLut = level.scene.lut;
+            source.settings.density =
+                renderer::densityFor(level.volume, *m_doc.volume, m_state.settings.density);
+            break;
+        }
+    return source;
+}
+
+void EditorLoop::drawGalleryIfOpen() {
+    if (!m_state.tfGalleryOpen) return;
+    const std::optional<ThumbnailSource> source = thumbnailSource();
+    if (!source) return;
+    const auto of = std::tuple{m_volumesShown, source->window.lo, source->window.hi, m_state.gradientsReady};
+    if (m_galleryOf != of) m_gallery.invalidate(), m_galleryOf = of;
+    if (m_gallery.complete()) return;
+    guarded([&] { m_gallery.step(*m_render, *source, m_state.background, m_scripted); });
 }
 
 void EditorLoop::stepFilterMeasurement() {

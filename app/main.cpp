@@ -300,7 +300,10 @@ void addSceneOptions(CLI::App* cmd, SceneArgs& a) {
     cmd->add_option("--up", a.up, "Axis of the file's world frame shown upwards: x, y, z, -x, -y, -z (headsq: -z)")->capture_default_str();
     cmd->add_flag("--fit", a.fit, "Move the camera along its line of sight, and pan, until everything the TF shows "
                                   "fills the image");
-    cmd->add_option("--tf", a.tf, "Transfer function: a preset name or a JSON file")->capture_default_str();
+    cmd->add_option("--tf", a.tf,
+                    "Transfer function: a preset name, a JSON file or a 3D Slicer presets.xml (FILE.xml#NAME "
+                    "picks one)")
+        ->capture_default_str();
     sessionSets(cmd, before);
     addLookFlags(cmd, a.look);
     addRawFlags(cmd, a.raw);
@@ -347,6 +350,15 @@ Scene buildSessionScene(const SceneArgs& a) {
     return s;
 }
 
+// The TF a --tf spec names; what an import leaves out (a Slicer preset's gradient opacity) goes to stderr.
+TransferFunction tfFromSpecNoting(const std::string& spec) {
+    std::vector<std::string> notes;
+    TransferFunction tf = transferFunctionFromSpec(spec, &notes);
+    for (const std::string& note : notes)
+        std::fprintf(stderr, "splatlab: note: %s\n", note.c_str());
+    return tf;
+}
+
 Scene buildScene(const SceneArgs& a, const SplatFlags& splat) {
     if (!a.session.empty()) return buildSessionScene(a);
     if (a.volume.empty()) throw CLI::ValidationError("volume", "a volume file is required (or --session FILE)");
@@ -357,7 +369,7 @@ Scene buildScene(const SceneArgs& a, const SplatFlags& splat) {
     Scene s;
     applyLookFlags(a.look, s.settings);
     applySplatFlags(splat, s.settings);
-    finishScene(s, a.volume, a.raw, transferFunctionFromSpec(a.tf), parseWindow(a.look.window), camera, size, a.fit);
+    finishScene(s, a.volume, a.raw, tfFromSpecNoting(a.tf), parseWindow(a.look.window), camera, size, a.fit);
     return s;
 }
 
@@ -559,7 +571,7 @@ int runTf(const std::string& spec, const std::string& out, bool paraView) {
         for (const std::string& name : builtinPresetNames()) std::printf("%s\n", name.c_str());
         return 0;
     }
-    const TransferFunction tf = transferFunctionFromSpec(spec);
+    const TransferFunction tf = tfFromSpecNoting(spec);
     if (paraView && out.empty()) std::fputs(paraViewPresetText(tf).c_str(), stdout);
     else if (paraView) saveParaViewPreset(tf, out);
     else if (out.empty()) std::fputs(transferFunctionText(tf).c_str(), stdout);
@@ -637,7 +649,8 @@ int main(int argc, char** argv) {
     bool tfParaView = false;
     auto* tfCommand = app.add_subcommand("tf", "List the built-in transfer functions, or print one as the JSON file "
                                                "the editor and --tf load");
-    tfCommand->add_option("name", tfSpec, "A preset name or a JSON file (none: list the presets)");
+    tfCommand->add_option(
+        "name", tfSpec, "A preset name, a JSON file or a Slicer presets.xml[#NAME] (none: list the presets)");
     tfCommand->add_option("--out", tfOut, "Write it to this file instead of printing it");
     tfCommand->add_flag("--paraview", tfParaView,
                         "As a ParaView colour-map preset (JSON: RGBPoints, Points) its Color Map Editor imports");
@@ -658,7 +671,10 @@ int main(int argc, char** argv) {
     std::vector<std::string> sceneNames;
     for (const DemoSceneInfo& scene : demoSceneList()) sceneNames.push_back(scene.name);
     auto* editorVolumeOption = editor->add_option("volume", editorVolume, "Volume file (or scene:NAME, a demo scene)");
-    editor->add_option("--tf", e.tfSpec, "Transfer function: a preset name or a JSON file")
+    editor
+        ->add_option("--tf", e.tfSpec,
+                     "Transfer function: a preset name, a JSON file or a 3D Slicer presets.xml "
+                     "(FILE.xml#NAME picks one)")
         ->capture_default_str()
         ->group(kSessionSetGroup);
     auto* editorSessionOption = editor->add_option("--session", editorSession,

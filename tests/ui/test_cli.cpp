@@ -504,6 +504,30 @@ TEST(Cli, TfListsThePresetsAndWritesOneAsAFileTheEditorLoads) {
     EXPECT_THAT(notJson.output, HasSubstr("headsq.nhdr: not valid JSON"));
 }
 
+// A Slicer presets.xml through --tf: `tf FILE.xml#NAME` converts the preset named, notes what it leaves
+// out (a gradient opacity that is not all 1), and an unknown name lists the file's presets.
+TEST(Cli, TfConvertsASlicerPresetPickedByName) {
+    const auto file = testing_support::testOutputDir() / "cli_slicer_presets.xml";
+    std::ofstream(file) << R"(<MRML>
+  <VolumeProperty name="Flat" scalarOpacity="4 0 0 100 0.5" colorTransfer="8 0 0 0 0 100 1 1 1"/>
+  <VolumeProperty name="Edges" gradientOpacity="4 0 0 50 1" scalarOpacity="4 0 0 100 0.8"
+    colorTransfer="8 0 1 0 0 100 1 1 0"/>
+</MRML>)";
+    const CliRun edges = splatlab("tf \"" + file.string() + "#Edges\"");
+    ASSERT_EQ(edges.status, 0) << edges.output;
+    EXPECT_THAT(edges.output,
+                HasSubstr("cli_slicer_presets.xml#Edges: its gradient opacity is not applied yet"));
+    const std::string json = edges.output.substr(edges.output.find('{'));
+    const renderer::TransferFunction tf =
+        renderer::transferFunctionFromJson(nlohmann::json::parse(json), "stdout", "?");
+    EXPECT_EQ(tf.name, "Edges");
+    EXPECT_EQ(tf.opacities, (std::vector<renderer::OpacityPoint>{{0, 0.0}, {100, 0.8}}));
+    EXPECT_EQ(tf.colours[1].colour, glm::dvec3(1, 1, 0));
+    const CliRun unknown = splatlab("tf \"" + file.string() + "#Bone\"");
+    EXPECT_NE(unknown.status, 0);
+    EXPECT_THAT(unknown.output, HasSubstr("no preset named 'Bone' (it holds: Flat, Edges)"));
+}
+
 // `phantom` writes an int16 NRRD that info and the loader read back as it says; a size, a file name or
 // a budget it cannot honour is one line naming it, and nothing is written.
 TEST(Cli, PhantomWritesAnInt16NrrdThatInfoReadsBack) {

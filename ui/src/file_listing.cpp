@@ -44,11 +44,13 @@ const char* fileKindName(FileKind kind) {
 
 const std::vector<std::string>& fileKindExtensions(FileKind kind) {
     static const std::vector<std::string> json{".json"};
+    static const std::vector<std::string> tfs{".json", ".xml"}; // ours and ParaView's; Slicer's presets.xml
     static const std::vector<std::string> images{".png", ".exr", ".tif", ".tiff"}; // Save image's formats
     switch (kind) {
     case FileKind::Volume:
         return renderer::volumeFileExtensions();
     case FileKind::TransferFunction:
+        return tfs;
     case FileKind::Session:
         return json;
     case FileKind::Image:

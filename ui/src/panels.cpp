@@ -57,6 +57,11 @@ bool drawUpAxisCombo(glm::dvec3& up) {
 const char* dropFile(EditorState& state, const std::filesystem::path& file) {
     std::string ext = file.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".xml") { // 3D Slicer's volume-rendering presets: the TF loader imports the first
+        state.tfFile = file.string();
+        state.pendingFile = FileAction::LoadTransferFunction;
+        return "Transfer function";
+    }
     if (ext != ".json") {
         state.volumeFile = file.string();
         state.pendingFile = FileAction::OpenVolume;
@@ -516,7 +521,8 @@ void drawHelpPanel() {
                   "is slow (Settings > Inspect > Preview level first, Frame budget)",
                   PreviewSettings::kMinMegaVoxels);
     bulletWrapped("Ctrl+Z, Ctrl+Y: undo, redo a transfer-function edit (while its panel has focus)");
-    bulletWrapped("Drop a volume, a transfer function (.json) or a session on the window to open it");
+    bulletWrapped("Drop a volume, a transfer function (.json, or Slicer's presets .xml) or a session on the "
+                  "window to open it");
 }
 
 void drawErrorModal(EditorState& state) {

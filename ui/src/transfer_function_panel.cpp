@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
+#include <string>
 
 namespace ui {
 
@@ -115,6 +117,48 @@ void drawColourBar(ImDrawList* draw, const Rect& bar, float gradientH, const ren
                           ImDrawFlags_Closed, chosen ? 2.0f : 1.0f);
     }
     draw->PopClipRect();
+}
+
+// The Gallery: each preset's thumbnail (a placeholder until the editor has drawn it) with its name under
+// it, as many to a row as fit. Returns the name clicked, if any.
+std::optional<std::string> drawGallery(const std::vector<GalleryThumbnail>& gallery) {
+    if (gallery.empty()) {
+        ImGui::TextDisabled("Open a volume to see each preset drawn on it");
+        return std::nullopt;
+    }
+    const float side = 96.0f; // the thumbnails' own size (kThumbnailPx): drawn 1:1
+    const float spacing = ImGui::GetStyle().ItemSpacing.x;
+    const float right = ImGui::GetCursorScreenPos().x + ImGui::GetContentRegionAvail().x;
+    std::optional<std::string> picked;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    for (size_t i = 0; i < gallery.size(); ++i) {
+        const GalleryThumbnail& t = gallery[i];
+        ImGui::PushID(t.name.c_str());
+        ImGui::BeginGroup();
+        const ImVec2 at = ImGui::GetCursorScreenPos();
+        if (ImGui::InvisibleButton("thumbnail", ImVec2(side, side))) picked = t.name;
+        const bool hovered = ImGui::IsItemHovered();
+        const ImVec2 end(at.x + side, at.y + side);
+        if (t.texture)
+            draw->AddImage(ImTextureID(intptr_t(t.texture)), at, end);
+        else {
+            draw->AddRectFilled(at, end, ImGui::GetColorU32(ImGuiCol_FrameBg));
+            draw->AddText(ImVec2(at.x + 6.0f, at.y + 6.0f), ImGui::GetColorU32(ImGuiCol_TextDisabled),
+                          "drawing...");
+        }
+        draw->AddRect(at, end, hovered ? IM_COL32(255, 200, 80, 255) : IM_COL32(90, 90, 100, 255), 0.0f, 0,
+                      hovered ? 2.0f : 1.0f);
+        // The name, cut to the thumbnail's width (the tooltip has it whole).
+        std::string label = t.name;
+        while (label.size() > 1 && ImGui::CalcTextSize(label.c_str()).x > side)
+            label.pop_back();
+        ImGui::TextUnformatted(label.c_str());
+        ImGui::EndGroup();
+        if (hovered) ImGui::SetTooltip("%s: click to apply", t.name.c_str());
+        ImGui::PopID();
+        if (i + 1 < gallery.size() && ImGui::GetItemRectMax().x + spacing + side <= right) ImGui::SameLine();
+    }
+    return picked;
 }
 
 } // namespace
@@ -357,13 +401,20 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
 
     // 6. Files: load replaces the curve; save writes the points (atomically) and names the TF after the file.
     ImGui::Spacing();
-    pathField("File", state.tfFile, FileKind::TransferFunction, state,
-              "A TF file (JSON): the format of assets/presets/*.json and of --tf FILE");
+    pathField(
+        "File", state.tfFile, FileKind::TransferFunction, state,
+        "A TF file (JSON): the format of assets/presets/*.json and of --tf FILE; a ParaView preset (JSON);\n"
+        "or 3D Slicer's presets.xml, its first preset or FILE.xml#NAME");
     if (ImGui::Button("Load") || takePendingFile(state, FileAction::LoadTransferFunction)) {
         try {
-            replace(renderer::inDataUnits(renderer::loadTransferFunction(state.tfFile), window));
+            std::vector<std::string> notes; // what an import leaves out, in the corner
+            replace(renderer::inDataUnits(renderer::transferFunctionFromSpec(state.tfFile, &notes), window));
             noteRecentFile(state, FileKind::TransferFunction, state.tfFile);
+            if (!notes.empty())
+                state.saveNotice = SaveNotice{.text = notes.front(), .folder = {}, .shownAtS = -1.0};
         } catch (const renderer::LoadError& e) {
+            state.errorMessage = e.what();
+        } catch (const renderer::RenderError& e) { // a name that is no preset and no file
             state.errorMessage = e.what();
         }
     }
@@ -402,6 +453,22 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     ImGui::BeginDisabled(state.tfHistory.redo.empty());
     if (ImGui::Button("Redo") || ctrlY || (ctrlZ && keys.KeyShift)) step(true);
     ImGui::EndDisabled();
+    // 8. The Gallery: its button on the same row (closed, the panel keeps its height, so nothing moves),
+    //    its thumbnails under the row while open.
+    ImGui::SameLine();
+    if (state.tfGalleryOpen) ImGui::PushStyleColor(ImGuiCol_Button, ImGui::GetStyleColorVec4(ImGuiCol_ButtonActive));
+    const bool toggled = ImGui::Button("Gallery");
+    if (state.tfGalleryOpen) ImGui::PopStyleColor();
+    if (toggled) state.tfGalleryOpen = !state.tfGalleryOpen;
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("%s the thumbnails of the presets, each drawn on this volume; click one to apply it",
+                          state.tfGalleryOpen ? "Hide" : "Show");
+    if (state.tfGalleryOpen)
+        if (const std::optional<std::string> name = drawGallery(view.gallery)) try {
+                replace(renderer::inDataUnits(renderer::builtinPreset(*name), window));
+            } catch (const std::exception& e) { // a bundled file that is not a TF, or one since removed
+                state.errorMessage = e.what();
+            }
     // A gesture ends when no widget is held: a drag released, a field left, or an instant edit (a
     // preset, a file, a removal). What it changed becomes one undo step.
     if (!ImGui::IsAnyItemActive()) {

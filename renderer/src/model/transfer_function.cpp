@@ -3,6 +3,7 @@
 #include "renderer/model/transfer_function.h"
 
 #include "renderer/errors.h"
+#include "renderer/model/slicer_preset.h"
 
 #include <algorithm>
 #include <cmath>
@@ -166,9 +167,14 @@ TransferFunction builtinPreset(const std::string& name) {
     throw RenderError("unknown transfer-function preset '" + name + "' (known: " + known + ")");
 }
 
-TransferFunction transferFunctionFromSpec(const std::string& spec) {
+TransferFunction transferFunctionFromSpec(const std::string& spec, std::vector<std::string>* notes) {
     for (const auto& n : builtinPresetNames())
         if (spec == n) return builtinPreset(spec);
+    if (const std::optional<SlicerPresetSpec> slicer = slicerPresetSpec(spec)) {
+        LoadedSlicerPreset loaded = loadSlicerPreset(*slicer);
+        if (notes) notes->insert(notes->end(), loaded.notes.begin(), loaded.notes.end());
+        return std::move(loaded.preset.tf);
+    }
     if (spec.ends_with(".json") || std::filesystem::exists(spec)) return loadTransferFunction(spec);
     return builtinPreset(spec);   // throws, listing the known names
 }

@@ -75,6 +75,7 @@ struct EditorState {
     double tfShift = 0.0;              // the Shift field's offset (data units) during its drag; 0 between
     std::string tfFile = "transfer_function.json";   // the panel's Load / Save path
     bool tfLogOpacity = false;                       // the curve's opacity axis in decades (tf_editor.h)
+    bool tfGalleryOpen = false;                      // the panel's Gallery open: the editor draws thumbnails
     TfHistory tfHistory;                             // undo / redo, a step per gesture
     std::optional<renderer::TransferFunction> tfGestureStart;   // the TF before the gesture under way
     std::array<float, 3> background{0.055f, 0.060f, 0.075f}; // linear RGB behind the volume

@@ -49,6 +49,12 @@ const char* dropFile(EditorState& state, const std::filesystem::path& file);
 
 // == Transfer function
 
+// A preset's thumbnail in the Transfer function panel's gallery, drawn on the volume shown.
+struct GalleryThumbnail {
+    std::string name;     // a builtinPresetNames() name
+    unsigned texture = 0; // the UI's GL texture, kThumbnailPx square; 0: not drawn yet
+};
+
 struct TransferFunctionView {
     const renderer::Histogram* histogram = nullptr; // of the whole volume, drawn behind the curve; null: none
     renderer::ValueRange window;                    // the data values the canvas spans (the scene's window)
@@ -59,15 +65,17 @@ struct TransferFunctionView {
     // False while a volume loads or the scene is re-classified: a TF in window fractions waits for the
     // window it will be shown with before it is fixed in data units.
     bool windowSettled = true;
+    std::vector<GalleryThumbnail> gallery{}; // every preset, in builtinPresetNames() order; empty: none
 };
 
 // Preset; the opacity curve over the histogram (drag a point to move it, click empty space to add one,
 // right-click a point to remove it) and under it the colour bar with its stops (the same gestures, across
 // only); the selected point's value in data units and its opacity or colour; Shift and Rescale of the
-// whole TF; Load and Save of TF files (JSON, written atomically). A TF in window fractions (a built-in
-// preset, a version-1 file) is fixed in data units over view.window when the panel first shows it. A file that fails to load
-// or save sets state.errorMessage. Returns whether state.tf changed: the app then re-bakes the LUT,
-// which is all a TF edit uploads.
+// whole TF; Load and Save of TF files (JSON, written atomically). The Gallery button (state.tfGalleryOpen)
+// shows view.gallery's thumbnails under the file row; a click on one applies that preset as the Preset combo would. A TF in window
+// fractions (a built-in preset, a version-1 file) is fixed in data units over view.window when the panel
+// first shows it. A file that fails to load or save sets state.errorMessage. Returns whether state.tf
+// changed: the app then re-bakes the LUT, which is all a TF edit uploads.
 bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& view);
 // The colour (ImGui's packed ABGR) of the line the panel draws at EditorState::probe's value.
 constexpr unsigned kProbeMarkerColour = 0xFF33D6FFu;

@@ -96,7 +96,8 @@ std::string transferFunctionText(const TransferFunction& tf);   // what saveTran
 nlohmann::json toJson(const TransferFunction& tf);
 TransferFunction transferFunctionFromJson(const nlohmann::json& j, const std::string& source,
                                           const std::string& defaultName);
-// A preset name or a JSON file path, whichever `spec` is.
-TransferFunction transferFunctionFromSpec(const std::string& spec);
+// A preset name, a JSON file path, or a 3D Slicer presets file ("FILE.xml" or "FILE.xml#NAME",
+// slicer_preset.h), whichever `spec` is. `notes`, when given, gets a line for what an import leaves out.
+TransferFunction transferFunctionFromSpec(const std::string& spec, std::vector<std::string>* notes = nullptr);
 
 } // namespace renderer
