@@ -66,7 +66,8 @@ ReportSection measureScan(SplatRenderer& gl, const ReportArgs& a, const fs::path
     const ImagePlane view = makeImagePlane(camera, scene.centre, scene.radius, size.x, size.y, scene.axes);
     const ImagePlane crop = centreCrop(view, kComparisonCropPx);
     s.name = volumePath.filename().string();
-    s.cropPx = crop.width;
+    s.cropWidth = crop.width;
+    s.cropHeight = crop.height;
     s.view = std::to_string(volume.dims.x) + " x " + std::to_string(volume.dims.y) + " x " +
              std::to_string(volume.dims.z) + " voxels at " + std::to_string(size.x) + " x " + std::to_string(size.y) +
              " px, TF " + tfSpec + ", camera " + a.camera + " framed, kernel scale 0.7, density 1, unlit; error over "

@@ -131,8 +131,8 @@ std::string reportHtml(const ReportPage& page) {
              << speedErrorSvg(s.points, s.current, 640, 360) << "\n<div><img src=\"" << escaped(s.viewImage)
              << "\" width=\"256\" alt=\"the view\"><br>the view (" << escaped(renderer::filterModeName(s.current.filter))
              << ", " << renderer::compositingName(s.current.compositing) << ")<br><img src=\"" << escaped(s.truthImage)
-             << "\" width=\"" << 2 * s.cropPx << "\" alt=\"ground truth\"><br>ground truth of the centre " << s.cropPx
-             << " x " << s.cropPx << " px</div></div>\n"
+             << "\" width=\"" << 2 * s.cropWidth << "\" alt=\"ground truth\"><br>ground truth of the centre "
+             << s.cropWidth << " x " << s.cropHeight << " px</div></div>\n"
              << "<table><tr><th>filter, compositing</th><th>median ms</th><th>p10 ms</th><th>p90 ms</th>"
                 "<th>PSNR dB</th><th>RMSE</th><th>Pareto</th><th>crop</th></tr>\n";
         for (size_t i = 0; i < s.points.size(); ++i) {
@@ -141,7 +141,7 @@ std::string reportHtml(const ReportPage& page) {
                  << "</td><td>" << fmt("%.2f", m.frameMs) << "</td><td>" << fmt("%.2f", m.p10Ms) << "</td><td>"
                  << fmt("%.2f", m.p90Ms) << "</td><td>" << fmt("%.2f", m.psnrDb) << "</td><td>"
                  << fmt("%.5f", m.rmse) << "</td><td>" << (front[i] ? "yes" : "") << "</td><td><img src=\""
-                 << escaped(s.cropImages[i]) << "\" width=\"" << s.cropPx << "\" alt=\"\"></td></tr>\n";
+                 << escaped(s.cropImages[i]) << "\" width=\"" << s.cropWidth << "\" alt=\"\"></td></tr>\n";
         }
         html << "</table>\n";
     }

@@ -14,7 +14,7 @@ struct ReportSection {
     renderer::SplatSettings current;                // the settings the others vary from (ringed)
     std::string viewImage, truthImage;              // thumbnails beside index.html
     std::vector<std::string> cropImages;            // one per point
-    int cropPx = 0;
+    int cropWidth = 0, cropHeight = 0;              // px of the view's centre the errors are over
 };
 
 struct ReportPage {

@@ -97,18 +97,24 @@ SpeedErrorChart drawSpeedErrorChart(std::span<const renderer::FilterMeasurement>
     const auto at = [](double x, double y) { return ImVec2(float(x), float(y)); };
     char text[48];
     // 1. Grid, ticks and axis names.
-    for (double t : c.timeMs.ticks) {
+    for (double t : c.timeMs.ticks) { // labels centred on their tick, kept inside the chart's width
         draw->AddLine(at(c.xAt(t), c.top), at(c.xAt(t), c.bottom), grid);
         std::snprintf(text, sizeof text, "%g", t);
-        draw->AddText(at(c.xAt(t) - 0.5 * ImGui::CalcTextSize(text).x, c.bottom + 0.1 * font), grey, text);
+        const double w = ImGui::CalcTextSize(text).x;
+        draw->AddText(at(std::clamp(c.xAt(t) - 0.5 * w, double(origin.x), origin.x + width - w), c.bottom + 0.1 * font),
+                      grey, text);
     }
     for (double t : c.psnrDb.ticks) {
         draw->AddLine(at(c.left, c.yAt(t)), at(c.right, c.yAt(t)), grid);
         std::snprintf(text, sizeof text, "%g", t);
         draw->AddText(at(c.left - ImGui::CalcTextSize(text).x - 0.3 * font, c.yAt(t) - 0.5 * font), grey, text);
     }
-    const char* xName = "frame time, ms (median, p10-p90)";
-    draw->AddText(at(0.5 * (c.left + c.right - ImGui::CalcTextSize(xName).x), c.bottom + 1.1 * font), grey, xName);
+    for (const char* xName : {"frame time, ms (median, p10-p90)", "ms (median, p10-p90)", "ms"}) // the longest that fits
+        if (ImGui::CalcTextSize(xName).x <= c.right - c.left) {
+            draw->AddText(at(0.5 * (c.left + c.right - ImGui::CalcTextSize(xName).x), c.bottom + 1.1 * font), grey,
+                          xName);
+            break;
+        }
     draw->AddText(at(origin.x, origin.y), grey, "dB");
     draw->AddRect(at(c.left, c.top), at(c.right, c.bottom), grid);
     // 2. The Pareto front, then whiskers and markers over it.
