@@ -20,7 +20,8 @@ std::string formatRange(double lo, double hi) {
 std::vector<std::string> splitOn(const std::string& s, char sep) {
     std::vector<std::string> parts;
     std::stringstream in(s);
-    for (std::string p; std::getline(in, p, sep);) parts.push_back(p);
+    for (std::string p; std::getline(in, p, sep);)
+        parts.push_back(p);
     return parts;
 }
 
@@ -49,8 +50,9 @@ glm::ivec2 parseSize(const std::string& text, const std::string& flag) {
 Camera parseCamera(const std::string& text) {
     const auto parts = splitOn(text, ',');
     if (parts.size() != 4)
-        throw CLI::ValidationError("--camera", "'" + text + "': expected azimuth,elevation,distance,fov (degrees, "
-                                               "bounding radii, degrees), e.g. 30,20,2.5,30");
+        throw CLI::ValidationError("--camera", "'" + text +
+                                                   "': expected azimuth,elevation,distance,fov (degrees, "
+                                                   "bounding radii, degrees), e.g. 30,20,2.5,30");
     Camera c;
     c.azimuthDeg = parseNumber(parts[0], "--camera", "azimuth");
     c.elevationDeg = parseNumber(parts[1], "--camera", "elevation");
@@ -59,9 +61,10 @@ Camera parseCamera(const std::string& text) {
     if (c.elevationDeg < -89.9 || c.elevationDeg > 89.9)
         throw CLI::ValidationError("--camera", "elevation must be within -89.9..89.9 degrees");
     if (!(c.distance >= kMinCameraDistance && c.distance <= kMaxCameraDistance))
-        throw CLI::ValidationError("--camera", "distance must be " + formatRange(kMinCameraDistance, kMaxCameraDistance) +
+        throw CLI::ValidationError("--camera", "distance must be " +
+                                                   formatRange(kMinCameraDistance, kMaxCameraDistance) +
                                                    " bounding radii");
-    if (!(c.fovYDeg >= 1 && c.fovYDeg <= 170)) throw CLI::ValidationError("--camera", "fov must be 1..170 degrees");
+    if (!(c.fovYDeg >= 1 && c.fovYDeg <= 170))
+        throw CLI::ValidationError("--camera", "fov must be 1..170 degrees");
     return c;
 }
-

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-std::string formatRange(double lo, double hi);                        // "in [lo, hi]", for a flag's range
+std::string formatRange(double lo, double hi); // "in [lo, hi]", for a flag's range
 std::vector<std::string> splitOn(const std::string& s, char sep);
 // `text` as a finite number, or CLI::ValidationError naming `flag` and `what` the number is.
 double parseNumber(const std::string& text, const std::string& flag, const std::string& what);

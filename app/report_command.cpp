@@ -11,9 +11,9 @@
 #include "renderer/gl/gl_context.h"
 #include "renderer/io/atomic_file.h"
 #include "renderer/io/volume_io.h"
+#include "renderer/model/window.h"
 #include "renderer/oracle/demo_scenes.h"
 #include "renderer/oracle/speed_error.h"
-#include "renderer/model/window.h"
 
 #include <epoxy/gl.h>
 #include <sys/utsname.h>
@@ -56,7 +56,8 @@ std::string settingFileName(const FilterMeasurement& m) {
 }
 
 ReportSection measureScan(SplatRenderer& gl, const ReportArgs& a, const fs::path& volumePath, glm::ivec2 size,
-                          Camera camera, const fs::path& cacheDir, const fs::path& out, const std::string& tag) {
+                          Camera camera, const fs::path& cacheDir, const fs::path& out,
+                          const std::string& tag) {
     // 1. The scan classified by its TF and framed at --size; the default settings, unlit.
     const std::string tfSpec = a.tf.empty() ? presetFor(volumePath) : a.tf;
     const Volume volume = loadVolumeOrScene(volumePath);
@@ -69,11 +70,14 @@ ReportSection measureScan(SplatRenderer& gl, const ReportArgs& a, const fs::path
     s.cropWidth = crop.width;
     s.cropHeight = crop.height;
     s.view = std::to_string(volume.dims.x) + " x " + std::to_string(volume.dims.y) + " x " +
-             std::to_string(volume.dims.z) + " voxels at " + std::to_string(size.x) + " x " + std::to_string(size.y) +
-             " px, TF " + tfSpec + ", camera " + a.camera + " framed, kernel scale 0.7, density 1, unlit; error over "
-             "the centre " + std::to_string(crop.width) + " x " + std::to_string(crop.height) + " px";
+             std::to_string(volume.dims.z) + " voxels at " + std::to_string(size.x) + " x " +
+             std::to_string(size.y) + " px, TF " + tfSpec + ", camera " + a.camera +
+             " framed, kernel scale 0.7, density 1, unlit; error over "
+             "the centre " +
+             std::to_string(crop.width) + " x " + std::to_string(crop.height) + " px";
     // 2. The crop's ground truths (cached), 3. the measurement.
-    std::fprintf(stderr, "%s: ground truth of the centre %d x %d px\n", s.name.c_str(), crop.width, crop.height);
+    std::fprintf(stderr, "%s: ground truth of the centre %d x %d px\n", s.name.c_str(), crop.width,
+                 crop.height);
     const CropTruths truths = cropTruths(scene, crop, s.current, {}, cacheDir, printProgress);
     gl.setScene(scene);
     s.points = measureSpeedAgainstError(gl, view, crop, truths, s.current, a.repeats);
@@ -90,25 +94,29 @@ ReportSection measureScan(SplatRenderer& gl, const ReportArgs& a, const fs::path
     }
     for (const FilterMeasurement& m : s.points)
         std::printf("%s | %s | %.3f ms (p10 %.3f, p90 %.3f) | %.3f dB\n", s.name.c_str(),
-                    (std::string(filterModeName(m.filter)) + ", " + compositingName(m.compositing)).c_str(), m.frameMs,
-                    m.p10Ms, m.p90Ms, m.psnrDb);
+                    (std::string(filterModeName(m.filter)) + ", " + compositingName(m.compositing)).c_str(),
+                    m.frameMs, m.p10Ms, m.p90Ms, m.psnrDb);
     return s;
 }
 
 } // namespace
 
 CLI::App* addReportCommand(CLI::App& app, ReportArgs& a) {
-    auto* cmd = app.add_subcommand("report", "Speed against error: time every filter x compositing mode on each "
-                                             "volume and compare it with the ground truth; write DIR/index.html");
+    auto* cmd =
+        app.add_subcommand("report", "Speed against error: time every filter x compositing mode on each "
+                                     "volume and compare it with the ground truth; write DIR/index.html");
     cmd->add_option("volume", a.volumes, std::string("Volumes: ") + supportedVolumeTypes())->required();
     cmd->add_option("--out", a.out, "Folder for index.html and its thumbnails (created)")->required();
     cmd->add_option("--repeats", a.repeats, "Timed frames per setting (median, p10, p90)")
         ->capture_default_str()
         ->check(CLI::Range(1, 1000));
-    cmd->add_option("--size", a.size, "View size WxH (errors are over its centre 96 x 96 px)")->capture_default_str();
-    cmd->add_option("--camera", a.camera, "azimuth,elevation,distance,fov; then framed")->capture_default_str();
-    cmd->add_option("--tf", a.tf, "Transfer function: a preset name or a JSON file (default: the preset named like "
-                                  "the volume, else ct-skin-bone)");
+    cmd->add_option("--size", a.size, "View size WxH (errors are over its centre 96 x 96 px)")
+        ->capture_default_str();
+    cmd->add_option("--camera", a.camera, "azimuth,elevation,distance,fov; then framed")
+        ->capture_default_str();
+    cmd->add_option("--tf", a.tf,
+                    "Transfer function: a preset name or a JSON file (default: the preset named like "
+                    "the volume, else ct-skin-bone)");
     cmd->add_option("--cache", a.cache, "Ground-truth cache folder (default: ~/.cache/splatlab/reference)");
     return cmd;
 }
@@ -120,13 +128,15 @@ int runReport(const ReportArgs& a) {
     const Camera camera = parseCamera(a.camera);
     for (const std::string& v : a.volumes)
         if (!demoSceneOfPath(v) && !fs::is_regular_file(v))
-            throw LoadError(v, "", fs::exists(v) ? "not a regular file (a volume file was expected)"
-                                                 : "no such file (a volume file was expected)");
+            throw LoadError(v, "",
+                            fs::exists(v) ? "not a regular file (a volume file was expected)"
+                                          : "no such file (a volume file was expected)");
     const fs::path out = a.out;
     std::error_code ec;
     fs::create_directories(out, ec);
     if (ec || !fs::is_directory(out))
-        throw LoadError(a.out, "", "cannot create the report folder" + (ec ? " (" + ec.message() + ")" : std::string()));
+        throw LoadError(a.out, "",
+                        "cannot create the report folder" + (ec ? " (" + ec.message() + ")" : std::string()));
     checkFileReplaceable(out / "index.html");
     const fs::path cacheDir = a.cache.empty() ? defaultGroundTruthCacheDir() : fs::path(a.cache);
     auto context = HeadlessGl::create();

@@ -9,12 +9,12 @@
 
 struct ReportArgs {
     std::vector<std::string> volumes;
-    std::string out;                    // DIR: index.html and the thumbnails
-    int repeats = 5;                    // timed frames per setting
-    std::string size = "256x256";       // the view measured; errors are over its centre crop
+    std::string out;              // DIR: index.html and the thumbnails
+    int repeats = 5;              // timed frames per setting
+    std::string size = "256x256"; // the view measured; errors are over its centre crop
     std::string camera = "30,20,2.5,30";
-    std::string tf;                     // empty: the preset named like the volume (bonsai, headsq), else ct-skin-bone
-    std::string cache;                  // ground-truth cache (empty: the default, ground_truth.h)
+    std::string tf;    // empty: the preset named like the volume (bonsai, headsq), else ct-skin-bone
+    std::string cache; // ground-truth cache (empty: the default, ground_truth.h)
 };
 
 CLI::App* addReportCommand(CLI::App& app, ReportArgs& args);

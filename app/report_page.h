@@ -8,13 +8,13 @@
 #include <vector>
 
 struct ReportSection {
-    std::string name;                               // the scan's file name
-    std::string view;                               // size, TF and camera, in words
+    std::string name; // the scan's file name
+    std::string view; // size, TF and camera, in words
     std::vector<renderer::FilterMeasurement> points;
-    renderer::SplatSettings current;                // the settings the others vary from (ringed)
-    std::string viewImage, truthImage;              // thumbnails beside index.html
-    std::vector<std::string> cropImages;            // one per point
-    int cropWidth = 0, cropHeight = 0;              // px of the view's centre the errors are over
+    renderer::SplatSettings current;     // the settings the others vary from (ringed)
+    std::string viewImage, truthImage;   // thumbnails beside index.html
+    std::vector<std::string> cropImages; // one per point
+    int cropWidth = 0, cropHeight = 0;   // px of the view's centre the errors are over
 };
 
 struct ReportPage {

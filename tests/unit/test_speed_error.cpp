@@ -35,7 +35,8 @@ TEST(SpeedError, EveryFilterTimesEveryCompositingModeKeepingTheOtherSettings) {
     for (size_t i = 0; i < all.size(); ++i) {
         EXPECT_EQ(all[i].density, 3.0);
         for (size_t j = 0; j < i; ++j)
-            EXPECT_FALSE(all[i].filter == all[j].filter && all[i].compositing == all[j].compositing) << i << " " << j;
+            EXPECT_FALSE(all[i].filter == all[j].filter && all[i].compositing == all[j].compositing)
+                << i << " " << j;
         // Tiles composite sheets and X-ray only: splat-every-sample takes auto (the rasteriser).
         EXPECT_EQ(all[i].primitive, all[i].compositing == Compositing::SplatEverySample
                                         ? SplatSettings::Primitive::Auto
@@ -72,4 +73,14 @@ TEST(SpeedError, TiesStayOnTheFrontUnlessSomethingIsBetterInOneAndNoWorseInTheOt
     // An identical image (+inf dB) is the closest there is.
     EXPECT_EQ(front({point(30, std::numeric_limits<double>::infinity()), point(40, 60), point(10, 20)}),
               (std::vector<bool>{true, false, true}));
+}
+
+TEST(SpeedError, XRayHasAFrontOfItsOwnSinceItsErrorIsAgainstAnotherImage) {
+    FilterMeasurement xray = point(5, 50);
+    xray.compositing = Compositing::XRay;
+    // Faster and closer, but against X-ray's truth: it does not push the attenuating point off.
+    EXPECT_EQ(front({point(10, 30), xray}), (std::vector<bool>{true, true}));
+    FilterMeasurement slowXRay = point(20, 20);
+    slowXRay.compositing = Compositing::XRay;
+    EXPECT_EQ(front({point(10, 30), xray, slowXRay}), (std::vector<bool>{true, true, false}));
 }

@@ -107,8 +107,13 @@ void drawCostColumn(EditorState& state, const FiltersView& view, FiltersChanges&
     }
     if (view.measuring) {
         char label[48];
+        double progress = view.truthProgress;
         std::snprintf(label, sizeof label, "ground truth %.0f %%", 100.0 * view.truthProgress);
-        ImGui::ProgressBar(float(std::clamp(view.truthProgress, 0.0, 1.0)), ImVec2(-ImGui::GetFontSize() * 5.0f, 0.0f),
+        if (view.settingsToMeasure > 0) {
+            progress = double(view.measurements.size()) / double(view.settingsToMeasure);
+            std::snprintf(label, sizeof label, "timed %zu of %zu", view.measurements.size(), view.settingsToMeasure);
+        }
+        ImGui::ProgressBar(float(std::clamp(progress, 0.0, 1.0)), ImVec2(-ImGui::GetFontSize() * 5.0f, 0.0f),
                            label);
         ImGui::SameLine();
         changes.cancel = ImGui::Button("Cancel");

@@ -61,7 +61,9 @@ SpeedErrorChart layoutSpeedErrorChart(std::span<const renderer::FilterMeasuremen
                             current && current->filter == m.filter && current->compositing == m.compositing});
         if (front[i]) c.front.push_back(i);
     }
+    const auto xray = [&](size_t i) { return points[i].compositing == renderer::Compositing::XRay; };
     std::sort(c.front.begin(), c.front.end(), [&](size_t a, size_t b) {
+        if (xray(a) != xray(b)) return xray(b);
         return points[a].frameMs != points[b].frameMs ? points[a].frameMs < points[b].frameMs
                                                       : points[a].psnrDb < points[b].psnrDb;
     });
@@ -74,7 +76,8 @@ std::string settingLabel(const renderer::FilterMeasurement& m) {
 
 PointStyle pointStyle(const renderer::FilterMeasurement& m) {
     // The Filters panel's hues (filter_colours.h); adaptive, a mix of the three, light grey.
-    static constexpr unsigned char rgb[4][3] = {{255, 77, 77}, {77, 255, 77}, {102, 128, 255}, {220, 220, 220}};
+    static constexpr unsigned char rgb[4][3] = {
+        {255, 77, 77}, {77, 255, 77}, {102, 128, 255}, {220, 220, 220}};
     const size_t f = std::min(size_t(m.filter), size_t(3));
     PointStyle::Shape shape = PointStyle::Circle;
     if (m.compositing == renderer::Compositing::SheetBackToFront) shape = PointStyle::Square;
@@ -90,8 +93,9 @@ SpeedErrorChart drawSpeedErrorChart(std::span<const renderer::FilterMeasurement>
     ImGui::Dummy(ImVec2(width, height));
     const bool hovered = ImGui::IsItemHovered();
     // The plot inside room for the PSNR labels on the left and the time labels below.
-    const SpeedErrorChart c = layoutSpeedErrorChart(points, &current, origin.x + 3.0f * font, origin.y + 0.5f * font,
-                                                    origin.x + width - 0.5f * font, origin.y + height - 2.2f * font);
+    const SpeedErrorChart c =
+        layoutSpeedErrorChart(points, &current, origin.x + 3.0f * font, origin.y + 0.5f * font,
+                              origin.x + width - 0.5f * font, origin.y + height - 2.2f * font);
     ImDrawList* draw = ImGui::GetWindowDrawList();
     const ImU32 grey = ImGui::GetColorU32(ImGuiCol_TextDisabled), grid = IM_COL32(255, 255, 255, 30);
     const auto at = [](double x, double y) { return ImVec2(float(x), float(y)); };
@@ -101,24 +105,28 @@ SpeedErrorChart drawSpeedErrorChart(std::span<const renderer::FilterMeasurement>
         draw->AddLine(at(c.xAt(t), c.top), at(c.xAt(t), c.bottom), grid);
         std::snprintf(text, sizeof text, "%g", t);
         const double w = ImGui::CalcTextSize(text).x;
-        draw->AddText(at(std::clamp(c.xAt(t) - 0.5 * w, double(origin.x), origin.x + width - w), c.bottom + 0.1 * font),
-                      grey, text);
+        draw->AddText(
+            at(std::clamp(c.xAt(t) - 0.5 * w, double(origin.x), origin.x + width - w), c.bottom + 0.1 * font),
+            grey, text);
     }
     for (double t : c.psnrDb.ticks) {
         draw->AddLine(at(c.left, c.yAt(t)), at(c.right, c.yAt(t)), grid);
         std::snprintf(text, sizeof text, "%g", t);
-        draw->AddText(at(c.left - ImGui::CalcTextSize(text).x - 0.3 * font, c.yAt(t) - 0.5 * font), grey, text);
+        draw->AddText(at(c.left - ImGui::CalcTextSize(text).x - 0.3 * font, c.yAt(t) - 0.5 * font), grey,
+                      text);
     }
-    for (const char* xName : {"frame time, ms (median, p10-p90)", "ms (median, p10-p90)", "ms"}) // the longest that fits
+    for (const char* xName :
+         {"frame time, ms (median, p10-p90)", "ms (median, p10-p90)", "ms"}) // the longest that fits
         if (ImGui::CalcTextSize(xName).x <= c.right - c.left) {
-            draw->AddText(at(0.5 * (c.left + c.right - ImGui::CalcTextSize(xName).x), c.bottom + 1.1 * font), grey,
-                          xName);
+            draw->AddText(at(0.5 * (c.left + c.right - ImGui::CalcTextSize(xName).x), c.bottom + 1.1 * font),
+                          grey, xName);
             break;
         }
     draw->AddText(at(origin.x, origin.y), grey, "dB");
     draw->AddRect(at(c.left, c.top), at(c.right, c.bottom), grid);
     // 2. The Pareto front, then whiskers and markers over it.
     for (size_t i = 1; i < c.front.size(); ++i) {
+        if (!renderer::sameGroundTruth(points[c.front[i - 1]], points[c.front[i]])) continue;
         const ChartPoint &a = c.points[c.front[i - 1]], &b = c.points[c.front[i]];
         draw->AddLine(at(a.x, a.y), at(b.x, b.y), IM_COL32(255, 210, 80, 200), 1.5f);
     }
@@ -132,11 +140,15 @@ SpeedErrorChart drawSpeedErrorChart(std::span<const renderer::FilterMeasurement>
         draw->AddLine(at(p.xHi, p.y - r), at(p.xHi, p.y + r), colour);
         const ImVec2 m = at(p.x, p.y);
         switch (s.shape) {
-        case PointStyle::Circle: draw->AddCircleFilled(m, r, colour); break;
-        case PointStyle::Square: draw->AddRectFilled(ImVec2(m.x - r, m.y - r), ImVec2(m.x + r, m.y + r), colour); break;
+        case PointStyle::Circle:
+            draw->AddCircleFilled(m, r, colour);
+            break;
+        case PointStyle::Square:
+            draw->AddRectFilled(ImVec2(m.x - r, m.y - r), ImVec2(m.x + r, m.y + r), colour);
+            break;
         case PointStyle::Diamond:
-            draw->AddQuadFilled(ImVec2(m.x, m.y - 1.3f * r), ImVec2(m.x + 1.3f * r, m.y), ImVec2(m.x, m.y + 1.3f * r),
-                                ImVec2(m.x - 1.3f * r, m.y), colour);
+            draw->AddQuadFilled(ImVec2(m.x, m.y - 1.3f * r), ImVec2(m.x + 1.3f * r, m.y),
+                                ImVec2(m.x, m.y + 1.3f * r), ImVec2(m.x - 1.3f * r, m.y), colour);
             break;
         case PointStyle::Triangle:
             draw->AddTriangleFilled(ImVec2(m.x, m.y - 1.3f * r), ImVec2(m.x + 1.2f * r, m.y + r),
@@ -158,8 +170,8 @@ SpeedErrorChart drawSpeedErrorChart(std::span<const renderer::FilterMeasurement>
         if (best < 3.0 * font) {
             const renderer::FilterMeasurement& m = points[nearest];
             ImGui::SetTooltip("%s\n%.2f ms median (p10 %.2f, p90 %.2f, %d frames)\n%.2f dB (RMSE %.4f)%s%s",
-                              settingLabel(m).c_str(), m.frameMs, m.p10Ms, m.p90Ms, m.frames, m.psnrDb, m.rmse,
-                              c.points[nearest].pareto ? "\non the Pareto front" : "",
+                              settingLabel(m).c_str(), m.frameMs, m.p10Ms, m.p90Ms, m.frames, m.psnrDb,
+                              m.rmse, c.points[nearest].pareto ? "\non the Pareto front" : "",
                               c.points[nearest].current ? "\nthe settings in force" : "");
         }
     }

@@ -2,8 +2,8 @@
 #include "renderer/oracle/filter_comparison.h"
 
 #include "renderer/errors.h"
-#include "renderer/oracle/accuracy.h"
 #include "renderer/math/metrics.h"
+#include "renderer/oracle/accuracy.h"
 
 #include <epoxy/gl.h>
 
@@ -29,15 +29,16 @@ double percentile(std::vector<double> values, double q) {
 FilterMeasurement measureSetting(SplatRenderer& gl, const ImagePlane& view, const ImagePlane& crop,
                                  const Image& cropTruth, SplatSettings settings, int frames) {
     settings.heatmap = false;
-    settings.counters = false;   // counting waits for each frame: it would be timed too
-    gl.render(view, settings);   // compiles what this setting needs
+    settings.counters = false; // counting waits for each frame: it would be timed too
+    gl.render(view, settings); // compiles what this setting needs
     glFinish();
     std::vector<double> ms;
     for (int i = 0; i < std::max(frames, 1); ++i) {
         const auto t0 = std::chrono::steady_clock::now();
         gl.render(view, settings);
         glFinish();
-        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        ms.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     const ImageError e = cropError(gl, crop, cropTruth, settings);
     FilterMeasurement m;
@@ -52,7 +53,8 @@ FilterMeasurement measureSetting(SplatRenderer& gl, const ImagePlane& view, cons
     return m;
 }
 
-ImageError cropError(SplatRenderer& gl, const ImagePlane& crop, const Image& cropTruth, const SplatSettings& settings) {
+ImageError cropError(SplatRenderer& gl, const ImagePlane& crop, const Image& cropTruth,
+                     const SplatSettings& settings) {
     gl.render(crop, settings);
     return compareImages(gl.readback(), cropTruth);
 }

@@ -6,9 +6,10 @@ namespace renderer {
 std::vector<SplatSettings> speedErrorSettings(const SplatSettings& base) {
     if (!hasGroundTruth(base)) return {};
     std::vector<SplatSettings> all;
-    for (Compositing c : {Compositing::SplatEverySample, Compositing::SheetBackToFront, Compositing::SheetFrontToBack,
-                          Compositing::XRay})
-        for (FilterMode f : {FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Ewa, FilterMode::Adaptive}) {
+    for (Compositing c : {Compositing::SplatEverySample, Compositing::SheetBackToFront,
+                          Compositing::SheetFrontToBack, Compositing::XRay})
+        for (FilterMode f :
+             {FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Ewa, FilterMode::Adaptive}) {
             SplatSettings s = base;
             s.filter = f;
             s.compositing = c;
@@ -46,11 +47,16 @@ std::vector<FilterMeasurement> measureSpeedAgainstError(SplatRenderer& gl, const
     return points;
 }
 
+bool sameGroundTruth(const FilterMeasurement& a, const FilterMeasurement& b) {
+    return (a.compositing == Compositing::XRay) == (b.compositing == Compositing::XRay);
+}
+
 std::vector<bool> paretoFront(std::span<const FilterMeasurement> points) {
     std::vector<bool> front(points.size(), true);
     for (size_t i = 0; i < points.size(); ++i)
         for (const FilterMeasurement& other : points) {
             const FilterMeasurement& p = points[i];
+            if (!sameGroundTruth(p, other)) continue;
             const bool noWorse = other.frameMs <= p.frameMs && other.psnrDb >= p.psnrDb;
             const bool better = other.frameMs < p.frameMs || other.psnrDb > p.psnrDb;
             if (noWorse && better) {

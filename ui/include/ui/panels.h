@@ -164,6 +164,7 @@ struct FiltersView {
     int cropPx = 0;                 // side of the centre crop the errors are taken over
     bool measuring = false, measurementsStale = false;
     double truthProgress = 0.0;
+    size_t settingsToMeasure = 0;   // > 0 once the ground truth is in: the bar counts the settings timed
 };
 
 struct FiltersChanges {

@@ -17,19 +17,20 @@ struct ChartAxis {
 };
 
 struct ChartPoint {
-    double x = 0, xLo = 0, xHi = 0;  // median, p10 and p90 frame time, in pixels
-    double y = 0;                    // PSNR in pixels (an identical image, +inf dB, at the top edge)
-    bool pareto = false;             // on the Pareto front (renderer::paretoFront)
-    bool current = false;            // the filter and compositing of the settings in force
+    double x = 0, xLo = 0, xHi = 0; // median, p10 and p90 frame time, in pixels
+    double y = 0;                   // PSNR in pixels (an identical image, +inf dB, at the top edge)
+    bool pareto = false;            // on the Pareto front (renderer::paretoFront)
+    bool current = false;           // the filter and compositing of the settings in force
 };
 
 struct SpeedErrorChart {
     double left = 0, top = 0, right = 1, bottom = 1; // the plot rectangle, pixels (y down)
     ChartAxis timeMs, psnrDb;
-    std::vector<ChartPoint> points;  // one per measurement, in their order
-    std::vector<size_t> front;       // the Pareto front's points, fastest first (its line's vertices)
+    std::vector<ChartPoint> points; // one per measurement, in their order
+    std::vector<size_t> front; // the Pareto fronts' points, the attenuating modes' then X-ray's, each
+                               // fastest first: a line joins two neighbours that share a ground truth
     double xAt(double ms) const { return left + (ms - timeMs.lo) / (timeMs.hi - timeMs.lo) * (right - left); }
-    double yAt(double db) const;     // clamped to the plot: +inf dB at the top
+    double yAt(double db) const; // clamped to the plot: +inf dB at the top
 };
 
 // Time from 0 to past the slowest p90, PSNR from below the lowest to above the highest finite value,

@@ -2,10 +2,10 @@
 // time of the whole view, and the error against the ground truth over a crop of it, so that the ground
 // truth (seconds to minutes on the CPU) covers a few thousand pixels and not the whole image.
 #pragma once
-#include "renderer/math/camera.h"
-#include "renderer/io/image.h"
-#include "renderer/math/metrics.h"
 #include "renderer/gl/splat_renderer.h"
+#include "renderer/io/image.h"
+#include "renderer/math/camera.h"
+#include "renderer/math/metrics.h"
 
 #include <vector>
 
@@ -14,11 +14,11 @@ namespace renderer {
 struct FilterMeasurement {
     FilterMode filter = FilterMode::Ewa;
     Compositing compositing = Compositing::SplatEverySample;
-    double frameMs = 0.0;   // median wall time of the timed frames of the whole view (render + glFinish)
-    double p10Ms = 0.0;     // 10th and 90th percentiles of the same frames: how much the timing is noise
+    double frameMs = 0.0; // median wall time of the timed frames of the whole view (render + glFinish)
+    double p10Ms = 0.0;   // 10th and 90th percentiles of the same frames: how much the timing is noise
     double p90Ms = 0.0;
-    int frames = 0;         // timed frames
-    double rmse = 0.0;      // the crop against its ground truth (metrics.h)
+    int frames = 0;    // timed frames
+    double rmse = 0.0; // the crop against its ground truth (metrics.h)
     double psnrDb = 0.0;
 };
 
@@ -30,7 +30,8 @@ ImagePlane centreCrop(const ImagePlane& view, int side);
 constexpr int kComparisonCropPx = 96;
 
 // `crop` rendered once with `settings`, against `cropTruth`, its ground truth for these settings.
-ImageError cropError(SplatRenderer& gl, const ImagePlane& crop, const Image& cropTruth, const SplatSettings& settings);
+ImageError cropError(SplatRenderer& gl, const ImagePlane& crop, const Image& cropTruth,
+                     const SplatSettings& settings);
 
 // The q-quantile (0..1) of `values`, interpolating linearly between ranks: {1, 2, 3, 4} at 0.5 -> 2.5.
 // Throws RenderError when `values` is empty.

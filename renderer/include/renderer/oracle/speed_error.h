@@ -37,7 +37,9 @@ std::vector<FilterMeasurement> measureSpeedAgainstError(SplatRenderer& gl, const
 
 // Which points are on the Pareto front, fastest for their error: a point is off it when another is at
 // least as fast (median frame time) and at least as accurate (PSNR) and better in one of the two.
-// Equal points do not push each other off: both stay on.
+// Equal points do not push each other off: both stay on. Only points measured against the same ground
+// truth compete (sameGroundTruth): X-ray's error is against an image of its own, so it has its own front.
+bool sameGroundTruth(const FilterMeasurement& a, const FilterMeasurement& b);
 std::vector<bool> paretoFront(std::span<const FilterMeasurement> points);
 
 } // namespace renderer
