@@ -126,11 +126,9 @@ int runReport(const ReportArgs& a) {
     // Every input checked before the first measurement: the volumes exist, the folder takes files.
     const glm::ivec2 size = parseSize(a.size, "--size");
     const Camera camera = parseCamera(a.camera);
-    for (const std::string& v : a.volumes)
-        if (!demoSceneOfPath(v) && !fs::is_regular_file(v))
-            throw LoadError(v, "",
-                            fs::exists(v) ? "not a regular file (a volume file was expected)"
-                                          : "no such file (a volume file was expected)");
+    for (const std::string& v : a.volumes) // a file, a folder of slices, a slice pattern or scene:NAME
+        if (!demoSceneOfPath(v) && v.find('%') == std::string::npos && !fs::exists(v))
+            throw LoadError(v, "", "no such file (a volume file was expected)");
     const fs::path out = a.out;
     std::error_code ec;
     fs::create_directories(out, ec);
