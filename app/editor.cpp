@@ -48,7 +48,7 @@ int runEditor(const EditorOptions& options) {
     for (int frame = 1; !window.shouldClose(); ++frame) {
         editor.waitForInput();          // a. events (or a nap while idle), GPU timers, 3D mouse
         editor.applyEdits();            // b. last frame's edits: volumes, TF, window, gradients
-        editor.stepFilterMeasurement(); // c. Filters > Measure: start, cancel, one filter more
+        editor.stepFilterMeasurement(); // c. Filters > Measure: start, cancel, one setting more
         editor.renderViewport();        // d. frame, spin, render the view (or its preview)
         editor.drawPanels(frame);       // e. ImGui frame: the panels and modals record edits
         editor.noteEdits();             // f. what the edits ask of the next frame: probe, render

@@ -13,6 +13,7 @@
 #include "renderer/model/window.h"
 #include "renderer/oracle/filter_comparison.h"
 #include "renderer/oracle/ground_truth.h"
+#include "renderer/oracle/speed_error.h"
 #include "renderer/out_of_memory.h"
 #include "ui/editor_state.h"
 
@@ -209,26 +210,25 @@ struct ClassifyJob : WorkerJob<Classified> {
     }
 };
 
-// The Filters panel's "Measure": the ground truth of the view's centre crop on the worker (cached on
-// disk), then, one filter a UI frame, each filter timed on the whole view and compared on the crop.
+// The Filters panel's "Measure": the ground truths of the view's centre crop on the worker (cached on
+// disk), then, one setting a UI frame, each filter x compositing mode (speed_error.h) timed on the whole
+// view `repeats` times and compared on the crop.
 // It works on a copy of the scene: a TF edit changes the document's while the worker reads.
 struct FilterComparisonJob {
-    static constexpr std::array<renderer::FilterMode, 4> kFilters{
-        renderer::FilterMode::Reconstruction, renderer::FilterMode::LowPass, renderer::FilterMode::Ewa,
-        renderer::FilterMode::Adaptive};
     renderer::SplatScene scene;
     renderer::ImagePlane view, crop;
     renderer::SplatSettings settings;
-    size_t measured = 0;              // filters of kFilters measured so far
-    WorkerJob<renderer::Image> truth; // last: destroyed (joined) before the scene it reads
+    std::vector<renderer::SplatSettings> toMeasure; // speedErrorSettings(settings)
+    size_t measured = 0;                            // settings of toMeasure measured so far
+    WorkerJob<renderer::CropTruths> truth;          // last: destroyed (joined) before the scene it reads
 
     FilterComparisonJob(const renderer::SplatScene& s, const renderer::ImagePlane& v,
                         const renderer::SplatSettings& set)
-        : scene(s), view(v), crop(renderer::centreCrop(v, renderer::kComparisonCropPx)), settings(set) {
+        : scene(s), view(v), crop(renderer::centreCrop(v, renderer::kComparisonCropPx)), settings(set),
+          toMeasure(renderer::speedErrorSettings(set)) {
         truth.subject = renderer::volumeSubject(s.name) + "'s ground truth";
         truth.start([this](const renderer::ProgressCallback& progress) {
-            return renderer::cachedGroundTruth(scene, crop, settings, {},
-                                               renderer::defaultGroundTruthCacheDir(), progress);
+            return renderer::cropTruths(scene, crop, settings, {}, renderer::defaultGroundTruthCacheDir(), progress);
         });
     }
 };

@@ -51,7 +51,7 @@ class EditorLoop {
     //    viewport size frame N measured; the first frame only measures.
     void waitForInput();          // editor_loop.cpp: events, GPU timers, the 3D mouse
     void applyEdits();            // editor_edits.cpp: volumes read, session, TF, window, gradients
-    void stepFilterMeasurement(); // editor_viewport.cpp: the Filters panel's Measure, a filter a frame
+    void stepFilterMeasurement(); // editor_viewport.cpp: the Filters panel's Measure, a setting a frame
     void renderViewport();        // editor_viewport.cpp: framing, spin, the render, patch counts
     void drawPanels(int frame);   // editor_panels.cpp: the ImGui frame (layout, panels, modals)
     void noteEdits();             // editor_panels.cpp: the probe; what the edits ask next frame

@@ -64,7 +64,10 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
                            .cropPx = renderer::kComparisonCropPx,
                            .measuring = m_comparison != nullptr,
                            .measurementsStale = m_measurementsStale,
-                           .truthProgress = m_comparison ? m_comparison->truth.fraction.load() : 0.0});
+                           .truthProgress = m_comparison ? m_comparison->truth.fraction.load() : 0.0,
+                           .settingsToMeasure = m_comparison && m_comparison->truth.done
+                                                    ? m_comparison->toMeasure.size()
+                                                    : 0});
          }},
         {"Help", "bottom", [] { ui::drawHelpPanel(); }},
     };

@@ -83,20 +83,20 @@ void EditorLoop::stepFilterMeasurement() {
         m_comparison.reset();
         return;
     }
-    // One filter at a time on the render thread (timed on the whole view, compared on the crop).
+    // One setting at a time on the render thread (timed on the whole view, compared on the crop).
     if (m_measurement) {
         if (!m_scripted && m_measurement->wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
         guarded([&] { m_measurements.push_back(m_measurement->get()); });
         m_measurement.reset();
         m_renderPending = true; // the crop replaced the view's targets: the view again
     }
-    if (m_comparison->measured == FilterComparisonJob::kFilters.size()) return m_comparison.reset();
-    m_measurement = m_render->run(
-        [view = m_comparison->view, crop = m_comparison->crop, truth = *m_comparison->truth.result,
-         settings = m_comparison->settings,
-         filter = FilterComparisonJob::kFilters[m_comparison->measured++]](Renderers& r) {
-            return renderer::measureFilter(*r.full, view, crop, truth, settings, filter, 3);
-        });
+    if (m_comparison->measured == m_comparison->toMeasure.size()) return m_comparison.reset();
+    const renderer::SplatSettings& settings = m_comparison->toMeasure[m_comparison->measured++];
+    m_measurement = m_render->run([view = m_comparison->view, crop = m_comparison->crop,
+                                   truth = m_comparison->truth.result->of(settings), settings,
+                                   repeats = m_state.measureRepeats](Renderers& r) {
+        return renderer::measureSetting(*r.full, view, crop, truth, settings, repeats);
+    });
 }
 
 void EditorLoop::frameIfAsked() {

@@ -1,10 +1,12 @@
 // The splatlab command line: `render` and `info` run headless (EGL, no X server); `editor` opens the
 // window. Errors from the renderer become one line on stderr and a non-zero exit.
 #include "accuracy.h"
+#include "cli_parse.h"
 #include "console_progress.h"
 #include "editor.h"
 #include "info_command.h"
 #include "phantom_command.h"
+#include "report_command.h"
 
 #include "renderer/math/camera.h"
 #include "renderer/errors.h"
@@ -37,61 +39,6 @@
 namespace {
 
 using namespace renderer;
-
-// "in [lo, hi]", for a flag's range.
-std::string formatRange(double lo, double hi) {
-    char text[64];
-    std::snprintf(text, sizeof text, "in [%g, %g]", lo, hi);
-    return text;
-}
-
-std::vector<std::string> splitOn(const std::string& s, char sep) {
-    std::vector<std::string> parts;
-    std::stringstream in(s);
-    for (std::string p; std::getline(in, p, sep);) parts.push_back(p);
-    return parts;
-}
-
-double parseNumber(const std::string& text, const std::string& flag, const std::string& what) {
-    size_t used = 0;
-    double v = 0;
-    try {
-        v = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || !std::isfinite(v))
-        throw CLI::ValidationError(flag, "'" + text + "' is not a number (" + what + ")");
-    return v;
-}
-
-glm::ivec2 parseSize(const std::string& text, const std::string& flag) {
-    const auto parts = splitOn(text, 'x');
-    if (parts.size() != 2) throw CLI::ValidationError(flag, "'" + text + "': expected WxH, e.g. 512x512");
-    const int w = int(parseNumber(parts[0], flag, "width")), h = int(parseNumber(parts[1], flag, "height"));
-    if (w < 1 || h < 1 || w > 16384 || h > 16384)
-        throw CLI::ValidationError(flag, "'" + text + "': width and height must be 1..16384");
-    return {w, h};
-}
-
-Camera parseCamera(const std::string& text) {
-    const auto parts = splitOn(text, ',');
-    if (parts.size() != 4)
-        throw CLI::ValidationError("--camera", "'" + text + "': expected azimuth,elevation,distance,fov (degrees, "
-                                               "bounding radii, degrees), e.g. 30,20,2.5,30");
-    Camera c;
-    c.azimuthDeg = parseNumber(parts[0], "--camera", "azimuth");
-    c.elevationDeg = parseNumber(parts[1], "--camera", "elevation");
-    c.distance = parseNumber(parts[2], "--camera", "distance");
-    c.fovYDeg = parseNumber(parts[3], "--camera", "fov");
-    if (c.elevationDeg < -89.9 || c.elevationDeg > 89.9)
-        throw CLI::ValidationError("--camera", "elevation must be within -89.9..89.9 degrees");
-    if (!(c.distance >= kMinCameraDistance && c.distance <= kMaxCameraDistance))
-        throw CLI::ValidationError("--camera", "distance must be " + formatRange(kMinCameraDistance, kMaxCameraDistance) +
-                                                   " bounding radii");
-    if (!(c.fovYDeg >= 1 && c.fovYDeg <= 170)) throw CLI::ValidationError("--camera", "fov must be 1..170 degrees");
-    return c;
-}
 
 // A flag's value through a renderer parser: its RenderError (which lists the known names) becomes an
 // error naming the flag.
@@ -657,6 +604,8 @@ int main(int argc, char** argv) {
 
     AccuracyArgs acc;
     auto* accuracy = addAccuracyCommand(app, acc);
+    ReportArgs reportArgs;
+    auto* report = addReportCommand(app, reportArgs);
     PhantomArgs phantomArgs;
     auto* phantom = addPhantomCommand(app, phantomArgs);
 
@@ -726,6 +675,7 @@ int main(int argc, char** argv) {
         if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);
         if (*info) return runInfo(infoPath, rawOptions(infoRaw), infoGradients);
         if (*accuracy) return runAccuracy(acc);
+        if (*report) return runReport(reportArgs);
         if (*tfCommand) return runTf(tfSpec, tfOut, tfParaView);
         if (*phantom) return runPhantom(phantomArgs);
         // No volume and no session: the bundled bonsai (assets/volumes/MANIFEST.md) as it looks best, each

@@ -1,10 +1,13 @@
-// Each filter's cost beside its error (filter_comparison.h): the crop shows the view's own pixels, the
-// error is the metric of that crop against its ground truth, and where the view minifies a fine
-// pattern, reconstruction alone (no screen filter) is the one that aliases.
+// Each setting's cost beside its error (filter_comparison.h, speed_error.h): the crop shows the view's own
+// pixels, the error is the metric of that crop against its ground truth (X-ray's its own), every filter x
+// compositing mode is timed with repeats, and where the view minifies a fine pattern, reconstruction alone
+// (no screen filter) is the one that aliases.
 #include "gl_fixture.h"
 #include "image_compare.h"
+#include "test_paths.h"
 
 #include "renderer/oracle/filter_comparison.h"
+#include "renderer/oracle/speed_error.h"
 #include "renderer/oracle/ground_truth.h"
 #include "renderer/math/metrics.h"
 #include "renderer/model/procedural.h"
@@ -61,9 +64,15 @@ TEST_F(GlTest, EachFiltersErrorIsItsCropAgainstTheGroundTruthAndMinifiedReconstr
     gl.setScene(scene);
     std::map<FilterMode, double> rmse;
     for (FilterMode f : {FilterMode::Reconstruction, FilterMode::LowPass, FilterMode::Ewa, FilterMode::Adaptive}) {
-        const FilterMeasurement m = measureFilter(gl, view, crop, truth, s, f, 3);
+        SplatSettings withFilter = s;
+        withFilter.filter = f;
+        const FilterMeasurement m = measureSetting(gl, view, crop, truth, withFilter, 3);
         EXPECT_EQ(m.filter, f);
+        EXPECT_EQ(m.compositing, s.compositing);
+        EXPECT_EQ(m.frames, 3);
         EXPECT_GT(m.frameMs, 0.0);
+        EXPECT_LE(m.p10Ms, m.frameMs);
+        EXPECT_GE(m.p90Ms, m.frameMs);
         // The figure is the crop's own error, as metrics.h measures it (tiles sum a pixel's splats in
         // atomic order, so a second frame may differ in the last float bits).
         SplatSettings same = s;
@@ -78,4 +87,38 @@ TEST_F(GlTest, EachFiltersErrorIsItsCropAgainstTheGroundTruthAndMinifiedReconstr
     EXPECT_GT(rmse[FilterMode::Reconstruction], 2.0 * rmse[FilterMode::Ewa]);
     EXPECT_GT(rmse[FilterMode::Reconstruction], 2.0 * rmse[FilterMode::LowPass]);
     EXPECT_LE(rmse[FilterMode::Adaptive], rmse[FilterMode::Ewa] * 1.5);
+}
+
+TEST_F(GlTest, SpeedAgainstErrorTimesEverySettingWithRepeatsAndTakesEachErrorAgainstItsOwnTruth) {
+    // 16 settings, each timed `repeats` times, in speedErrorSettings' order; X-ray against X-ray's truth,
+    // the others against the attenuating one.
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(12), opaqueRamp());
+    const ImagePlane view = makeImagePlane(Camera{}, scene.centre, scene.radius, 32, 24);
+    const ImagePlane crop = centreCrop(view, 10);
+    SplatSettings base;
+    base.density = 0.3;
+    const std::filesystem::path cache = testing_support::testOutputDir("speed_error_cache");
+    const CropTruths truths = cropTruths(scene, crop, base, {}, cache);
+    SplatSettings xray = base;
+    xray.compositing = Compositing::XRay;
+    EXPECT_LT(compareImages(truths.xray, renderGroundTruth(scene, crop, xray)).maxAbs, 1e-6);
+    EXPECT_GT(compareImages(truths.xray, truths.attenuating).maxAbs, 1e-3) << "X-ray has a truth of its own";
+    SplatRenderer gl;
+    gl.setScene(scene);
+    const std::vector<FilterMeasurement> points = measureSpeedAgainstError(gl, view, crop, truths, base, 2);
+    const std::vector<SplatSettings> settings = speedErrorSettings(base);
+    ASSERT_EQ(points.size(), settings.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+        const FilterMeasurement& m = points[i];
+        const std::string what = std::string(filterModeName(m.filter)) + ", " + compositingName(m.compositing);
+        EXPECT_EQ(m.filter, settings[i].filter);
+        EXPECT_EQ(m.compositing, settings[i].compositing);
+        EXPECT_EQ(m.frames, 2);
+        EXPECT_GT(m.p10Ms, 0.0) << what;
+        EXPECT_LE(m.p10Ms, m.frameMs) << what;
+        EXPECT_LE(m.frameMs, m.p90Ms) << what;
+        const ImageError e = cropError(gl, crop, truths.of(settings[i]), settings[i]);
+        EXPECT_NEAR(m.psnrDb, e.psnrDb, 1e-3) << what;
+        EXPECT_LT(m.rmse, 0.1) << what << ": compared with another setting's truth?";
+    }
 }

@@ -238,10 +238,10 @@ TEST_F(ImGuiNull, BottomStripShowsMeasuresTableAndTheChartAt1280x800) {
     view.cropPx = 96;
     view.patches = std::array<uint64_t, 3>{10, 0, 30};
     view.frame.hasCounters = true;
-    view.measurements = {{renderer::FilterMode::Reconstruction, 184.0, 0.0042, 47.6},
-                         {renderer::FilterMode::LowPass, 28.7, 0.143, 16.9},
-                         {renderer::FilterMode::Ewa, 175.0, 0.0046, 46.8},
-                         {renderer::FilterMode::Adaptive, 175.0, 0.0045, 46.9}};
+    view.measurements = {{.filter = renderer::FilterMode::Reconstruction, .frameMs = 184.0, .rmse = 0.0042, .psnrDb = 47.6},
+                         {.filter = renderer::FilterMode::LowPass, .frameMs = 28.7, .rmse = 0.143, .psnrDb = 16.9},
+                         {.filter = renderer::FilterMode::Ewa, .frameMs = 175.0, .rmse = 0.0046, .psnrDb = 46.8},
+                         {.filter = renderer::FilterMode::Adaptive, .frameMs = 175.0, .rmse = 0.0045, .psnrDb = 46.9}};
     view.measurementsStale = true;
     float scroll = -1.0f;
     // Inside a tab bar, as the editor docks it.

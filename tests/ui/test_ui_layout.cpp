@@ -591,7 +591,7 @@ TEST_F(ImGuiNull, FiltersPanelAsksToMeasureAndToCancelAndShowsEachFiltersRow) {
 
     view.measuring = true;
     view.truthProgress = 0.4;
-    view.measurements = {{renderer::FilterMode::Reconstruction, 12.5, 0.02, 34.0}};
+    view.measurements = {{.filter = renderer::FilterMode::Reconstruction, .frameMs = 12.5, .rmse = 0.02, .psnrDb = 34.0}};
     seen = {};
     frame(body);
     clickInCostColumn(&ui::FiltersChanges::cancel);
@@ -630,8 +630,8 @@ TEST_F(ImGuiNull, FiltersPanelTextFitsItsColumnsInSmallAndLargeWindows) {
     view.radius = 60.0;
     view.cropPx = 96;
     view.patches = std::array<uint64_t, 3>{10, 0, 30};
-    view.measurements = {{renderer::FilterMode::Reconstruction, 112.5, 0.0324, 29.78},
-                         {renderer::FilterMode::Adaptive, 63.5, 0.0329, 29.64}};
+    view.measurements = {{.filter = renderer::FilterMode::Reconstruction, .frameMs = 112.5, .rmse = 0.0324, .psnrDb = 29.78},
+                         {.filter = renderer::FilterMode::Adaptive, .frameMs = 63.5, .rmse = 0.0329, .psnrDb = 29.64}};
     view.measurementsStale = true;
     for (const float width : {560.0f, 955.0f}) {
         windowWidth = width;

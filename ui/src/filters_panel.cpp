@@ -4,6 +4,8 @@
 #include "renderer/math/classifier.h"
 #include "renderer/oracle/ground_truth.h"
 #include "ui/panels.h"
+#include "ui/speed_error_chart.h"
+#include "ui/number_field.h"
 #include "widgets.h"
 
 #include <imgui.h>
@@ -97,7 +99,7 @@ void drawDepthBar(const renderer::FilterDepths& d, glm::dvec2 volume, double rad
 }
 
 // Cost beside error: the Measure button (or the progress of a measurement) and a row per filter measured.
-void drawCostColumn(const EditorState& state, const FiltersView& view, FiltersChanges& changes) {
+void drawCostColumn(EditorState& state, const FiltersView& view, FiltersChanges& changes) {
     textWrapped("cost and error in this view");
     if (!renderer::hasGroundTruth(state.settings)) {
         textDisabledWrapped("no ground truth with surface splats");
@@ -105,8 +107,13 @@ void drawCostColumn(const EditorState& state, const FiltersView& view, FiltersCh
     }
     if (view.measuring) {
         char label[48];
+        double progress = view.truthProgress;
         std::snprintf(label, sizeof label, "ground truth %.0f %%", 100.0 * view.truthProgress);
-        ImGui::ProgressBar(float(std::clamp(view.truthProgress, 0.0, 1.0)), ImVec2(-ImGui::GetFontSize() * 5.0f, 0.0f),
+        if (view.settingsToMeasure > 0) {
+            progress = double(view.measurements.size()) / double(view.settingsToMeasure);
+            std::snprintf(label, sizeof label, "timed %zu of %zu", view.measurements.size(), view.settingsToMeasure);
+        }
+        ImGui::ProgressBar(float(std::clamp(progress, 0.0, 1.0)), ImVec2(-ImGui::GetFontSize() * 5.0f, 0.0f),
                            label);
         ImGui::SameLine();
         changes.cancel = ImGui::Button("Cancel");
@@ -114,46 +121,42 @@ void drawCostColumn(const EditorState& state, const FiltersView& view, FiltersCh
         ImGui::BeginDisabled(!view.plane);
         changes.measure = ImGui::Button("Measure");
         ImGui::EndDisabled();
-        hint("Times each filter on the whole view (median of 3 frames) and compares the view's centre crop with\n"
-             "the ground truth: the exact integral along Gaussian-weighted rays, computed on the CPU (seconds to\n"
-             "minutes, cached on disk for the next time)");
+        hint("Times each filter x compositing mode on the whole view (median and p10-p90 of the Repeats frames)\n"
+             "and compares the view's centre crop with the ground truth: the exact integral along Gaussian-weighted\n"
+             "rays, computed on the CPU (seconds to minutes, cached on disk for the next time). The chart marks the\n"
+             "Pareto front (ringed gold: no other setting is both faster and closer) and the settings in force (white)");
+        sameLineIfFits("repeats 00", 2.0f * ImGui::GetStyle().FramePadding.x);
+        ImGui::SetNextItemWidth(ImGui::CalcTextSize("repeats 00").x + 2.0f * ImGui::GetStyle().FramePadding.x);
+        if (numberField("##repeats", state.measureRepeats,
+                        [&] { return ImGui::SliderInt("##repeats", &state.measureRepeats, 1, 20, "repeats %d"); }))
+            state.measureRepeats = std::clamp(state.measureRepeats, 1, 100);
+        numberHint("Timed frames per setting: more give a steadier median and a truer p10-p90 spread");
         if (view.measurementsStale && !view.measurements.empty()) {
             sameLineIfFits("(for an earlier view)");
             ImGui::TextDisabled("(for an earlier view)");
         }
     }
     if (view.measurements.empty()) return;
-    const auto filterName = [](const renderer::FilterMeasurement& m) {
-        if (int(m.filter) < 3) ImGui::TextColored(kModeColour[int(m.filter)], "%s", renderer::filterModeName(m.filter));
-        else ImGui::TextUnformatted(renderer::filterModeName(m.filter));
-    };
-    // A narrow column (a small window) lists each filter over two lines instead of a table's row.
-    const float rowWidth = ImGui::CalcTextSize("reconstruction  000.0 ms  00.00 dB (0.0000)").x +
-                           4.0f * ImGui::GetStyle().CellPadding.x;
-    if (ImGui::GetContentRegionAvail().x < rowWidth) {
-        for (const renderer::FilterMeasurement& m : view.measurements) {
-            filterName(m);
-            textWrapped("  %.1f ms, %.1f dB (%.4f)", m.frameMs, m.psnrDb, m.rmse);
+    // The chart over most of the height left, the figures in a scrolling list under it (two lines a
+    // setting, so that a narrow column cuts nothing off).
+    const float font = ImGui::GetFontSize(), avail = ImGui::GetContentRegionAvail().y;
+    const float chartHeight = std::max(7.0f * font, 0.62f * avail);
+    changes.chart = drawSpeedErrorChart(view.measurements, state.settings, chartHeight);
+    const float listHeight = std::max(4.0f * font, ImGui::GetContentRegionAvail().y - ImGui::GetStyle().ItemSpacing.y);
+    if (ImGui::BeginChild("##cost_list", ImVec2(0.0f, listHeight))) {
+        for (size_t i = 0; i < view.measurements.size(); ++i) {
+            const renderer::FilterMeasurement& m = view.measurements[i];
+            const PointStyle style = pointStyle(m);
+            textColouredWrapped(ImVec4(style.r / 255.0f, style.g / 255.0f, style.b / 255.0f, 1.0f), "%s%s%s",
+                                settingLabel(m).c_str(), changes.chart->points[i].pareto ? "  (Pareto)" : "",
+                                changes.chart->points[i].current ? "  (in force)" : "");
+            textWrapped("  %.1f ms (p10 %.1f, p90 %.1f), %.2f dB (%.4f)", m.frameMs, m.p10Ms, m.p90Ms, m.psnrDb,
+                        m.rmse);
         }
-        textDisabledWrapped("error over the centre %d x %d px", view.cropPx, view.cropPx);
-        return;
+        textDisabledWrapped("error over the centre %d x %d px; %d frames timed per setting", view.cropPx, view.cropPx,
+                            view.measurements.front().frames);
     }
-    if (!ImGui::BeginTable("##cost", 3, ImGuiTableFlags_SizingStretchProp)) return;
-    ImGui::TableSetupColumn("filter");
-    ImGui::TableSetupColumn("frame");
-    ImGui::TableSetupColumn("PSNR (RMSE)");
-    ImGui::TableHeadersRow();
-    for (const renderer::FilterMeasurement& m : view.measurements) {
-        ImGui::TableNextRow();
-        ImGui::TableNextColumn();
-        filterName(m);
-        ImGui::TableNextColumn();
-        ImGui::Text("%.1f ms", m.frameMs);
-        ImGui::TableNextColumn();
-        ImGui::Text("%.1f dB (%.4f)", m.psnrDb, m.rmse);
-    }
-    ImGui::EndTable();
-    textDisabledWrapped("error over the centre %d x %d px", view.cropPx, view.cropPx);
+    ImGui::EndChild();
 }
 
 // The heatmap toggle, its opacity over the image and the regime tour. Returns whether the toggle changed.

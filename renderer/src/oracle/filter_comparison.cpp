@@ -1,14 +1,15 @@
-// Filter cost beside error (filter_comparison.h).
+// Setting cost beside error (filter_comparison.h).
 #include "renderer/oracle/filter_comparison.h"
 
-#include "renderer/oracle/accuracy.h"
+#include "renderer/errors.h"
 #include "renderer/math/metrics.h"
+#include "renderer/oracle/accuracy.h"
 
 #include <epoxy/gl.h>
 
 #include <algorithm>
 #include <chrono>
-#include <vector>
+#include <cmath>
 
 namespace renderer {
 
@@ -17,26 +18,43 @@ ImagePlane centreCrop(const ImagePlane& view, int side) {
     return cropPlane(view, (view.width - w) / 2, (view.height - h) / 2, w, h);
 }
 
-FilterMeasurement measureFilter(SplatRenderer& gl, const ImagePlane& view, const ImagePlane& crop,
-                                const Image& cropTruth, SplatSettings settings, FilterMode filter, int frames) {
-    settings.filter = filter;
+double percentile(std::vector<double> values, double q) {
+    if (values.empty()) throw RenderError("percentile: no values");
+    std::sort(values.begin(), values.end());
+    const double rank = std::clamp(q, 0.0, 1.0) * double(values.size() - 1);
+    const size_t below = size_t(std::floor(rank)), above = std::min(below + 1, values.size() - 1);
+    return values[below] + (rank - double(below)) * (values[above] - values[below]);
+}
+
+FilterMeasurement measureSetting(SplatRenderer& gl, const ImagePlane& view, const ImagePlane& crop,
+                                 const Image& cropTruth, SplatSettings settings, int frames) {
     settings.heatmap = false;
-    settings.counters = false;   // counting waits for each frame: it would be timed too
-    gl.render(view, settings);   // compiles what this filter needs
+    settings.counters = false; // counting waits for each frame: it would be timed too
+    gl.render(view, settings); // compiles what this setting needs
     glFinish();
     std::vector<double> ms;
     for (int i = 0; i < std::max(frames, 1); ++i) {
         const auto t0 = std::chrono::steady_clock::now();
         gl.render(view, settings);
         glFinish();
-        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        ms.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
-    std::nth_element(ms.begin(), ms.begin() + ptrdiff_t(ms.size() / 2), ms.end());
     const ImageError e = cropError(gl, crop, cropTruth, settings);
-    return {filter, ms[ms.size() / 2], e.rmse, e.psnrDb};
+    FilterMeasurement m;
+    m.filter = settings.filter;
+    m.compositing = settings.compositing;
+    m.frameMs = percentile(ms, 0.5);
+    m.p10Ms = percentile(ms, 0.1);
+    m.p90Ms = percentile(ms, 0.9);
+    m.frames = int(ms.size());
+    m.rmse = e.rmse;
+    m.psnrDb = e.psnrDb;
+    return m;
 }
 
-ImageError cropError(SplatRenderer& gl, const ImagePlane& crop, const Image& cropTruth, const SplatSettings& settings) {
+ImageError cropError(SplatRenderer& gl, const ImagePlane& crop, const Image& cropTruth,
+                     const SplatSettings& settings) {
     gl.render(crop, settings);
     return compareImages(gl.readback(), cropTruth);
 }

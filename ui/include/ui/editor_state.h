@@ -97,6 +97,7 @@ struct EditorState {
     bool gradientsReady = false;     // the scene has gradients: shading and surface splats can be on
     bool showHeatmap = false;        // the viewport shows the filter-mode heatmap over the image
     double heatmapOpacity = 1.0;     // ...blended: 0 the image only, 1 the heatmap only
+    int measureRepeats = 5;          // Filters > Measure: timed frames of each setting (median, p10, p90)
     SplitView split;                 // the viewport in panes, each with its own filter (split_view.h)
     std::optional<RegimeTour> tour;  // the camera dollying near to far and back (Filters panel); none: still
     // Files: the volume shown (set by the app once it loaded), and the Files section's path fields.

@@ -8,6 +8,7 @@
 #include "ui/editor_state.h"
 #include "ui/heatmap_legend.h"
 #include "ui/perf_history.h"
+#include "ui/speed_error_chart.h"
 
 #include <array>
 #include <filesystem>
@@ -171,12 +172,14 @@ struct FiltersView {
     int cropPx = 0;                 // side of the centre crop the errors are taken over
     bool measuring = false, measurementsStale = false;
     double truthProgress = 0.0;
+    size_t settingsToMeasure = 0;   // > 0 once the ground truth is in: the bar counts the settings timed
 };
 
 struct FiltersChanges {
     bool settingsChanged = false;   // the heatmap toggle (also turned on by the regime tour)
     bool measure = false;           // "Measure": time each filter and take its error in this view
     bool cancel = false;            // stop the measurement under way
+    std::optional<SpeedErrorChart> chart;   // the speed-against-error chart as drawn this frame, if any
 };
 
 // Which filter each part of the view takes, why, and at what cost: the heatmap toggle, its opacity

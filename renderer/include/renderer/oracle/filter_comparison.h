@@ -1,18 +1,24 @@
-// Each filter's cost beside its error in one view (the editor's Filters panel): the frame time of the
-// whole view, and the error against the ground truth over a crop of it, so that the ground truth
-// (seconds to minutes on the CPU) covers a few thousand pixels and not the whole image.
+// Each setting's cost beside its error in one view (the editor's Measure, `splatlab report`): the frame
+// time of the whole view, and the error against the ground truth over a crop of it, so that the ground
+// truth (seconds to minutes on the CPU) covers a few thousand pixels and not the whole image.
 #pragma once
-#include "renderer/math/camera.h"
-#include "renderer/io/image.h"
-#include "renderer/math/metrics.h"
 #include "renderer/gl/splat_renderer.h"
+#include "renderer/io/image.h"
+#include "renderer/math/camera.h"
+#include "renderer/math/metrics.h"
+
+#include <vector>
 
 namespace renderer {
 
 struct FilterMeasurement {
     FilterMode filter = FilterMode::Ewa;
-    double frameMs = 0.0;   // median wall time of the timed frames of the whole view (render + glFinish)
-    double rmse = 0.0;      // the crop against its ground truth (metrics.h)
+    Compositing compositing = Compositing::SplatEverySample;
+    double frameMs = 0.0; // median wall time of the timed frames of the whole view (render + glFinish)
+    double p10Ms = 0.0;   // 10th and 90th percentiles of the same frames: how much the timing is noise
+    double p90Ms = 0.0;
+    int frames = 0;    // timed frames
+    double rmse = 0.0; // the crop against its ground truth (metrics.h)
     double psnrDb = 0.0;
 };
 
@@ -24,11 +30,16 @@ ImagePlane centreCrop(const ImagePlane& view, int side);
 constexpr int kComparisonCropPx = 96;
 
 // `crop` rendered once with `settings`, against `cropTruth`, its ground truth for these settings.
-ImageError cropError(SplatRenderer& gl, const ImagePlane& crop, const Image& cropTruth, const SplatSettings& settings);
+ImageError cropError(SplatRenderer& gl, const ImagePlane& crop, const Image& cropTruth,
+                     const SplatSettings& settings);
 
-// Renders `view` `frames` times with `settings` under `filter` (one untimed frame first), then
-// `crop` once, and compares it with `cropTruth`, the ground truth of `crop` for these settings.
-FilterMeasurement measureFilter(SplatRenderer& gl, const ImagePlane& view, const ImagePlane& crop,
-                                const Image& cropTruth, SplatSettings settings, FilterMode filter, int frames);
+// The q-quantile (0..1) of `values`, interpolating linearly between ranks: {1, 2, 3, 4} at 0.5 -> 2.5.
+// Throws RenderError when `values` is empty.
+double percentile(std::vector<double> values, double q);
+
+// Renders `view` `frames` times with `settings` (one untimed frame first, which compiles what they
+// need), then `crop` once, and compares it with `cropTruth`, the ground truth of `crop` for them.
+FilterMeasurement measureSetting(SplatRenderer& gl, const ImagePlane& view, const ImagePlane& crop,
+                                 const Image& cropTruth, SplatSettings settings, int frames);
 
 } // namespace renderer
