@@ -51,5 +51,5 @@ struct Document {
 // copy's size (its classes, lists and gradients).
 std::shared_ptr<const renderer::SplatScene> copyForRender(const renderer::SplatScene& scene);
 
-// The levels' LUTs, finest first.
-std::vector<renderer::Lut> levelLuts(const Document& doc);
+// The levels' LUTs and gradient factors, finest first.
+std::vector<renderer::TfTables> levelTables(const Document& doc);
