@@ -44,6 +44,7 @@ struct Document {
     renderer::Histogram histogram;                    // of the whole volume, for the Window section
     renderer::ValueRange percentile;                  // p1..p99
     std::optional<renderer::GradientField> gradients; // once computed (for shading, a later issue)
+    std::vector<uint64_t> gradientHistogram;          // voxels per magnitude byte, once computed
     std::unique_ptr<Preview> preview;                 // levels, for volumes of PreviewSettings::kMinVoxels or more
 };
 

@@ -215,6 +215,7 @@ void EditorLoop::takeGradients() {
     // packed on the worker), and to the render thread, where only they travel to the GPU.
     guarded([&] {
         m_doc.gradients = std::move(computed->field);
+        m_doc.gradientHistogram = std::move(computed->magnitudeCounts);
         renderer::addGradients(m_doc.scene, std::move(computed->packed));   // re-bakes the TF with them
         if (m_doc.preview)
             for (size_t k = 0; k < m_doc.preview->levels.size() && k < computed->levelFields.size(); ++k) {

@@ -70,6 +70,7 @@ template <class T> struct WorkerJob {
 struct Gradients {
     renderer::GradientField field;
     renderer::PackedGradients packed;
+    std::vector<uint64_t> magnitudeCounts;   // the full volume's voxels per magnitude byte
     std::vector<std::optional<renderer::GradientField>> levelFields;
     std::vector<renderer::PackedGradients> levelPacked;
     std::shared_ptr<const renderer::SplatScene> forRender;
@@ -106,6 +107,7 @@ struct GradientJob : WorkerJob<Gradients> {
             Gradients out;
             out.packed = packed(volume, field);
             out.forRender = forRender(volume, out.packed);
+            out.magnitudeCounts = renderer::magnitudeHistogram(out.packed.texels);
             out.field = std::move(*field);
             for (const renderer::Volume* level : levels) {
                 out.levelFields.push_back(

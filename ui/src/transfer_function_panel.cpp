@@ -266,6 +266,9 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     ImGui::SameLine(std::max(canvas.w - ImGui::CalcTextSize(hiText.c_str()).x, 0.0f) + ImGui::GetStyle().WindowPadding.x);
     ImGui::TextDisabled("%s", hiText.c_str());
 
+    // The gradient opacity curve, collapsible (gradient_opacity_curve.cpp).
+    if (drawGradientOpacityCurve(tf, state.tfGradient, view.gradients)) state.tfEdited = changed = true;
+
     // 4. The selected point's fields: value in data units, and its opacity or colour; remove.
     ImGui::PushItemWidth(-ImGui::GetFontSize() * 6.0f); // room for "Extinction"
     const float valueSpeed = float((double(window.hi) - double(window.lo)) / 1000.0);

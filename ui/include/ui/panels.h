@@ -56,6 +56,7 @@ struct TransferFunctionView {
     renderer::ValueRange dataRange;                 // the volume's min..max
     renderer::ValueRange percentile;                // p1..p99
     renderer::ValueRange visible;                   // the values of the voxels drawn now (visibleValueRange)
+    GradientCurveView gradients;                    // the gradient opacity curve's axis and histogram
     // False while a volume loads or the scene is re-classified: a TF in window fractions waits for the
     // window it will be shown with before it is fixed in data units.
     bool windowSettled = true;
@@ -63,7 +64,7 @@ struct TransferFunctionView {
 
 // Preset; the opacity curve over the histogram (drag a point to move it, click empty space to add one,
 // right-click a point to remove it) and under it the colour bar with its stops (the same gestures, across
-// only); the selected point's value in data units and its opacity or colour; Shift and Rescale of the
+// only), then the gradient opacity curve (gradient_opacity_curve.h); the selected point's value in data units and its opacity or colour; Shift and Rescale of the
 // whole TF; Load and Save of TF files (JSON, written atomically). A TF in window fractions (a built-in
 // preset, a version-1 file) is fixed in data units over view.window when the panel first shows it. A file that fails to load
 // or save sets state.errorMessage. Returns whether state.tf changed: the app then re-bakes the LUT,

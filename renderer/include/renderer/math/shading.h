@@ -44,6 +44,9 @@ inline double binMagnitude(int bin, double maxMagnitude) {
     return maxMagnitude * a * a;
 }
 
+// Voxels per magnitude byte (kGradientBins counts): the gradient opacity curve's histogram.
+std::vector<uint64_t> magnitudeHistogram(const std::vector<uint32_t>& texels);
+
 // What the GLSL unpackGradient() computes, in float, widened: the CPU oracle and GL shade the same
 // normal (to float rounding: normalize() may round differently by an ulp or two).
 struct DecodedGradient {
