@@ -56,7 +56,9 @@ int insertGradientPoint(renderer::TransferFunction& tf, double magnitude, double
     if (pts.empty() && maxMagnitude > 0.0) pts = {{0.0, 1.0}, {maxMagnitude, 1.0}};
     const auto at = std::upper_bound(pts.begin(), pts.end(), magnitude,
                                      [](double m, const renderer::GradientOpacityPoint& p) { return m < p.magnitude; });
-    return int(pts.insert(at, {std::max(magnitude, 0.0), std::clamp(factor, 0.0, 1.0)}) - pts.begin());
+    const renderer::GradientOpacityPoint point{std::max(magnitude, 0.0), std::clamp(factor, 0.0, 1.0)};
+    const auto inserted = pts.insert(at, point);   // may reallocate: begin() only after it
+    return int(inserted - pts.begin());
 }
 
 void moveGradientPoint(renderer::TransferFunction& tf, int index, double magnitude, double factor) {

@@ -56,7 +56,7 @@ struct TransferFunctionView {
     renderer::ValueRange dataRange;                 // the volume's min..max
     renderer::ValueRange percentile;                // p1..p99
     renderer::ValueRange visible;                   // the values of the voxels drawn now (visibleValueRange)
-    GradientCurveView gradients;                    // the gradient opacity curve's axis and histogram
+    GradientCurveView gradients{};                  // the gradient opacity curve's axis and histogram
     // False while a volume loads or the scene is re-classified: a TF in window fractions waits for the
     // window it will be shown with before it is fixed in data units.
     bool windowSettled = true;
