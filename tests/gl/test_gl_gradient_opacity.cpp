@@ -14,7 +14,8 @@ using namespace renderer;
 namespace {
 
 TransferFunction ramp() {
-    return fromSharedPoints("test-ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.2}, {1.0, {1.0, 0.8, 0.3}, 0.9}});
+    return fromSharedPoints(
+        "test-ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.3, {0.3, 0.9, 0.4}, 0.2}, {1.0, {1.0, 0.8, 0.3}, 0.9}});
 }
 
 struct Scenes {
@@ -63,13 +64,14 @@ TEST_F(GlTest, GradientOpacityMatchesCpuRasterisedTiledAndShaded) {
         SplatSettings::Shading shading;
         FilterMode filter;
     };
-    for (const Variant& v : {Variant{"quads", SplatSettings::Primitive::Quads, SplatSettings::Shading::None, FilterMode::Ewa},
-                             Variant{"tiles", SplatSettings::Primitive::Tiles, SplatSettings::Shading::None, FilterMode::Ewa},
-                             Variant{"tiles_shaded", SplatSettings::Primitive::Tiles, SplatSettings::Shading::PerSplat,
-                                     FilterMode::Adaptive}}) {
+    for (const Variant& v :
+         {Variant{"quads", SplatSettings::Primitive::Quads, SplatSettings::Shading::None, FilterMode::Ewa},
+          Variant{"tiles", SplatSettings::Primitive::Tiles, SplatSettings::Shading::None, FilterMode::Ewa},
+          Variant{"tiles_shaded", SplatSettings::Primitive::Tiles, SplatSettings::Shading::PerSplat,
+                  FilterMode::Adaptive}}) {
         SplatSettings s;
         s.primitive = v.primitive;
-        s.compositing = Compositing::SheetBackToFront;   // tiles composite sheets
+        s.compositing = Compositing::SheetBackToFront; // tiles composite sheets
         s.shading = v.shading;
         s.filter = v.filter;
         s.counters = true;

@@ -18,8 +18,10 @@ using ui::Rect;
 namespace {
 
 TransferFunction ramp() {
-    return renderer::fromSharedPoints("ramp", {{0.0, {0.9, 0.8, 0.7}, 0.0}, {0.4, {0.9, 0.8, 0.7}, 0.0},
-                                               {0.6, {1.0, 0.9, 0.8}, 0.8}, {1.0, {1.0, 1.0, 1.0}, 1.0}});
+    return renderer::fromSharedPoints("ramp", {{0.0, {0.9, 0.8, 0.7}, 0.0},
+                                               {0.4, {0.9, 0.8, 0.7}, 0.0},
+                                               {0.6, {1.0, 0.9, 0.8}, 0.8},
+                                               {1.0, {1.0, 1.0, 1.0}, 1.0}});
 }
 
 } // namespace
@@ -31,10 +33,11 @@ TEST(GradientCurve, TheFirstPointKeepsAFactorOfOneElsewhereAndPointsStaySorted) 
     EXPECT_EQ(renderer::evaluateGradientOpacity(tf, 0.0), 1.0);
     EXPECT_EQ(renderer::evaluateGradientOpacity(tf, 20.0), 0.0);
     EXPECT_EQ(renderer::evaluateGradientOpacity(tf, 100.0), 1.0);
-    ui::moveGradientPoint(tf, 1, 500.0, 2.0);   // past its neighbour and the top: held at both
+    ui::moveGradientPoint(tf, 1, 500.0, 2.0); // past its neighbour and the top: held at both
     EXPECT_EQ(tf.gradientOpacity[1].magnitude, 100.0);
     EXPECT_EQ(tf.gradientOpacity[1].opacity, 1.0);
-    for (int i = 2; i >= 0; --i) EXPECT_TRUE(ui::removeGradientPoint(tf, i));
+    for (int i = 2; i >= 0; --i)
+        EXPECT_TRUE(ui::removeGradientPoint(tf, i));
     EXPECT_TRUE(tf.gradientOpacity.empty()) << "no points: no gradient opacity";
     EXPECT_FALSE(ui::removeGradientPoint(tf, 0));
 }
@@ -62,7 +65,7 @@ class GradientCurvePanel : public ImGuiNull {
 
     std::function<void()> body() {
         return [this] {
-            ImGui::SetNextItemOpen(true, ImGuiCond_Once);   // the section starts collapsed
+            ImGui::SetNextItemOpen(true, ImGuiCond_Once); // the section starts collapsed
             canvasId = ImGui::GetID("##gradient_canvas");
             changed |= ui::drawGradientOpacityCurve(tf, edit, view);
         };
@@ -114,8 +117,8 @@ TEST_F(GradientCurvePanel, ClickingAndDraggingTheCurveChangesTheTfAndTheImage) {
     release();
     const auto& moved = tf.gradientOpacity[size_t(edit.selected)];
     EXPECT_EQ(moved.opacity, 0.0) << "the baseline snaps to 0";
-    EXPECT_NEAR(std::sqrt(moved.magnitude / view.maxMagnitude), double(at.x + 0.2f * canvas.w - canvas.x) / canvas.w,
-                1.5 / canvas.w);
+    EXPECT_NEAR(std::sqrt(moved.magnitude / view.maxMagnitude),
+                double(at.x + 0.2f * canvas.w - canvas.x) / canvas.w, 1.5 / canvas.w);
 
     // The image: the same scene, baked with the TF before and after the edit.
     const renderer::Volume volume = renderer::makeMarschnerLobb(12);
@@ -130,7 +133,7 @@ TEST_F(GradientCurvePanel, ClickingAndDraggingTheCurveChangesTheTfAndTheImage) {
     // Right-click removes a point; "None" (not clicked here) would clear them all.
     changed = false;
     const CanvasPoint now = ui::gradientToCanvas(canvas, moved.magnitude, moved.opacity, view.maxMagnitude);
-    ImGui::GetIO().MousePos = ImVec2(now.x, now.y - 2.0f);   // on the baseline: just inside the canvas
+    ImGui::GetIO().MousePos = ImVec2(now.x, now.y - 2.0f); // on the baseline: just inside the canvas
     ImGui::GetIO().MouseDown[1] = true;
     frame(body());
     ImGui::GetIO().MouseDown[1] = false;

@@ -19,8 +19,10 @@ using namespace renderer;
 namespace {
 
 TransferFunction opaqueRamp() {
-    return fromSharedPoints("ramp", {{0.0, {0.9, 0.8, 0.7}, 0.0}, {0.4, {0.9, 0.8, 0.7}, 0.0},
-                                     {0.6, {1.0, 0.9, 0.8}, 0.8}, {1.0, {1.0, 1.0, 1.0}, 1.0}});
+    return fromSharedPoints("ramp", {{0.0, {0.9, 0.8, 0.7}, 0.0},
+                                     {0.4, {0.9, 0.8, 0.7}, 0.0},
+                                     {0.6, {1.0, 0.9, 0.8}, 0.8},
+                                     {1.0, {1.0, 1.0, 1.0}, 1.0}});
 }
 
 SplatScene sceneWithGradients(const Volume& volume, const TransferFunction& tf) {
@@ -37,7 +39,8 @@ Volume uniformBlock() {
     v.values.assign(v.voxelCount(), 0.0f);
     for (int z = 3; z < 13; ++z)
         for (int y = 3; y < 13; ++y)
-            for (int x = 3; x < 13; ++x) v.values[v.index(x, y, z)] = 1.0f;
+            for (int x = 3; x < 13; ++x)
+                v.values[v.index(x, y, z)] = 1.0f;
     v.range = {0.0f, 1.0f};
     return v;
 }
@@ -56,8 +59,10 @@ TEST(GradientOpacity, IsPiecewiseLinearAndOneWithoutPoints) {
 TEST(GradientOpacity, RoundTripsThroughTheFileAndOldFilesReadWithout) {
     TransferFunction tf = inDataUnits(opaqueRamp(), {-1000.0f, 2000.0f});
     const std::string oldText = transferFunctionText(tf);
-    EXPECT_EQ(oldText.find("gradientOpacity"), std::string::npos) << "a TF without it writes what it always did";
-    EXPECT_TRUE(transferFunctionFromJson(nlohmann::json::parse(oldText), "old.json", "x").gradientOpacity.empty());
+    EXPECT_EQ(oldText.find("gradientOpacity"), std::string::npos)
+        << "a TF without it writes what it always did";
+    EXPECT_TRUE(
+        transferFunctionFromJson(nlohmann::json::parse(oldText), "old.json", "x").gradientOpacity.empty());
 
     tf.gradientOpacity = {{0.0, 0.0}, {12.5, 0.25}, {80.0, 1.0}};
     const TransferFunction back = transferFunctionFromJson(toJson(tf), "new.json", "x");
@@ -102,10 +107,10 @@ TEST(GradientOpacity, WaitsForTheGradientsAndFollowsTfEdits) {
     EXPECT_TRUE(scene.gradientFactors.empty()) << "no gradients yet: a factor of 1";
     const size_t block = 10 * 10 * 10;
     EXPECT_EQ(scene.visibleCount(), block);
-    addGradients(scene, *computeGradients(volume));   // re-bakes the TF the scene holds
+    addGradients(scene, *computeGradients(volume)); // re-bakes the TF the scene holds
     EXPECT_EQ(scene.gradientFactors.size(), size_t(kGradientBins));
     EXPECT_EQ(scene.visibleCount(), block - 8 * 8 * 8) << "the block's shell only";
-    setTransferFunction(scene, opaqueRamp());           // the edit that removes it: no re-read
+    setTransferFunction(scene, opaqueRamp()); // the edit that removes it: no re-read
     EXPECT_TRUE(scene.gradientFactors.empty());
     EXPECT_EQ(scene.visibleCount(), block);
 }
@@ -116,10 +121,11 @@ TEST(GradientOpacity, AClassZeroAtEveryGradientIsHiddenAndOneVisibleAtSomeStays)
     tf.gradientOpacity = {{0.0, 0.0}};
     SplatScene scene = sceneWithGradients(volume, tf);
     EXPECT_EQ(scene.visibleCount(), 0u);
-    for (bool active : activeBuckets(scene.lut)) EXPECT_FALSE(active);
+    for (bool active : activeBuckets(scene.lut))
+        EXPECT_FALSE(active);
     EXPECT_EQ(visibleValueRange(scene).hi, 0.0f);
 
-    tf.gradientOpacity = {{0.0, 0.0}, {0.05, 1.0}};   // the block's class: its shell is visible
+    tf.gradientOpacity = {{0.0, 0.0}, {0.05, 1.0}}; // the block's class: its shell is visible
     setTransferFunction(scene, tf);
     const uint16_t blockClass = scene.classes[volume.index(8, 8, 8)];
     EXPECT_GT(scene.lut[blockClass].a, 0.0f);
@@ -135,17 +141,17 @@ TEST(GradientOpacity, ARampOnLowGradientsRemovesTheInteriorOfAUniformRegion) {
     TransferFunction tf;
     tf.colours = {{-1000.0, {1.0, 1.0, 1.0}}};
     tf.opacities = {{-500.0, 0.0}, {-400.0, 0.5}};
-    tf.gradientOpacity = {{0.0, 0.0}, {2.0, 1.0}};   // HU/mm; the phantom's 6.4 mm voxels
+    tf.gradientOpacity = {{0.0, 0.0}, {2.0, 1.0}}; // HU/mm; the phantom's 6.4 mm voxels
     SplatScene scene = buildSplatScene(volume, tf, kPhantomSkinBoneWindow);
     addGradients(scene, field);
     size_t interior = 0, edges = 0;
     for (uint32_t i = 0; i < scene.classes.size(); ++i) {
         if (!(scene.lut[scene.classes[i]].a > 0.0f)) continue;
         const DecodedGradient g = decodeGradient(scene.gradients[i]);
-        if (g.magnitude == 0.0) {   // uniform neighbourhood: gone
+        if (g.magnitude == 0.0) { // uniform neighbourhood: gone
             ++interior;
             EXPECT_EQ(scene.opacityOf(i), 0.0f) << "voxel " << i;
-        } else if (g.magnitude * scene.gradientMax >= 2.5) {   // an edge: its whole opacity
+        } else if (g.magnitude * scene.gradientMax >= 2.5) { // an edge: its whole opacity
             ++edges;
             EXPECT_EQ(scene.opacityOf(i), scene.lut[scene.classes[i]].a) << "voxel " << i;
         }
@@ -162,8 +168,8 @@ TEST(GradientOpacity, ARampOnLowGradientsRemovesTheInteriorOfAUniformRegion) {
     without.gradientOpacity.clear();
     setTransferFunction(scene, without);
     const float solid = renderReference(scene, plane, s).pixel(8, 8)[3];
-    std::printf("[ gradient opacity ] centre alpha %.3f without, %.3f with; %zu interior voxels removed\n", solid,
-                faded, interior);
+    std::printf("[ gradient opacity ] centre alpha %.3f without, %.3f with; %zu interior voxels removed\n",
+                solid, faded, interior);
     EXPECT_LT(faded, 0.8f * solid);
 }
 
@@ -190,9 +196,10 @@ TEST(GradientOpacity, ChangesTheTruthAndTheSplatsFollowIt) {
         const double plainDb = compareImages(renderReference(plain, plane, m), plainTruth).psnrDb;
         const Image fadedImage = renderReference(faded, plane, m);
         const double fadedDb = compareImages(fadedImage, fadedTruth).psnrDb;
-        std::printf("[ gradient opacity ] %s: PSNR %.2f dB against its truth (%.2f dB without gradient opacity; "
-                    "%.2f dB against the truth without)\n",
-                    filterModeName(mode), fadedDb, plainDb, compareImages(fadedImage, plainTruth).psnrDb);
+        std::printf(
+            "[ gradient opacity ] %s: PSNR %.2f dB against its truth (%.2f dB without gradient opacity; "
+            "%.2f dB against the truth without)\n",
+            filterModeName(mode), fadedDb, plainDb, compareImages(fadedImage, plainTruth).psnrDb);
         EXPECT_GT(fadedDb, plainDb - 3.0) << filterModeName(mode);
         EXPECT_GT(fadedDb, compareImages(fadedImage, plainTruth).psnrDb + 6.0) << filterModeName(mode);
     }

@@ -30,7 +30,8 @@ CanvasPoint gradientToCanvas(const Rect& canvas, double magnitude, double factor
             canvas.bottom() - float(std::clamp(factor, 0.0, 1.0)) * canvas.h};
 }
 
-void canvasToGradient(const Rect& canvas, CanvasPoint p, double maxMagnitude, double& magnitude, double& factor) {
+void canvasToGradient(const Rect& canvas, CanvasPoint p, double maxMagnitude, double& magnitude,
+                      double& factor) {
     // The opacity curve's vertical rules: snap to 0 and 1 near the edges.
     double unused = 0.0;
     canvasToTf(canvas, p, unused, factor);
@@ -51,13 +52,15 @@ int pickGradientPoint(const renderer::TransferFunction& tf, const Rect& canvas, 
     return best;
 }
 
-int insertGradientPoint(renderer::TransferFunction& tf, double magnitude, double factor, double maxMagnitude) {
+int insertGradientPoint(renderer::TransferFunction& tf, double magnitude, double factor,
+                        double maxMagnitude) {
     auto& pts = tf.gradientOpacity;
     if (pts.empty() && maxMagnitude > 0.0) pts = {{0.0, 1.0}, {maxMagnitude, 1.0}};
-    const auto at = std::upper_bound(pts.begin(), pts.end(), magnitude,
-                                     [](double m, const renderer::GradientOpacityPoint& p) { return m < p.magnitude; });
+    const auto at =
+        std::upper_bound(pts.begin(), pts.end(), magnitude,
+                         [](double m, const renderer::GradientOpacityPoint& p) { return m < p.magnitude; });
     const renderer::GradientOpacityPoint point{std::max(magnitude, 0.0), std::clamp(factor, 0.0, 1.0)};
-    const auto inserted = pts.insert(at, point);   // may reallocate: begin() only after it
+    const auto inserted = pts.insert(at, point); // may reallocate: begin() only after it
     return int(inserted - pts.begin());
 }
 
@@ -79,13 +82,16 @@ bool removeGradientPoint(renderer::TransferFunction& tf, int index) {
     return true;
 }
 
-bool drawGradientOpacityCurve(renderer::TransferFunction& tf, GradientCurveEdit& edit, const GradientCurveView& view) {
-    if (!ImGui::CollapsingHeader("Gradient opacity", tf.gradientOpacity.empty() ? 0 : ImGuiTreeNodeFlags_DefaultOpen))
+bool drawGradientOpacityCurve(renderer::TransferFunction& tf, GradientCurveEdit& edit,
+                              const GradientCurveView& view) {
+    if (!ImGui::CollapsingHeader("Gradient opacity",
+                                 tf.gradientOpacity.empty() ? 0 : ImGuiTreeNodeFlags_DefaultOpen))
         return false;
     const double maxMagnitude = view.maxMagnitude;
     if (!(maxMagnitude > 0.0)) {
-        ImGui::TextDisabled(tf.gradientOpacity.empty() ? "Waits for the volume's gradients"
-                                                       : "Set; applies once the volume's gradients are computed");
+        ImGui::TextDisabled(tf.gradientOpacity.empty()
+                                ? "Waits for the volume's gradients"
+                                : "Set; applies once the volume's gradients are computed");
         return false;
     }
     if (edit.selected >= int(tf.gradientOpacity.size())) edit.selected = -1;
@@ -111,9 +117,11 @@ bool drawGradientOpacityCurve(renderer::TransferFunction& tf, GradientCurveEdit&
         const auto& p = tf.gradientOpacity[size_t(picked)];
         const CanvasPoint at = gradientToCanvas(canvas, p.magnitude, p.opacity, maxMagnitude);
         edit.selected = picked, edit.grabDx = at.x - mouse.x, edit.grabDy = at.y - mouse.y;
-    } else if (ImGui::IsItemActive() && ImGui::IsMouseDown(ImGuiMouseButton_Left) && edit.selected >= 0 && moved) {
+    } else if (ImGui::IsItemActive() && ImGui::IsMouseDown(ImGuiMouseButton_Left) && edit.selected >= 0 &&
+               moved) {
         double magnitude = 0, factor = 0;
-        canvasToGradient(canvas, {mouse.x + edit.grabDx, mouse.y + edit.grabDy}, maxMagnitude, magnitude, factor);
+        canvasToGradient(canvas, {mouse.x + edit.grabDx, mouse.y + edit.grabDy}, maxMagnitude, magnitude,
+                         factor);
         const renderer::GradientOpacityPoint before = tf.gradientOpacity[size_t(edit.selected)];
         moveGradientPoint(tf, edit.selected, magnitude, factor);
         changed = changed || tf.gradientOpacity[size_t(edit.selected)] != before;
@@ -140,20 +148,24 @@ bool drawGradientOpacityCurve(renderer::TransferFunction& tf, GradientCurveEdit&
                         ImGui::GetColorU32(ImGuiCol_FrameBg));
     if (view.histogram && view.histogram->size() == size_t(renderer::kGradientBins)) {
         double peak = 0.0;
-        for (uint64_t c : *view.histogram) peak = std::max(peak, std::log1p(double(c)));
+        for (uint64_t c : *view.histogram)
+            peak = std::max(peak, std::log1p(double(c)));
         for (int b = 0; b < renderer::kGradientBins && peak > 0.0; ++b) {
             const float x0 = canvas.x + canvas.w * float(b) / renderer::kGradientBins;
-            const float x1 = std::max(canvas.x + canvas.w * float(b + 1) / renderer::kGradientBins, x0 + 1.0f);
-            const float top = canvas.bottom() - float(std::log1p(double((*view.histogram)[size_t(b)])) / peak) * canvas.h;
+            const float x1 =
+                std::max(canvas.x + canvas.w * float(b + 1) / renderer::kGradientBins, x0 + 1.0f);
+            const float top =
+                canvas.bottom() - float(std::log1p(double((*view.histogram)[size_t(b)])) / peak) * canvas.h;
             draw->AddRectFilled(ImVec2(x0, top), ImVec2(x1, canvas.bottom()), IM_COL32(120, 125, 140, 70));
         }
     }
     std::vector<ImVec2> line;
     for (float x = 0.0f; x <= canvas.w; x += 2.0f) {
         const double t = double(x) / canvas.w, magnitude = maxMagnitude * t * t;
-        line.push_back(ImVec2(canvas.x + x, gradientToCanvas(canvas, magnitude,
-                                                             renderer::evaluateGradientOpacity(tf, magnitude),
-                                                             maxMagnitude).y));
+        line.push_back(ImVec2(canvas.x + x,
+                              gradientToCanvas(canvas, magnitude,
+                                               renderer::evaluateGradientOpacity(tf, magnitude), maxMagnitude)
+                                  .y));
     }
     draw->AddPolyline(line.data(), int(line.size()), IM_COL32(235, 235, 235, 255), 0, 1.5f);
     for (size_t i = 0; i < tf.gradientOpacity.size(); ++i) {
@@ -163,7 +175,8 @@ bool drawGradientOpacityCurve(renderer::TransferFunction& tf, GradientCurveEdit&
         draw->AddCircleFilled(ImVec2(c.x, c.y), selected ? kPointRadiusPx + 1.5f : kPointRadiusPx,
                               IM_COL32(255, 255, 255, 255));
         if (selected)
-            draw->AddCircle(ImVec2(c.x, c.y), kPointRadiusPx + 3.0f, ImGui::GetColorU32(ImGuiCol_CheckMark), 0, 2.0f);
+            draw->AddCircle(ImVec2(c.x, c.y), kPointRadiusPx + 3.0f, ImGui::GetColorU32(ImGuiCol_CheckMark),
+                            0, 2.0f);
     }
     ImGui::TextDisabled("0   (sqrt axis)   %.4g per world unit", maxMagnitude);
 

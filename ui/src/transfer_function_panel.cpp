@@ -266,9 +266,6 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     ImGui::SameLine(std::max(canvas.w - ImGui::CalcTextSize(hiText.c_str()).x, 0.0f) + ImGui::GetStyle().WindowPadding.x);
     ImGui::TextDisabled("%s", hiText.c_str());
 
-    // The gradient opacity curve, collapsible (gradient_opacity_curve.cpp).
-    if (drawGradientOpacityCurve(tf, state.tfGradient, view.gradients)) state.tfEdited = changed = true;
-
     // 4. The selected point's fields: value in data units, and its opacity or colour; remove.
     ImGui::PushItemWidth(-ImGui::GetFontSize() * 6.0f); // room for "Extinction"
     const float valueSpeed = float((double(window.hi) - double(window.lo)) / 1000.0);
@@ -405,6 +402,10 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     ImGui::BeginDisabled(state.tfHistory.redo.empty());
     if (ImGui::Button("Redo") || ctrlY || (ctrlZ && keys.KeyShift)) step(true);
     ImGui::EndDisabled();
+    // 8. The gradient opacity curve, collapsible (gradient_opacity_curve.cpp): its header on the Undo row,
+    //    so the panel keeps its height (and its layout) while it is closed.
+    ImGui::SameLine();
+    if (drawGradientOpacityCurve(tf, state.tfGradient, view.gradients)) state.tfEdited = changed = true;
     // A gesture ends when no widget is held: a drag released, a field left, or an instant edit (a
     // preset, a file, a removal). What it changed becomes one undo step.
     if (!ImGui::IsAnyItemActive()) {

@@ -15,7 +15,8 @@ namespace ui {
 // gradients of insides and noise get room; the factor 0..1 upwards, snapping to 0 and 1 at the edges
 // (kOpacitySnapPx). Magnitudes are data units per world unit; points past maxMagnitude sit on the right edge.
 CanvasPoint gradientToCanvas(const Rect& canvas, double magnitude, double factor, double maxMagnitude);
-void canvasToGradient(const Rect& canvas, CanvasPoint p, double maxMagnitude, double& magnitude, double& factor);
+void canvasToGradient(const Rect& canvas, CanvasPoint p, double maxMagnitude, double& magnitude,
+                      double& factor);
 // The gradient point drawn nearest to `mouse`, if within radiusPx; -1 when none is.
 int pickGradientPoint(const renderer::TransferFunction& tf, const Rect& canvas, CanvasPoint mouse,
                       double maxMagnitude, float radiusPx);
@@ -33,12 +34,13 @@ struct GradientCurveEdit {
     float grabDx = 0, grabDy = 0;
 };
 struct GradientCurveView {
-    double maxMagnitude = 0.0;                          // the volume's largest |gradient|; 0: not computed yet
-    const std::vector<uint64_t>* histogram = nullptr;   // voxels per magnitude byte (kGradientBins), or null
+    double maxMagnitude = 0.0;                        // the volume's largest |gradient|; 0: not computed yet
+    const std::vector<uint64_t>* histogram = nullptr; // voxels per magnitude byte (kGradientBins), or null
 };
 // The collapsible "Gradient opacity" section: the curve over the histogram of gradient magnitudes (drag a
 // point, click empty space to add one, right-click one to remove it), "Fade insides" (a ramp from 0 at no
 // gradient to 1 at a tenth of the largest) and "None". Returns whether tf changed.
-bool drawGradientOpacityCurve(renderer::TransferFunction& tf, GradientCurveEdit& edit, const GradientCurveView& view);
+bool drawGradientOpacityCurve(renderer::TransferFunction& tf, GradientCurveEdit& edit,
+                              const GradientCurveView& view);
 
 } // namespace ui

@@ -64,8 +64,9 @@ struct TransferFunctionView {
 
 // Preset; the opacity curve over the histogram (drag a point to move it, click empty space to add one,
 // right-click a point to remove it) and under it the colour bar with its stops (the same gestures, across
-// only), then the gradient opacity curve (gradient_opacity_curve.h); the selected point's value in data units and its opacity or colour; Shift and Rescale of the
-// whole TF; Load and Save of TF files (JSON, written atomically). A TF in window fractions (a built-in
+// only); the selected point's value in data units and its opacity or colour; Shift and Rescale of the
+// whole TF; Load and Save of TF files (JSON, written atomically); last, the collapsible gradient opacity
+// curve (gradient_opacity_curve.h). A TF in window fractions (a built-in
 // preset, a version-1 file) is fixed in data units over view.window when the panel first shows it. A file that fails to load
 // or save sets state.errorMessage. Returns whether state.tf changed: the app then re-bakes the LUT,
 // which is all a TF edit uploads.
