@@ -16,7 +16,8 @@ renderer::SplatScene classifiedScene(const renderer::Volume& volume, const rende
 }
 
 std::shared_ptr<const renderer::SplatScene> copyForRender(const renderer::SplatScene& scene) {
-    uint64_t bytes = scene.classes.size() * 2 + scene.gradients.size() * 4 + scene.classVoxels.size() * 4;
+    uint64_t bytes = scene.classes.size() * 2 + scene.gradients.size() * 4 + scene.classVoxels.size() * 4 +
+                     scene.classGradientVoxels.size() * 4;
     for (const renderer::AxisLists& lists : scene.lists)
         bytes += lists.entries.size() * sizeof(lists.entries[0]) +
                  lists.runs.size() * sizeof(renderer::SliceRun) + lists.sliceRuns.size() * 4;
@@ -47,10 +48,10 @@ void Preview::setTransferFunction(const renderer::TransferFunction& tf) {
         renderer::setTransferFunction(level.scene, tf);
 }
 
-std::vector<renderer::Lut> levelLuts(const Document& doc) {
-    std::vector<renderer::Lut> luts;
+std::vector<renderer::TfTables> levelTables(const Document& doc) {
+    std::vector<renderer::TfTables> luts;
     if (doc.preview)
         for (const Level& level : doc.preview->levels)
-            luts.push_back(level.scene.lut);
+            luts.push_back(renderer::tfTables(level.scene));
     return luts;
 }

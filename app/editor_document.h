@@ -44,6 +44,7 @@ struct Document {
     renderer::Histogram histogram;                    // of the whole volume, for the Window section
     renderer::ValueRange percentile;                  // p1..p99
     std::optional<renderer::GradientField> gradients; // once computed (for shading, a later issue)
+    std::vector<uint64_t> gradientHistogram;          // voxels per magnitude byte, once computed
     std::unique_ptr<Preview> preview;                 // levels, for volumes of PreviewSettings::kMinVoxels or more
 };
 
@@ -51,5 +52,5 @@ struct Document {
 // copy's size (its classes, lists and gradients).
 std::shared_ptr<const renderer::SplatScene> copyForRender(const renderer::SplatScene& scene);
 
-// The levels' LUTs, finest first.
-std::vector<renderer::Lut> levelLuts(const Document& doc);
+// The levels' LUTs and gradient factors, finest first.
+std::vector<renderer::TfTables> levelTables(const Document& doc);

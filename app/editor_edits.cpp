@@ -134,7 +134,7 @@ void EditorLoop::takeClassified() {
             m_render->setLevelScenes(std::move(done->levelsForRender));
         else
             m_render->setScenes(std::move(done->fullForRender), std::move(done->levelsForRender));
-        m_render->setLuts(m_doc.scene.lut, levelLuts(m_doc));
+        m_render->setLuts(renderer::tfTables(m_doc.scene), levelTables(m_doc));
         m_renderPending = true;
     }
     if (m_classifyNext) {
@@ -189,7 +189,7 @@ void EditorLoop::applyTransferFunction() {
         renderer::setTransferFunction(m_doc.scene, m_doc.tf);
         if (m_doc.preview) m_doc.preview->setTransferFunction(m_doc.tf);
         // The lists stay; only the LUTs travel.
-        m_render->setLuts(m_doc.scene.lut, levelLuts(m_doc));
+        m_render->setLuts(renderer::tfTables(m_doc.scene), levelTables(m_doc));
     });
 }
 
@@ -216,14 +216,17 @@ void EditorLoop::takeGradients() {
     // packed on the worker), and to the render thread, where only they travel to the GPU.
     guarded([&] {
         m_doc.gradients = std::move(computed->field);
-        m_doc.scene.gradients = std::move(computed->packed);
+        m_doc.gradientHistogram = std::move(computed->magnitudeCounts);
+        renderer::addGradients(m_doc.scene, std::move(computed->packed));   // re-bakes the TF with them
         if (m_doc.preview)
             for (size_t k = 0; k < m_doc.preview->levels.size() && k < computed->levelFields.size(); ++k) {
                 Level& level = m_doc.preview->levels[k];
                 level.gradients = std::move(computed->levelFields[k]);
-                level.scene.gradients = std::move(computed->levelPacked[k]);
+                renderer::addGradients(level.scene, std::move(computed->levelPacked[k]));
             }
         m_render->setGradients(computed->forRender, computed->levelsForRender);
+        // A TF's gradient opacity applies from now on: its factors follow the gradients.
+        m_render->setLuts(renderer::tfTables(m_doc.scene), levelTables(m_doc));
         m_state.gradientsReady = true;
     });
     m_renderPending = true;

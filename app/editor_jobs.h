@@ -70,9 +70,10 @@ template <class T> struct WorkerJob {
 // meanwhile (the levels take the last few percent).
 struct Gradients {
     renderer::GradientField field;
-    std::vector<uint32_t> packed;
+    renderer::PackedGradients packed;
+    std::vector<uint64_t> magnitudeCounts;   // the full volume's voxels per magnitude byte
     std::vector<std::optional<renderer::GradientField>> levelFields;
-    std::vector<std::vector<uint32_t>> levelPacked;
+    std::vector<renderer::PackedGradients> levelPacked;
     std::shared_ptr<const renderer::SplatScene> forRender;
     std::vector<std::shared_ptr<const renderer::SplatScene>> levelsForRender;
 };
@@ -87,17 +88,17 @@ struct GradientJob : WorkerJob<Gradients> {
                 return renderer::namingAllocation(renderer::volumeSubject(v.name), what,
                                                   v.voxelCount() * bytesPerVoxel, "", step);
             };
-            const auto forRender = [&](const renderer::Volume& v, const std::vector<uint32_t>& packed) {
+            const auto forRender = [&](const renderer::Volume& v, const renderer::PackedGradients& packed) {
                 return named(v, "copy of its gradients for the renderer", 4, [&] {
                     auto scene = std::make_shared<renderer::SplatScene>();
-                    scene->name = v.name, scene->dims = v.dims, scene->gradients = packed;
+                    scene->name = v.name, scene->dims = v.dims, scene->gradients = packed.texels;
                     return std::shared_ptr<const renderer::SplatScene>(std::move(scene));
                 });
             };
             const auto packed = [&](const renderer::Volume& v,
                                     const std::optional<renderer::GradientField>& f) {
                 return named(v, "packed gradients", 4, [&] {
-                    return f ? renderer::packGradients(*f).texels : std::vector<uint32_t>{};
+                    return f ? renderer::packGradients(*f) : renderer::PackedGradients{};
                 });
             };
             std::optional<renderer::GradientField> field = named(volume, "gradients", 6, [&] {
@@ -107,6 +108,7 @@ struct GradientJob : WorkerJob<Gradients> {
             Gradients out;
             out.packed = packed(volume, field);
             out.forRender = forRender(volume, out.packed);
+            out.magnitudeCounts = renderer::magnitudeHistogram(out.packed.texels);
             out.field = std::move(*field);
             for (const renderer::Volume* level : levels) {
                 out.levelFields.push_back(

@@ -21,6 +21,8 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
                            .dataRange = m_doc.volume ? m_doc.volume->range : renderer::ValueRange{},
                            .percentile = m_doc.percentile,
                            .visible = m_hasScene ? renderer::visibleValueRange(m_doc.scene) : renderer::ValueRange{},
+                           .gradients = {.maxMagnitude = m_state.gradientsReady ? m_doc.scene.gradientMax : 0.0,
+                                         .histogram = &m_doc.gradientHistogram},
                            .windowSettled = !m_volumeJob && !m_classifyJob && !m_fullWindowStale && !m_windowChanged,
                            .gallery = m_hasScene ? m_gallery.thumbnails() : std::vector<ui::GalleryThumbnail>{}});
              m_windowChanged =

@@ -41,7 +41,7 @@ std::optional<ThumbnailSource> EditorLoop::thumbnailSource() const {
         source.settings.surfaceFlatten = 1.0;
     }
     source.window = m_doc.scene.window;
-    source.shownLut = m_doc.scene.lut;
+    source.shownTables = renderer::tfTables(m_doc.scene);
     // A large scan's thumbnails come from the finest level small enough (a 96-pixel image needs no more).
     if (m_doc.volume->voxelCount() > kThumbnailMaxVoxels && m_doc.preview)
         for (size_t k = 0; k < m_doc.preview->levels.size(); ++k) {
@@ -50,7 +50,7 @@ std::optional<ThumbnailSource> EditorLoop::thumbnailSource() const {
                 continue;
             source.level = int(k) + 1;
             source.window = level.scene.window;
-            source.shownLut = level.scene.lut;
+            source.shownTables = renderer::tfTables(level.scene);
             source.settings.density =
                 renderer::densityFor(level.volume, *m_doc.volume, m_state.settings.density);
             break;

@@ -263,7 +263,8 @@ struct Scene {
     std::array<float, 3> background{0.0f, 0.0f, 0.0f};   // behind a PNG: black, or the session's
 };
 
-// The volume classified by `tf` over `window`, its gradients when the settings need them, and the view.
+// The volume classified by `tf` over `window`, its gradients when the settings or the TF need them, and
+// the view.
 void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFlags& raw, const TransferFunction& tf,
                  const WindowSettings& window, Camera camera, glm::ivec2 size, bool fit = false) {
     const Volume volume = loadVolumeOrScene(volumePath, rawOptions(raw));
@@ -275,7 +276,7 @@ void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFla
                      volumePath.string().c_str(), volume.dims.x, volume.dims.y, volume.dims.z, volume.spacing.x,
                      volume.spacing.y, volume.spacing.z);
     s.scene = buildSplatScene(volume, tf, windowFor(volume, window));
-    if (needsGradients(s.settings)) {
+    if (needsGradients(s.settings) || !tf.gradientOpacity.empty()) {   // shading, surface splats, gradient opacity
         std::fprintf(stderr, "gradients\n");
         addGradients(s.scene, *computeGradients(volume, printProgress));
     }

@@ -22,18 +22,19 @@ renderer::TransferFunction galleryPreset(const std::string& name, renderer::Valu
 
 std::future<renderer::Image> renderThumbnail(RenderThread& thread, const ThumbnailSource& source,
                                              const renderer::TransferFunction& tf) {
-    return thread.run([source, lut = renderer::bakeLut(tf, source.window)](Renderers& r) {
+    // A preset's own LUT; no gradient factors (the built-in presets have no gradient opacity).
+    return thread.run([source, tables = renderer::TfTables{renderer::bakeLut(tf, source.window), {}}](Renderers& r) {
         if (source.level > int(r.levels.size()))
             throw renderer::RenderError("thumbnail: no level " + std::to_string(source.level) +
                                         " to draw from");
         renderer::SplatRenderer& which = source.level == 0 ? *r.full : *r.levels[size_t(source.level - 1)];
         // The view's LUT goes back whatever happens: the next view must not show a preset.
-        struct RestoreLut {
+        struct RestoreTables {
             renderer::SplatRenderer& renderer;
-            const renderer::Lut& lut;
-            ~RestoreLut() { renderer.setLut(lut); }
-        } restore{which, source.shownLut};
-        which.setLut(lut);
+            const renderer::TfTables& tables;
+            ~RestoreTables() { renderer.setLut(tables); }
+        } restore{which, source.shownTables};
+        which.setLut(tables);
         which.render(source.plane, source.settings);
         return which.readback();
     });

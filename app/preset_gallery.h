@@ -27,7 +27,7 @@ struct ThumbnailSource {
     renderer::ValueRange window;      // that scene's window: the presets' LUTs are baked over it
     renderer::ImagePlane plane;       // thumbnailPlane()
     renderer::SplatSettings settings; // that renderer's settings for the view (no heatmap)
-    renderer::Lut shownLut;           // the view's LUT on that renderer, put back after each thumbnail
+    renderer::TfTables shownTables;   // the view's LUT and gradient factors there, put back after each thumbnail
 };
 
 // A kThumbnailPx square view of the scene: the default camera's direction about `up`, the scene framed.

@@ -78,7 +78,7 @@ void RenderThread::setScenesNow(std::shared_ptr<const renderer::SplatScene> full
     run([this, full, levels](Renderers& r) { uploadScenes(r, full, levels); }).get();
 }
 
-void RenderThread::setLuts(const renderer::Lut& full, std::vector<renderer::Lut> levels) {
+void RenderThread::setLuts(const renderer::TfTables& full, std::vector<renderer::TfTables> levels) {
     post(
         [this, full, levels = std::move(levels)](Renderers& r) {
             r.full->setLut(full);

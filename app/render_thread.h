@@ -91,7 +91,7 @@ class RenderThread {
     // The same, waiting for it: throws its error (opening a volume: the document changes only once the
     // renderers hold the new one).
     void setScenesNow(std::shared_ptr<const renderer::SplatScene> full, Scenes levels);
-    void setLuts(const renderer::Lut& full, std::vector<renderer::Lut> levels);
+    void setLuts(const renderer::TfTables& full, std::vector<renderer::TfTables> levels);
     void setGradients(std::shared_ptr<const renderer::SplatScene> full, Scenes levels);
     void setLevelScenes(Scenes levels); // the window dragged: the levels alone re-classified
 
@@ -160,8 +160,8 @@ class RenderThread {
     struct Shown {
         std::shared_ptr<const renderer::SplatScene> full, fullGradients;
         Scenes levels, levelGradients;
-        std::optional<renderer::Lut> fullLut;
-        std::vector<renderer::Lut> levelLuts;
+        std::optional<renderer::TfTables> fullLut;
+        std::vector<renderer::TfTables> levelLuts;
     } m_shown;
     // Tests and benchmarks: every level of a view waits this long first, in steps a newer request
     // interrupts (SPLATLAB_RENDER_DELAY_MS), standing for a scan whose frames take that long.

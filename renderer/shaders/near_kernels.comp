@@ -17,13 +17,23 @@ uniform float uCutoff;            // in sigmas
 uniform float uNearReach;         // as the splat stage's
 uniform float uRadius;            // cutoff x the largest sigma
 uniform vec3 uSides[4];           // the frustum's side planes' unit normals (NearTest::sides)
-uniform float uExtinctionPerOpacity;   // density / mean spacing (extinctionOf())
+uniform float uExtinctionPerOpacity;   // density / mean spacing (voxelExtinction())
+// Gradient opacity (SplatScene::opacityOf): the factor by the voxel's magnitude byte, after the LUT's
+// 4096 entries; 0 when the renderer has none (a uniform branch: few voxels come here).
+uniform int uGradientOpacity;
+layout(std430, binding = 3) readonly buffer Gradients { uint gradients[]; };   // 3 bytes a voxel (shading.h)
 void main() {
     uint n = uint(uBoxSize.x) * uint(uBoxSize.y) * uint(uBoxSize.z);
     for (uint i = gl_GlobalInvocationID.x; i < n; i += gl_NumWorkGroups.x * 64u) {
         ivec3 ijk = uBoxLo + ivec3(int(i % uint(uBoxSize.x)), int(i / uint(uBoxSize.x) % uint(uBoxSize.y)),
                                    int(i / (uint(uBoxSize.x) * uint(uBoxSize.y))));
         vec4 tf = texelFetch(lutTexels, int(texelFetch(classes, ijk, 0).r));
+        if (uGradientOpacity != 0) {
+            uint byte = 3u * (uint(ijk.x) + uint(uDims.x) * (uint(ijk.y) + uint(uDims.y) * uint(ijk.z)));
+            uint shift = (byte & 3u) * 8u;
+            uint texel = gradients[byte >> 2u] >> shift | (gradients[(byte >> 2u) + 1u] << (31u - shift)) << 1u;
+            tf.a *= texelFetch(lutTexels, 4096 + int((texel >> 16u) & 0xffu)).a;
+        }
         if (!(tf.a > 0.0)) continue;
         vec3 u = uViewFromObject * (uSpacing * vec3(ijk)) + uTranslation;
         float sigmaU2 = sqrt(uVarCamera[2][2]);

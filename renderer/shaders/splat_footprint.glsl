@@ -41,6 +41,14 @@ struct Footprint {
     uint lutClass;            // tiles fetch the unshaded colour by it
 };
 
+// The packed gradient of voxel ijk: its 3 bytes from the two words they may span (gradientBufferBytes()
+// pads one word).
+uint gradientTexel(ivec3 ijk) {
+    uint voxel = uint(ijk.x) + uint(uDims.x) * (uint(ijk.y) + uint(uDims.y) * uint(ijk.z));
+    uint byte = 3u * voxel, shift = (byte & 3u) * 8u;
+    return gradients[byte >> 2u] >> shift | (gradients[(byte >> 2u) + 1u] << (31u - shift)) << 1u;
+}
+
 // Entry k of run `run` (first entry, tile base, slice | bucket << 16 | dense << 31, count): false when
 // a guard culls it (counted in its slot).
 bool footprint(uvec4 run, uint k, out Footprint f) {
@@ -57,6 +65,10 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
     count(0);
     f.lutClass = cls;
     vec4 tf = texelFetch(lutTexels, int(cls));
+#ifdef GRADIENT_OPACITY   // the factor by the magnitude byte, after the LUT's 4096 entries (SplatScene::opacityOf)
+    uint texel = gradientTexel(ijk);
+    tf.a *= texelFetch(lutTexels, 4096 + int((texel >> 16u) & 0xffu)).a;
+#endif
     if (!(tf.a > 0.0)) { count(1); return false; }
 
     vec3 u = uViewFromObject * (uSpacing * vec3(ijk)) + uTranslation;
@@ -69,11 +81,10 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
                     : transpose(mat3(uFPx * iz, 0.0, -uFPx * u.x * iz * iz,
                                      0.0, uFPx * iz, -uFPx * u.y * iz * iz,
                                      u.x / l, u.y / l, u.z / l));
-    uint voxel = uint(ijk.x) + uint(uDims.x) * (uint(ijk.y) + uint(uDims.y) * uint(ijk.z));
 #if defined(SURFACE) || defined(SPLAT_SHADING) || defined(FRAGMENT_SHADING)
-    // The voxel's 3 bytes from the two words they may span (gradientBufferBytes() pads one word).
-    uint byte = 3u * voxel, shift = (byte & 3u) * 8u;
-    uint texel = gradients[byte >> 2u] >> shift | (gradients[(byte >> 2u) + 1u] << (31u - shift)) << 1u;
+#ifndef GRADIENT_OPACITY   // read here, past the culls, when only shading needs it
+    uint texel = gradientTexel(ijk);
+#endif
     vec4 grad = unpackGradient(texel & 0xffffffu);
 #else
     vec4 grad = vec4(0.0);

@@ -171,7 +171,7 @@ void tfEdit(benchmark::State& state, const Dataset& d, bool rebuild, SplatSettin
             r.setScene(scene);
         } else {
             setTransferFunction(scene, tf);
-            r.setLut(scene.lut);
+            r.setLut(tfTables(scene));
         }
         r.render(plane, s);
         glFinish();

@@ -232,10 +232,10 @@ TEST_F(GlTest, TfEditUploadsOnlyTheLutAndSelectsBuckets) {
     r.render(plane, SplatSettings{});
     EXPECT_EQ(r.stats().uploadBytes, 0u);
     EXPECT_EQ(r.stats().frameUploadBytes, 0u);
-    // GPU bytes: classes 2 a voxel, the LUT, the largest axis's lists (only the view's axis is on the
+    // GPU bytes: classes 2 a voxel, the LUT (and the gradient factors after it), the largest axis's lists (only the view's axis is on the
     // GPU), one command array of 32 bytes a run of the axis with the most (points and quads), and one
     // word standing in for the gradients (3 bytes a voxel once the scene has them).
-    uint64_t expected = scene.classes.size() * 2 + kLutSize * 16 + 4;
+    uint64_t expected = scene.classes.size() * 2 + (kLutSize + kGradientBins) * 16 + 4;
     size_t mostRuns = 0;
     uint64_t largest = 0;
     for (int axis = 0; axis < 3; ++axis) {
@@ -247,7 +247,7 @@ TEST_F(GlTest, TfEditUploadsOnlyTheLutAndSelectsBuckets) {
 
     for (const char* preset : {"ct-bone", "grey-ramp", "fire"}) {
         setTransferFunction(scene, builtinPreset(preset));
-        r.setLut(scene.lut);
+        r.setLut(tfTables(scene));
         EXPECT_EQ(r.stats().uploadBytes, kLutSize * sizeof(glm::vec4)) << preset;
         r.render(plane, SplatSettings{});
         EXPECT_EQ(r.stats().uploadBytes, 0u);

@@ -241,7 +241,7 @@ TEST_F(GlTest, TiledSplattingCoversImagesOfManyTilesAndEmptyFrames) {
     const TransferFunction clear = fromSharedPoints("clear", {{0.0, {1.0, 1.0, 1.0}, 0.0}, {1.0, {1.0, 1.0, 1.0}, 0.0}});
     SplatScene empty = scene;
     setTransferFunction(empty, clear);
-    r.setLut(empty.lut);
+    r.setLut(tfTables(empty));
     r.render(plane, s);
     EXPECT_EQ(r.stats().tileEntries, 0u);
     EXPECT_EQ(imageStats(r.readback()).coveredFraction, 0.0);

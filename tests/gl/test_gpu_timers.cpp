@@ -68,11 +68,11 @@ TEST_F(GpuTimers, EachFrameTimesThePassesItRanAndNoOthers) {
     wall = timedFrame(r, plane, s);
     expectPasses(r.stats(), wall, {P::Splats, P::Offsets, P::Scatter, P::Composite}, "tiles, again");
     setTransferFunction(scene, builtinPreset("ct-bone"));
-    r.setLut(scene.lut);
+    r.setLut(tfTables(scene));
     wall = timedFrame(r, plane, s);
     expectPasses(r.stats(), wall, {P::Select, P::Splats, P::Offsets, P::Scatter, P::Composite}, "tiles, TF edit");
     setTransferFunction(scene, builtinPreset("grey-ramp"));
-    r.setLut(scene.lut);
+    r.setLut(tfTables(scene));
 
     s.filter = FilterMode::Adaptive;
     s.compositing = Compositing::XRay;

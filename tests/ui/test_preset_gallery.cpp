@@ -112,12 +112,12 @@ TEST(PresetGallery, EachThumbnailIsAHeadlessRenderOfItsPreset) {
     const TransferFunction shown = galleryPreset("grey-ramp", window); // what the view shows meanwhile
     const renderer::SplatScene scene = renderer::buildSplatScene(volume, shown, window);
     thread->setScenesNow(std::make_shared<const renderer::SplatScene>(scene), {});
-    thread->setLuts(scene.lut, {});
+    thread->setLuts(renderer::tfTables(scene), {});
 
     ThumbnailSource source;
     source.plane = thumbnailPlane(scene, glm::dvec3(0, 0, -1)); // headsq's up
     source.window = scene.window;
-    source.shownLut = scene.lut;
+    source.shownTables = renderer::tfTables(scene);
     const std::array<float, 3> background{0.1f, 0.1f, 0.12f};
     PresetGallery gallery;
     for (int step = 0; step < 40 && !gallery.complete(); ++step)
@@ -134,7 +134,7 @@ TEST(PresetGallery, EachThumbnailIsAHeadlessRenderOfItsPreset) {
             image.rgba[i] = float(rgba[i]) / 255.0f;
         return image;
     };
-    headless.setLut(scene.lut);
+    headless.setLut(renderer::tfTables(scene));
     headless.render(source.plane, source.settings);
     const renderer::Image shownImage = toImage(overBackground(headless.readback(), background));
     size_t showing = 0;
@@ -143,7 +143,7 @@ TEST(PresetGallery, EachThumbnailIsAHeadlessRenderOfItsPreset) {
         ASSERT_NE(t.texture, 0u);
         std::vector<uint8_t> pixels(size_t(kThumbnailPx) * kThumbnailPx * 4);
         glGetTextureImage(t.texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(pixels.size()), pixels.data());
-        headless.setLut(renderer::bakeLut(galleryPreset(t.name, window), window));
+        headless.setLut({renderer::bakeLut(galleryPreset(t.name, window), window), {}});
         headless.render(source.plane, source.settings);
         const renderer::Image expected = headless.readback();
         showing += renderer::imageStats(expected).coveredFraction > 0.02;
@@ -166,7 +166,7 @@ TEST(PresetGallery, EachThumbnailIsAHeadlessRenderOfItsPreset) {
                                           return r.full->readback();
                                       })
                                       .get();
-    headless.setLut(scene.lut);
+    headless.setLut(renderer::tfTables(scene));
     headless.render(source.plane, source.settings);
     const auto d = testing_support::renderDifference(after, headless.readback());
     EXPECT_LE(d.elsewhere, 1e-5f);
@@ -196,7 +196,7 @@ TEST_F(GalleryPanel, LoadImportsASlicerPresetNamedInTheFileField) {
     EXPECT_TRUE(changed);
     EXPECT_EQ(state.tf.name, "Edges");
     EXPECT_EQ(state.tf.opacities, (std::vector<renderer::OpacityPoint>{{-500, 0.0}, {900, 0.8}}));
-    EXPECT_THAT(state.saveNotice.text, testing::HasSubstr("gradient opacity is not applied yet"));
+    EXPECT_EQ(state.tf.gradientOpacity, (std::vector<renderer::GradientOpacityPoint>{{0, 0.0}, {50, 1.0}}));
     EXPECT_TRUE(state.errorMessage.empty()) << state.errorMessage;
 
     state.tfFile = file.string() + "#Bone";

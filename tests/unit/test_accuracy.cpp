@@ -426,7 +426,7 @@ TEST(GroundTruth, OneKernelMatchesABruteForceLineIntegral) {
     const Image gt = renderGroundTruth(scene, plane, s, o);
     const glm::dmat3 objectFromView = glm::transpose(plane.viewFromObject);
     const glm::dvec3 eye = objectFromView * -plane.translation;
-    const double sigma = s.kernelScale, g = extinctionOf(scene, s, scene.classes[0]);
+    const double sigma = s.kernelScale, g = voxelExtinction(scene, s, 0);
     double worst = 0.0;
     for (int y = 4; y < 20; y += 3)
         for (int x = 4; x < 20; x += 3) {
@@ -472,7 +472,7 @@ TEST(GroundTruth, AUniformBlocksOpticalDepthIsNominalInTheTruthAndEverySplatFilt
         const SplatScene scene = buildSplatScene(block, flat(0.8));
         SplatSettings s;
         s.density = 0.8 / view.side;   // extinction 0.8 x density a unit length: optical depth 0.64 through it
-        const double nominal = view.side * extinctionOf(scene, s, scene.classes[0]);
+        const double nominal = view.side * voxelExtinction(scene, s, 0);
         ASSERT_NEAR(nominal, 0.64, 1e-6);
         const Camera camera{.azimuthDeg = 0.0, .elevationDeg = 0.0, .up = {0, 0, 1}, .orthographic = true};
         const ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, view.pixels, view.pixels);

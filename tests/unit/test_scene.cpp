@@ -507,7 +507,7 @@ TEST(ReferenceRenderer, OneSplatDepositsItsOpticalDepth) {
         double depth = 0.0;
         for (size_t i = 3; i < img.rgba.size(); i += 4) depth += -std::log1p(-double(img.rgba[i]));
         const glm::dvec3 u = plane.toCamera({0, 0, 0});
-        const double expected = extinctionOf(scene, s, scene.classes[0]) * rayJacobianDet(u, plane.fPx);
+        const double expected = voxelExtinction(scene, s, 0) * rayJacobianDet(u, plane.fPx);
         EXPECT_NEAR(depth / expected, 1.0, 2e-6) << filterModeName(mode);   // float image: 1e-7 per pixel
     }
 }

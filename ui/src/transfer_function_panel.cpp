@@ -453,8 +453,9 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     ImGui::BeginDisabled(state.tfHistory.redo.empty());
     if (ImGui::Button("Redo") || ctrlY || (ctrlZ && keys.KeyShift)) step(true);
     ImGui::EndDisabled();
-    // 8. The Gallery: its button on the same row (closed, the panel keeps its height, so nothing moves),
-    //    its thumbnails under the row while open.
+    // 8. On the Undo row (closed, the panel keeps its height, so nothing above moves): the Gallery button
+    //    and the collapsible gradient opacity curve (gradient_opacity_curve.cpp); the gallery's thumbnails
+    //    under them while open.
     ImGui::SameLine();
     if (state.tfGalleryOpen) ImGui::PushStyleColor(ImGuiCol_Button, ImGui::GetStyleColorVec4(ImGuiCol_ButtonActive));
     const bool toggled = ImGui::Button("Gallery");
@@ -463,6 +464,8 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("%s the thumbnails of the presets, each drawn on this volume; click one to apply it",
                           state.tfGalleryOpen ? "Hide" : "Show");
+    ImGui::SameLine();
+    if (drawGradientOpacityCurve(tf, state.tfGradient, view.gradients)) state.tfEdited = changed = true;
     if (state.tfGalleryOpen)
         if (const std::optional<std::string> name = drawGallery(view.gallery)) try {
                 replace(renderer::inDataUnits(renderer::builtinPreset(*name), window));

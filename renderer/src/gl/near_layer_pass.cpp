@@ -54,6 +54,8 @@ void SplatRenderer::Gl::drawNearLayer(const FramePlan& f) {
     const double meanSpacing = (spacing.x + spacing.y + spacing.z) / 3.0;
     glUniform1f(glGetUniformLocation(nearKernelsProgram, "uExtinctionPerOpacity"),
                 float(settings.density / meanSpacing));
+    glUniform1i(glGetUniformLocation(nearKernelsProgram, "uGradientOpacity"), gradientOpacity && hasGradients);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, gradientBuffer);
     glBindTextureUnit(0, classTexture);
     glBindTextureUnit(4, lutTexture);
     glDispatchCompute(GLuint(std::min<uint64_t>((box.count() + 63) / 64, 65535)), 1, 1);

@@ -20,7 +20,8 @@ std::string variantDefines(int bits) {
     const std::pair<int, const char*> defines[] = {{kCounters, "COUNTERS"}, {kSurface, "SURFACE"},
                                                    {kSplatShading, "SPLAT_SHADING"},
                                                    {kFragmentShading, "FRAGMENT_SHADING"}, {kHeatmap, "HEATMAP"},
-                                                   {kAdaptive, "ADAPTIVE"}, {kOcclusion, "OCCLUSION"}};
+                                                   {kAdaptive, "ADAPTIVE"}, {kOcclusion, "OCCLUSION"},
+                                                   {kGradientOpacity, "GRADIENT_OPACITY"}};
     std::string header;
     for (auto [bit, name] : defines)
         if (bits & bit) header += std::string("#define ") + name + "\n";

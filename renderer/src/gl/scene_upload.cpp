@@ -98,7 +98,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         mostRuns = std::max(mostRuns, a.hostRuns.size());
     }
     const uint64_t commandBytes = mostRuns * 32;   // both layouts (bucket_commands.comp)
-    uint64_t needed = scene.classes.size() * sizeof(uint16_t) + scene.lut.size() * sizeof(glm::vec4) + listBytes +
+    uint64_t needed = scene.classes.size() * sizeof(uint16_t) + kLutBufferEntries * sizeof(glm::vec4) + listBytes +
                       commandBytes + gradientBufferBytes(scene.gradients.size());
     std::optional<uint64_t> freeBytes = freeGpuMemoryBytes();
     if (freeBytes) *freeBytes += g.sceneBytes;
@@ -122,12 +122,13 @@ void SplatRenderer::setScene(const SplatScene& scene) {
 
     if (!g.lutBuffer) {
         glCreateBuffers(1, &g.lutBuffer);
-        glNamedBufferStorage(g.lutBuffer, GLsizeiptr(kLutSize * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        glNamedBufferStorage(g.lutBuffer, GLsizeiptr(kLutBufferEntries * sizeof(glm::vec4)), nullptr,
+                             GL_DYNAMIC_STORAGE_BIT);
         glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.lutTexture);
         glTextureBuffer(g.lutTexture, GL_RGBA32F, g.lutBuffer);
         checkAllocation("LUT buffer", scene.name, needed, freeBytes);
     }
-    g.sceneBytes = scene.classes.size() * sizeof(uint16_t) + kLutSize * sizeof(glm::vec4);
+    g.sceneBytes = scene.classes.size() * sizeof(uint16_t) + kLutBufferEntries * sizeof(glm::vec4);
 
     for (int axis = 0; axis < 3; ++axis) {
         g.axes[size_t(axis)].release();
@@ -150,7 +151,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     g.gradientBytes = 0;   // counted afresh in sceneBytes by setGradients
     setGradients(scene);
     const uint64_t gradientUpload = m_stats.uploadBytes;
-    setLut(scene.lut);
+    setLut(tfTables(scene));
     m_stats.uploadBytes += sceneUpload + gradientUpload;
     checkGlErrors("SplatRenderer::setScene");
 }
@@ -177,14 +178,26 @@ void SplatRenderer::setGradients(const SplatScene& scene) {
     g.uploadedSinceFrame += bytes;
 }
 
-void SplatRenderer::setLut(const Lut& lut) {
+void SplatRenderer::setLut(const TfTables& tables) {
     Gl& g = *m_gl;
+    const Lut& lut = tables.lut;
+    const GradientFactors& gradientFactors = tables.gradientFactors;
     if (lut.size() != size_t(kLutSize)) throw RenderError("LUT must have " + std::to_string(kLutSize) + " entries");
+    if (!gradientFactors.empty() && gradientFactors.size() != size_t(kGradientBins))
+        throw RenderError("gradient factors must have " + std::to_string(kGradientBins) + " entries");
     if (!g.lutBuffer) throw RenderError("SplatRenderer::setLut called before setScene");
     glNamedBufferSubData(g.lutBuffer, 0, GLsizeiptr(lut.size() * sizeof(glm::vec4)), lut.data());
+    m_stats.uploadBytes = lut.size() * sizeof(glm::vec4);
+    // The factors after the LUT's entries, a texel each (splat_footprint.glsl reads .a).
+    if (!gradientFactors.empty()) {
+        std::vector<glm::vec4> texels(gradientFactors.begin(), gradientFactors.end());
+        glNamedBufferSubData(g.lutBuffer, GLintptr(kLutSize * sizeof(glm::vec4)),
+                             GLsizeiptr(texels.size() * sizeof(glm::vec4)), texels.data());
+        m_stats.uploadBytes += texels.size() * sizeof(glm::vec4);
+    }
+    g.gradientOpacity = !gradientFactors.empty();
     g.lut = lut;
     ++g.lutVersion;
-    m_stats.uploadBytes = lut.size() * sizeof(glm::vec4);
     g.uploadedSinceFrame += m_stats.uploadBytes;
     checkGlErrors("SplatRenderer::setLut");
 }

@@ -55,7 +55,12 @@ struct AxisBuffers {
 
 // Feature bits of a splat program variant: #defines of renderer/shaders/ (every set: programs.cmake).
 enum SplatVariant { kCounters = 1, kSurface = 2, kSplatShading = 4, kFragmentShading = 8, kHeatmap = 16, kAdaptive = 32,
-                    kOcclusion = 64 };
+                    kOcclusion = 64, kGradientOpacity = 128 };
+
+// The LUT buffer: kLutSize class entries, then the kGradientBins gradient factors (GRADIENT_OPACITY in
+// splat_footprint.glsl and near_kernels.comp read them at this offset).
+constexpr size_t kLutBufferEntries = size_t(kLutSize) + size_t(kGradientBins);
+static_assert(kLutSize == 4096, "splat_footprint.glsl and near_kernels.comp read the factors at texel 4096");
 
 // Tiled splatting's vec4s per splat record and per list entry (tile_record.comp, tile_scatter.comp).
 inline int recordVec4s(int bits) { return bits & kFragmentShading ? 4 : 3; }
@@ -107,6 +112,7 @@ struct SplatRenderer::Gl {
     GLuint patchTexture = 0;   // R8UI, a texel a patch (PatchGrid: columns x rows x slices)
     GLuint lutTexture = 0;   // buffer texture over lutBuffer (the tiles' composite)
     bool hasGradients = false;
+    bool gradientOpacity = false;   // the last setLut had gradient factors (drawn with them when hasGradients)
     uint64_t gradientBytes = 0;   // of gradientBuffer, inside sceneBytes
     std::string sceneName;   // for messages
     glm::ivec3 patchTextureSize{0};

@@ -42,6 +42,12 @@ PackedGradients packGradients(const GradientField& field) {
     return p;
 }
 
+std::vector<uint64_t> magnitudeHistogram(const std::vector<uint32_t>& texels) {
+    std::vector<uint64_t> counts(kGradientBins, 0);
+    for (uint32_t t : texels) ++counts[size_t(magnitudeBin(t))];
+    return counts;
+}
+
 DecodedGradient decodeGradient(uint32_t texel) {
     // unpackGradient() in GLSL, step for step in float: snorm c -> max(c / 127, -1) (GL 4.5 eq. 2.2),
     // unorm c -> c / 255 (eq. 2.1); float division is correctly rounded.

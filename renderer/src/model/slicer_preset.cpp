@@ -159,8 +159,12 @@ SlicerPreset presetFromAttributes(const std::map<std::string, std::string>& attr
             countedNumbers(attributes.at("gradientOpacity"), 2, "gradient magnitude, opacity", source,
                            field + "gradientOpacity");
         checkPoints(gradient, 2, source, field + "gradientOpacity");
-        for (size_t i = 0; i < gradient.size(); i += 2)
-            preset.gradientOpacity.push_back({gradient[i], gradient[i + 1]});
+        bool allOne = true;
+        for (size_t i = 0; i < gradient.size(); i += 2) {
+            preset.tf.gradientOpacity.push_back({gradient[i], gradient[i + 1]});
+            allOne = allOne && gradient[i + 1] == 1.0;
+        }
+        if (allOne) preset.tf.gradientOpacity.clear(); // the same image, and a file without the field
     }
     return preset;
 }
@@ -216,11 +220,6 @@ std::vector<SlicerPreset> loadSlicerPresets(const std::filesystem::path& path) {
     return slicerPresetsFromXml(readSmallTextFile(path), path.string());
 }
 
-bool usesGradientOpacity(const SlicerPreset& preset) {
-    return std::any_of(preset.gradientOpacity.begin(), preset.gradientOpacity.end(),
-                       [](const GradientOpacityPoint& p) { return p.opacity != 1.0; });
-}
-
 std::optional<SlicerPresetSpec> slicerPresetSpec(const std::string& spec) {
     if (lower(spec).ends_with(".xml")) return SlicerPresetSpec{spec, ""};
     const size_t hash = lower(spec).find(".xml#"); // the name may hold '#' itself
@@ -249,9 +248,6 @@ LoadedSlicerPreset loadSlicerPreset(const SlicerPresetSpec& spec) {
         }
         loaded.preset = std::move(*it);
     }
-    if (usesGradientOpacity(loaded.preset))
-        loaded.notes.push_back(file + "#" + loaded.preset.tf.name +
-                               ": its gradient opacity is not applied yet (scalar opacity and colour are)");
     return loaded;
 }
 

@@ -195,13 +195,59 @@ void addGradients(SplatScene& s, const GradientField& field) {
     if (field.dims != s.dims)
         throw RenderError("gradients of a " + std::to_string(field.dims.x) + "x" + std::to_string(field.dims.y) + "x" +
                           std::to_string(field.dims.z) + " volume do not fit scene '" + s.name + "'");
-    s.gradients = packGradients(field).texels;
+    addGradients(s, packGradients(field));
 }
 
+void addGradients(SplatScene& s, PackedGradients packed) {
+    if (!packed.texels.empty() && packed.texels.size() != s.classes.size())
+        throw RenderError(std::to_string(packed.texels.size()) + " packed gradients do not fit scene '" + s.name +
+                          "' of " + std::to_string(s.classes.size()) + " voxels");
+    s.gradients = std::move(packed.texels);
+    s.gradientMax = packed.maxMagnitude;
+    s.classGradientVoxels.clear();   // of the gradients before
+    if (!s.lut.empty()) setTransferFunction(s, s.tf);
+}
+
+namespace {
+// Voxels per (class, magnitude byte): one pass over the voxels, in parallel.
+std::vector<uint32_t> countClassGradients(const SplatScene& s) {
+    const size_t bins = size_t(kLutSize) * kGradientBins;
+    tbb::combinable<std::vector<uint32_t>> counts([bins] { return std::vector<uint32_t>(bins, 0); });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, s.classes.size()), [&](const tbb::blocked_range<size_t>& r) {
+        std::vector<uint32_t>& c = counts.local();
+        for (size_t i = r.begin(); i < r.end(); ++i)
+            ++c[size_t(s.classes[i]) * kGradientBins + size_t(magnitudeBin(s.gradients[i]))];
+    });
+    std::vector<uint32_t> total(bins, 0);
+    counts.combine_each([&](const std::vector<uint32_t>& c) {
+        for (size_t k = 0; k < bins; ++k) total[k] += c[k];
+    });
+    return total;
+}
+} // namespace
+
 void setTransferFunction(SplatScene& s, const TransferFunction& tf) {
+    s.tf = tf;
     s.lut = bakeLut(tf, s.window);
+    s.gradientFactors.clear();
     s.visibleVoxels = 0;
-    for (size_t c = 0; c < s.classVoxels.size(); ++c) s.visibleVoxels += s.lut[c].a > 0.0f ? s.classVoxels[c] : 0;
+    if (tf.gradientOpacity.empty() || s.gradients.size() != s.classes.size() || s.classes.empty()) {
+        for (size_t c = 0; c < s.classVoxels.size(); ++c) s.visibleVoxels += s.lut[c].a > 0.0f ? s.classVoxels[c] : 0;
+        return;
+    }
+    // Gradient opacity: a factor per magnitude byte, then each class's voxels whose factor is above 0.
+    s.gradientFactors.resize(kGradientBins);
+    for (int b = 0; b < kGradientBins; ++b)
+        s.gradientFactors[size_t(b)] = float(evaluateGradientOpacity(tf, binMagnitude(b, s.gradientMax)));
+    if (s.classGradientVoxels.empty()) s.classGradientVoxels = countClassGradients(s);
+    for (size_t c = 0; c < size_t(kLutSize); ++c) {
+        if (!(s.lut[c].a > 0.0f)) continue;
+        size_t visible = 0;
+        const uint32_t* counts = &s.classGradientVoxels[c * kGradientBins];
+        for (size_t b = 0; b < size_t(kGradientBins); ++b) visible += s.gradientFactors[b] > 0.0f ? counts[b] : 0;
+        if (visible == 0) s.lut[c].a = 0.0f;   // hidden at every gradient its voxels have: culled by bucket
+        s.visibleVoxels += visible;
+    }
 }
 
 ValueRange visibleValueRange(const SplatScene& s) {

@@ -75,6 +75,18 @@ glm::dvec4 evaluate(const TransferFunction& tf, double value) {
     return glm::dvec4(colour, opacity);
 }
 
+double evaluateGradientOpacity(const TransferFunction& tf, double magnitude) {
+    if (tf.gradientOpacity.empty()) return 1.0;
+    const auto& pts = tf.gradientOpacity;
+    auto hi = std::lower_bound(pts.begin(), pts.end(), magnitude,
+                               [](const GradientOpacityPoint& p, double x) { return p.magnitude < x; });
+    if (hi == pts.begin()) return hi->opacity;
+    if (hi == pts.end()) return pts.back().opacity;
+    const GradientOpacityPoint& lo = *(hi - 1);
+    const double w = (hi->magnitude > lo.magnitude) ? (magnitude - lo.magnitude) / (hi->magnitude - lo.magnitude) : 1.0;
+    return lo.opacity + (hi->opacity - lo.opacity) * w;
+}
+
 Lut bakeLut(const TransferFunction& tf, ValueRange window) {
     Lut lut(kLutSize, glm::vec4(0.0f));
     const double lo = window.lo, span = double(window.hi) - double(window.lo);

@@ -63,6 +63,22 @@ void sortPoints(TransferFunction& tf) {
     const auto byValue = [](const auto& a, const auto& b) { return a.value < b.value; };
     std::stable_sort(tf.colours.begin(), tf.colours.end(), byValue);
     std::stable_sort(tf.opacities.begin(), tf.opacities.end(), byValue);
+    std::stable_sort(tf.gradientOpacity.begin(), tf.gradientOpacity.end(),
+                     [](const auto& a, const auto& b) { return a.magnitude < b.magnitude; });
+}
+
+// Optional in either version: "gradientOpacity": [{magnitude, opacity}], magnitudes in data units per
+// world unit (>= 0). Absent: no gradient opacity, so every file from before it reads as it did.
+void readGradientOpacity(const nlohmann::json& j, const TfReader& in, TransferFunction& tf) {
+    if (!j.contains("gradientOpacity")) return;
+    const nlohmann::json& points = in.list(j, "gradientOpacity", "{magnitude, opacity}");
+    for (size_t i = 0; i < points.size(); ++i) {
+        const std::string field = "gradientOpacity[" + std::to_string(i) + "]";
+        const double magnitude = in.number(points[i], field, "magnitude", false);
+        if (magnitude < 0.0)
+            in.fail(field + ".magnitude", std::to_string(magnitude) + ", expected a gradient magnitude >= 0");
+        tf.gradientOpacity.push_back({magnitude, in.number(points[i], field, "opacity", true)});
+    }
 }
 
 // Version 1: {"points": [{value, colour[3], opacity}]}, values 0..1 of the window.
@@ -77,7 +93,7 @@ void readVersion1(const nlohmann::json& j, const TfReader& in, TransferFunction&
     }
 }
 
-// Version 2: {"units", "colour": [{value, rgb[3]}], "opacity": [{value, opacity}]}.
+// Version 2: {"units", "colour": [{value, rgb[3]}], "opacity": [{value, opacity}]} (+ readGradientOpacity).
 void readVersion2(const nlohmann::json& j, const TfReader& in, TransferFunction& tf) {
     if (j.contains("units")) {
         const nlohmann::json& units = j["units"];
@@ -110,6 +126,9 @@ nlohmann::json toJson(const TransferFunction& tf) {
     for (const auto& p : tf.colours) j["colour"].push_back({{"value", p.value}, {"rgb", {p.colour.r, p.colour.g, p.colour.b}}});
     j["opacity"] = nlohmann::json::array();
     for (const auto& p : tf.opacities) j["opacity"].push_back({{"value", p.value}, {"opacity", p.opacity}});
+    // Only when set: a TF without it writes the text it always did.
+    for (const auto& p : tf.gradientOpacity)
+        j["gradientOpacity"].push_back({{"magnitude", p.magnitude}, {"opacity", p.opacity}});
     return j;
 }
 
@@ -135,6 +154,7 @@ TransferFunction transferFunctionFromJson(const nlohmann::json& j, const std::st
     }
     if (version == 1) readVersion1(j, in, tf);
     else readVersion2(j, in, tf);
+    readGradientOpacity(j, in, tf);
     sortPoints(tf);
     return tf;
 }

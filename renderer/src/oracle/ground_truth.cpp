@@ -75,7 +75,7 @@ public:
             const auto add = [&](int x0, int x1, int y, int z) {
                 for (int x = x0; x <= x1; ++x) {
                     const uint32_t i = uint32_t((size_t(z) * d.y + y) * d.x + x);
-                    if (m_scene.lut[m_scene.classes[i]].a > 0.0f) ids.push_back(i);
+                    if (m_scene.opacityOf(i) > 0.0f) ids.push_back(i);
                 }
             };
             for (int z = a.z; z <= b.z; ++z)
@@ -98,7 +98,7 @@ public:
             if (!along) continue;
             RayKernel& k = *along;
             const uint16_t cls = m_scene.classes[i];
-            k.extinction = extinctionOf(m_scene, m_settings, cls);
+            k.extinction = voxelExtinction(m_scene, m_settings, i);
             k.colour = glm::dvec3(m_scene.lut[cls]);
             // Shaded: the kernel's colour lit along this very ray (the Phong of shading.h with the
             // voxel's gradient, as both renderers decode it); per-splat shading approximates the ray's
@@ -319,6 +319,11 @@ std::string groundTruthKey(const SplatScene& scene, const ImagePlane& plane, con
     f.value(options.maxHalvings);
     f.value(options.supersample);
     if (settings.compositing == Compositing::XRay) f.value(uint8_t(1));   // the other integral (keys before it stand)
+    if (!scene.gradientFactors.empty()) {   // gradient opacity (keys without it stand)
+        f.value(uint8_t(3));
+        f.bytes(scene.gradientFactors.data(), scene.gradientFactors.size() * sizeof(float));
+        f.bytes(scene.gradients.data(), scene.gradients.size() * sizeof(uint32_t));
+    }
     if (settings.shading != SplatSettings::Shading::None) {   // one truth for both shading modes
         f.value(uint8_t(2));
         f.bytes(scene.gradients.data(), scene.gradients.size() * sizeof(uint32_t));

@@ -81,7 +81,7 @@ NearKernels findNearKernels(const SplatScene& scene, const ImagePlane& plane, co
         for (int y = box.lo.y; y <= box.hi.y; ++y)
             for (int x = box.lo.x; x <= box.hi.x; ++x) {
                 const uint32_t i = uint32_t((size_t(z) * d.y + y) * d.x + x);
-                if (!(scene.lut[scene.classes[i]].a > 0.0f) ||
+                if (!(scene.opacityOf(i) > 0.0f) ||
                     !test.accepts(plane.toCamera(scene.positionOf(i))))
                     continue;
                 if (out.voxels.size() < size_t(kMaxNearKernels))
@@ -110,7 +110,7 @@ NearSums nearLayerSums(const SplatScene& scene, const ImagePlane& plane, const S
         const auto k = kernelAlongRay(eye, dir, scene.positionOf(voxel), sigma, settings.cutoffSigmas, peak);
         if (!k) continue;
         const uint16_t cls = scene.classes[voxel];
-        const double tau = extinctionOf(scene, settings, cls) *
+        const double tau = voxelExtinction(scene, settings, voxel) *
                            integrate(*k, start, std::numeric_limits<double>::infinity());
         (test.front(plane.toCamera(scene.positionOf(voxel))) ? sums.front : sums.back) +=
             glm::dvec4(glm::dvec3(scene.lut[cls]) * tau, tau);

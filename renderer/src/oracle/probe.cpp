@@ -43,7 +43,7 @@ std::optional<PixelProbe> probePixel(const SplatScene& scene, const SplatSetting
         const glm::ivec3 v = glm::clamp(glm::ivec3(glm::round((p - scene.origin) / scene.spacing)), glm::ivec3(0),
                                         scene.dims - 1);
         const size_t index = (size_t(v.z) * size_t(scene.dims.y) + size_t(v.y)) * size_t(scene.dims.x) + size_t(v.x);
-        alpha += (1.0 - alpha) * (1.0 - std::exp(-extinctionOf(scene, settings, scene.classes[index]) * step));
+        alpha += (1.0 - alpha) * (1.0 - std::exp(-voxelExtinction(scene, settings, uint32_t(index)) * step));
         if (alpha >= alphaAt) return PixelProbe{v, alpha, plane.toCamera(scene.positionOf(uint32_t(index))).z};
     }
     return std::nullopt;

@@ -20,9 +20,9 @@
 
 namespace renderer {
 
-double extinctionOf(const SplatScene& scene, const SplatSettings& settings, uint16_t cls) {
+double voxelExtinction(const SplatScene& scene, const SplatSettings& settings, uint32_t voxel) {
     const double meanSpacing = (scene.spacing.x + scene.spacing.y + scene.spacing.z) / 3.0;
-    return double(scene.lut[cls].a) * settings.density / meanSpacing;
+    return double(scene.opacityOf(voxel)) * settings.density / meanSpacing;
 }
 
 SplatGeometry splatGeometry(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
@@ -188,7 +188,7 @@ static Image renderReferenceOrThrow(const SplatScene& scene, const ImagePlane& p
         for (size_t k = r.begin(); k != r.end(); ++k) {
             const uint32_t voxel = order[k];
             const uint16_t cls = scene.classes[voxel];
-            if (!(scene.lut[cls].a > 0.0f)) {
+            if (!(scene.opacityOf(voxel) > 0.0f)) {
                 splats[k].geometry.culled = true;
                 ++c.culledTransparent;
                 continue;
@@ -200,7 +200,7 @@ static Image renderReferenceOrThrow(const SplatScene& scene, const ImagePlane& p
                 m = FilterMode(modes[grid.indexOf(v)]);
             }
             splats[k].geometry =
-                splatGeometry(scene, plane, settings, voxel, extinctionOf(scene, settings, cls), m, &c);
+                splatGeometry(scene, plane, settings, voxel, voxelExtinction(scene, settings, voxel), m, &c);
             splats[k].colour = glm::dvec3(scene.lut[cls]);
             splats[k].mode = int(m);
             if (settings.shading != SplatSettings::Shading::None) {

@@ -7,6 +7,7 @@
 #include "renderer/model/transfer_function.h"
 #include "renderer/model/window.h"
 #include "ui/file_browser.h"
+#include "ui/gradient_opacity_curve.h"
 #include "ui/regime_tour.h"
 #include "ui/save_notice.h"
 #include "ui/split_view.h"
@@ -76,6 +77,7 @@ struct EditorState {
     std::string tfFile = "transfer_function.json";   // the panel's Load / Save path
     bool tfLogOpacity = false;                       // the curve's opacity axis in decades (tf_editor.h)
     bool tfGalleryOpen = false;                      // the panel's Gallery open: the editor draws thumbnails
+    GradientCurveEdit tfGradient;                    // the gradient opacity curve's selected point
     TfHistory tfHistory;                             // undo / redo, a step per gesture
     std::optional<renderer::TransferFunction> tfGestureStart;   // the TF before the gesture under way
     std::array<float, 3> background{0.055f, 0.060f, 0.075f}; // linear RGB behind the volume

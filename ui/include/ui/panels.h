@@ -63,6 +63,7 @@ struct TransferFunctionView {
     renderer::ValueRange dataRange;                 // the volume's min..max
     renderer::ValueRange percentile;                // p1..p99
     renderer::ValueRange visible;                   // the values of the voxels drawn now (visibleValueRange)
+    GradientCurveView gradients{};                  // the gradient opacity curve's axis and histogram
     // False while a volume loads or the scene is re-classified: a TF in window fractions waits for the
     // window it will be shown with before it is fixed in data units.
     bool windowSettled = true;
@@ -72,11 +73,12 @@ struct TransferFunctionView {
 // Preset; the opacity curve over the histogram (drag a point to move it, click empty space to add one,
 // right-click a point to remove it) and under it the colour bar with its stops (the same gestures, across
 // only); the selected point's value in data units and its opacity or colour; Shift and Rescale of the
-// whole TF; Load and Save of TF files (JSON, written atomically). The Gallery button (state.tfGalleryOpen)
-// shows view.gallery's thumbnails under the file row; a click on one applies that preset as the Preset combo would. A TF in window
-// fractions (a built-in preset, a version-1 file) is fixed in data units over view.window when the panel
-// first shows it. A file that fails to load or save sets state.errorMessage. Returns whether state.tf
-// changed: the app then re-bakes the LUT, which is all a TF edit uploads.
+// whole TF; Load and Save of TF files (JSON, written atomically); on the Undo row the Gallery button
+// (state.tfGalleryOpen: view.gallery's thumbnails under the panel; a click on one applies that preset as
+// the Preset combo would) and the collapsible gradient opacity curve (gradient_opacity_curve.h). A TF in
+// window fractions (a built-in preset, a version-1 file) is fixed in data units over view.window when the
+// panel first shows it. A file that fails to load or save sets state.errorMessage. Returns whether
+// state.tf changed: the app then re-bakes the LUT, which is all a TF edit uploads.
 bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& view);
 // The colour (ImGui's packed ABGR) of the line the panel draws at EditorState::probe's value.
 constexpr unsigned kProbeMarkerColour = 0xFF33D6FFu;

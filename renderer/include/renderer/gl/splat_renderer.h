@@ -70,7 +70,8 @@ public:
     SplatRenderer(const SplatRenderer&) = delete;
     SplatRenderer& operator=(const SplatRenderer&) = delete;
 
-    // Uploads classes, LUT and the bucketed lists. After setTransferFunction(scene, ...) call setLut.
+    // Uploads classes, LUT and the bucketed lists. After setTransferFunction(scene, ...) call
+    // setLut(tfTables(scene)).
     // Throws RenderError("<volume>: needs N MiB of GPU memory, M MiB free") when the scene does not fit:
     // checked up front where the driver reports free memory (GL_NVX_gpu_memory_info, GL_ATI_meminfo) or
     // a limit is set, and after every allocation through GL_OUT_OF_MEMORY.
@@ -78,8 +79,10 @@ public:
     // Gradients computed after setScene(scene) (addGradients): uploads them and nothing else. Reads only
     // the scene's name, dims and gradients.
     void setGradients(const SplatScene& scene);
-    // A TF edit: uploads the LUT (its bytes are all a TF edit costs); the next frame re-selects buckets.
-    void setLut(const Lut& lut);
+    // A TF edit: uploads the LUT and the gradient factors (SplatScene::gradientFactors; empty: none),
+    // their bytes all a TF edit costs; the next frame re-selects buckets. The factors apply once the
+    // scene's gradients are on the GPU (setScene or setGradients).
+    void setLut(const TfTables& tables);
     // Renders into the internal RGBA32F target (resized to plane.width x plane.height).
     void render(const ImagePlane& plane, const SplatSettings& settings);
     // The last frame as premultiplied float RGBA, row 0 at the top (X-ray already resolved).

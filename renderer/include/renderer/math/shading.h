@@ -34,6 +34,19 @@ uint32_t packGradient(glm::dvec3 gradient, double maxMagnitude);
 // voxel's 3 bytes can always be read as two words.
 constexpr size_t gradientBufferBytes(size_t voxels) { return (3 * voxels + 3) / 4 * 4 + 4; }
 
+// The magnitude byte as an index: gradient opacity is baked per byte value (splat_scene.h), so both
+// renderers and the truth look one table up with the byte each voxel already has.
+constexpr int kGradientBins = 256;
+inline int magnitudeBin(uint32_t texel) { return int((texel >> 16) & 0xffu); }
+// The magnitude a byte stands for, data units per object unit: maxMagnitude (bin / 255)^2.
+inline double binMagnitude(int bin, double maxMagnitude) {
+    const double a = bin / 255.0;
+    return maxMagnitude * a * a;
+}
+
+// Voxels per magnitude byte (kGradientBins counts): the gradient opacity curve's histogram.
+std::vector<uint64_t> magnitudeHistogram(const std::vector<uint32_t>& texels);
+
 // What the GLSL unpackGradient() computes, in float, widened: the CPU oracle and GL shade the same
 // normal (to float rounding: normalize() may round differently by an ulp or two).
 struct DecodedGradient {

@@ -14,16 +14,10 @@
 
 namespace renderer {
 
-// Gradient-magnitude opacity as Slicer gives it: opacity multiplier over |gradient| (data units per voxel).
-struct GradientOpacityPoint {
-    double gradient = 0.0;
-    double opacity = 1.0;
-    bool operator==(const GradientOpacityPoint&) const = default;
-};
-
 struct SlicerPreset {
-    TransferFunction tf;                               // name, colour and scalar opacity, data units
-    std::vector<GradientOpacityPoint> gradientOpacity; // empty when the element has none
+    // Name, colour, scalar opacity and gradient opacity, in data units. Slicer's gradient magnitudes are
+    // VTK's, in data units per world unit (mm), as ours; a gradient opacity of 1 everywhere is left out.
+    TransferFunction tf;
 };
 
 // Every <VolumeProperty> of `text`, in file order (elements inside XML comments are skipped). Throws
@@ -33,8 +27,6 @@ struct SlicerPreset {
 std::vector<SlicerPreset> slicerPresetsFromXml(std::string_view text, const std::string& source);
 std::vector<SlicerPreset> loadSlicerPresets(const std::filesystem::path& path);
 
-// True when the preset's gradient opacity changes anything (some opacity is not 1).
-bool usesGradientOpacity(const SlicerPreset& preset);
 
 // A Slicer preset file named in a TF spec: "FILE.xml" (the file's first preset) or "FILE.xml#NAME".
 struct SlicerPresetSpec {
@@ -43,8 +35,8 @@ struct SlicerPresetSpec {
 };
 std::optional<SlicerPresetSpec> slicerPresetSpec(const std::string& spec);
 
-// The preset a spec names, and what the user should know about it: that the first of several was taken,
-// that its gradient opacity is not applied. Throws LoadError listing the file's presets for an unknown name.
+// The preset a spec names, and what the user should know about it: that the first of several was taken.
+// Throws LoadError listing the file's presets for an unknown name.
 struct LoadedSlicerPreset {
     SlicerPreset preset;
     std::vector<std::string> notes; // one line each

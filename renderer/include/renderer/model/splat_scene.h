@@ -5,6 +5,7 @@
 // same order.
 #pragma once
 #include "renderer/math/camera.h"
+#include "renderer/math/shading.h"
 #include "renderer/model/gradients.h"
 #include "renderer/model/splat_settings.h"
 #include "renderer/model/transfer_function.h"
@@ -55,6 +56,11 @@ struct AxisLists {
     std::vector<uint32_t> sliceRuns;     // runs of slice s: [sliceRuns[s], sliceRuns[s + 1])
 };
 
+// Gradient opacity baked for one scene: entry b is the TF's gradient factor at the magnitude the packed
+// magnitude byte b stands for (binMagnitude, shading.h), kGradientBins entries. Indexed by the byte each
+// voxel's packed gradient already holds, it costs no memory a voxel and a TF edit bakes 256 floats.
+using GradientFactors = std::vector<float>;
+
 struct SplatScene {
     std::string name;                    // the volume's name, for messages
     glm::ivec3 dims{0};
@@ -72,8 +78,24 @@ struct SplatScene {
     std::vector<uint32_t> classVoxels;   // per LUT class, its voxels: a TF edit counts the visible ones
                                          // from these kLutSize figures, not from every voxel
     std::vector<uint32_t> gradients;     // packed per voxel (shading.h), empty until addGradients
+    double gradientMax = 0.0;            // their largest |g| (PackedGradients::maxMagnitude)
+    TransferFunction tf;                 // what lut and gradientFactors were baked from (addGradients re-bakes)
+    // Empty (a factor of 1) when the TF has no gradient opacity or the scene no gradients yet: the editor
+    // shows a TF's gradient opacity once the gradients are computed, as it does shading. Non-empty only
+    // with a gradient a voxel (opacityOf reads them): setTransferFunction and addGradients keep it so.
+    GradientFactors gradientFactors;
+    // Voxels per (class, magnitude byte), kLutSize x kGradientBins, built by the first TF with gradient
+    // opacity (4 MiB): a class none of whose voxels gets a factor above 0 is then hidden (its LUT
+    // opacity 0, culled by bucket), and visibleVoxels stays exact.
+    std::vector<uint32_t> classGradientVoxels;
 
     size_t visibleCount() const { return visibleVoxels; }
+    // A voxel's opacity: its class's LUT opacity times its gradient factor, in float as the GL computes it
+    // (splat_footprint.glsl). The oracle, the near layer and the truth all read it; 0 culls the voxel.
+    float opacityOf(uint32_t voxel) const {
+        const float a = lut[classes[voxel]].a;
+        return gradientFactors.empty() ? a : a * gradientFactors[size_t(magnitudeBin(gradients[voxel]))];
+    }
     glm::dvec3 positionOf(uint32_t index) const;
     // Linear voxel index of in-slice position `pos` of `slice` along `axis`.
     uint32_t voxelAt(int axis, uint32_t slice, uint32_t pos) const;
@@ -81,11 +103,20 @@ struct SplatScene {
 
 // Classifies every voxel over `window` (the volume's range when lo == hi) and builds the lists.
 SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, ValueRange window = {});
-// Packs the volume's gradients into the scene, for shading and surface splats (GradientField from
-// computeGradients, which reports progress and can be cancelled).
+// Packs the volume's gradients into the scene, for shading, surface splats and gradient opacity
+// (GradientField from computeGradients, which reports progress and can be cancelled), and re-bakes the
+// scene's TF with them.
 void addGradients(SplatScene& scene, const GradientField& field);
-// A TF edit: re-bakes the LUT and recounts visible voxels; the lists stay.
+// Packed already (the editor's worker); none (no texels) leaves the scene without gradients.
+void addGradients(SplatScene& scene, PackedGradients packed);
+// A TF edit: re-bakes the LUT and the gradient factors and recounts visible voxels; the lists stay.
 void setTransferFunction(SplatScene& scene, const TransferFunction& tf);
+// What a TF edit changes and a renderer uploads (SplatRenderer::setLut).
+struct TfTables {
+    Lut lut;
+    GradientFactors gradientFactors;
+};
+inline TfTables tfTables(const SplatScene& scene) { return {scene.lut, scene.gradientFactors}; }
 // The data values of the voxels the LUT draws (opacity > 0): from the lowest such class's lower edge to
 // the highest's upper edge, over the scene's window. {0, 0} when none is drawn.
 ValueRange visibleValueRange(const SplatScene& scene);

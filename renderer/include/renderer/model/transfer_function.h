@@ -1,5 +1,6 @@
 // Transfer function: a colour function and an opacity function, each piecewise linear over its own
-// points, positioned in the data's units (HU for CT) -> an RGBA lookup table over the scene's window.
+// points, positioned in the data's units (HU for CT) -> an RGBA lookup table over the scene's window;
+// optionally a gradient opacity function (|gradient| -> a factor on the opacity, as ParaView and Slicer).
 // Opacity is extinction per unit length (EWA_NOTES): a point's `opacity` times SplatSettings::density
 // is the extinction per voxel length. Files and presets are JSON (docs/formats.md); the points are saved.
 #pragma once
@@ -27,10 +28,21 @@ struct OpacityPoint {
     bool operator==(const OpacityPoint&) const = default;
 };
 
+// A point of the gradient opacity function (ParaView's and Slicer's "gradient opacity").
+struct GradientOpacityPoint {
+    double magnitude = 0.0;    // |gradient| in data units per world unit (gradients.h: HU/mm for a CT in mm)
+    double opacity = 1.0;      // factor in [0,1] on the opacity of voxels with this gradient magnitude
+    bool operator==(const GradientOpacityPoint&) const = default;
+};
+
 struct TransferFunction {
     std::string name;
     std::vector<ColourPoint> colours;      // sorted by value; piecewise linear between them
     std::vector<OpacityPoint> opacities;   // sorted by value; piecewise linear between them
+    // Sorted by magnitude; piecewise linear, its end points' own outside them. Empty: a factor of 1 at
+    // every gradient (no gradient opacity). Always in data units per world unit (windowFractions, Shift
+    // and Rescale move the value axis only).
+    std::vector<GradientOpacityPoint> gradientOpacity;
     // True for version-1 files and the built-in presets: positions are 0..1 of whichever window the TF
     // meets (0 = window.lo). inDataUnits() fixes them over one window; the editor does so when it takes
     // the TF, so a later window change no longer moves it.
@@ -54,6 +66,8 @@ using Lut = std::vector<glm::vec4>;     // kLutSize entries: rgb colour, a = opa
 // Colour (rgb) and opacity (a) at `value` (the TF's own units): each linear between its points around
 // it, its end points' own outside them (black, transparent with no points).
 glm::dvec4 evaluate(const TransferFunction& tf, double value);
+// The gradient opacity factor at `magnitude` (data units per world unit): 1 without gradient points.
+double evaluateGradientOpacity(const TransferFunction& tf, double magnitude);
 // The LUT spans `window`, the scene's classification range (classOf): entry i is the TF at the data
 // value in the middle of class i. Why the window and not the TF's extent: a voxel's class then does not
 // depend on the TF, so a TF edit re-bakes these 4096 entries and nothing else (the editor's drag stays

@@ -17,7 +17,7 @@ struct PixelProbe {
 
 // Marches the ray through pixel position `pixel` (x right, y down; pixel (i, j) covers [i, i+1) x [j, j+1))
 // front to back through the scene's grid, in steps of half its smallest spacing, taking each step's
-// nearest voxel: extinction by its class as the splats take it (extinctionOf), without their kernels.
+// nearest voxel: extinction by its class as the splats take it (voxelExtinction), without their kernels.
 // Returns the first voxel at which the gathered opacity reaches `alphaAt` (0.5: where a surface shows),
 // nothing where the ray misses the grid or stays more transparent than that.
 std::optional<PixelProbe> probePixel(const SplatScene& scene, const SplatSettings& settings, const ImagePlane& plane,

@@ -35,8 +35,8 @@ struct SplatGeometry {
 SplatGeometry splatGeometry(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                             uint32_t voxel, double extinction, FilterMode mode, SplatCounters* counters = nullptr);
 
-// Extinction per object unit of a voxel of the given class (TF opacity x density / mean spacing).
-double extinctionOf(const SplatScene& scene, const SplatSettings& settings, uint16_t cls);
+// Extinction per object unit of a voxel (its opacity, SplatScene::opacityOf, x density / mean spacing).
+double voxelExtinction(const SplatScene& scene, const SplatSettings& settings, uint32_t voxel);
 
 // heatmap (optional): the filter-mode heatmap, composited like the image: premultiplied RGBA with
 // r, g, b = the share of reconstruction-only, low-pass-only and full EWA splats in the pixel's alpha.
