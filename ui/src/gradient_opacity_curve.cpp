@@ -84,9 +84,13 @@ bool removeGradientPoint(renderer::TransferFunction& tf, int index) {
 
 bool drawGradientOpacityCurve(renderer::TransferFunction& tf, GradientCurveEdit& edit,
                               const GradientCurveView& view) {
-    if (!ImGui::CollapsingHeader("Gradient opacity",
-                                 tf.gradientOpacity.empty() ? 0 : ImGuiTreeNodeFlags_DefaultOpen))
-        return false;
+    const bool open = ImGui::CollapsingHeader("Gradient opacity",
+                                              tf.gradientOpacity.empty() ? 0 : ImGuiTreeNodeFlags_DefaultOpen);
+    // On the Undo row a narrow panel (1280 px windows) shows only the start of the label.
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Gradient opacity: a factor on each voxel's opacity by its gradient magnitude "
+                          "(keep surfaces, fade insides); click to %s", open ? "close" : "open");
+    if (!open) return false;
     const double maxMagnitude = view.maxMagnitude;
     if (!(maxMagnitude > 0.0)) {
         ImGui::TextDisabled(tf.gradientOpacity.empty()
