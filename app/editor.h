@@ -27,6 +27,7 @@ struct EditorOptions {
     int frames = 0;                       // > 0: exit after this many frames (0: until the window closes)
     int width = 1280, height = 800;       // window size in screen coordinates
     renderer::SplatSettings settings;     // the starting settings, heatmap included (the command line's)
+    bool cullingByDriver = false;         // no culling flag: occlusion culling as the driver's profile says
     double heatmapOpacity = 1.0;          // the heatmap over the image: 0 the image only, 1 the heatmap only
     // --split A,B: the viewport split in two panes with these filters (both in settings.compositing);
     // --split-difference adds the |A - B| pane (ui/split_view.h).

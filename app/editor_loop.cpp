@@ -2,6 +2,7 @@
 // input, and showing the drawn frame (with a scripted run's outputs). Each step is a method of EditorLoop.
 #include "editor_loop.h"
 
+#include "renderer/gl/driver_profile.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/io/image.h"
 #include "ui/session.h"
@@ -47,6 +48,8 @@ bool EditorLoop::start() {
         m_state.camera = m_options.camera;
         m_state.camera.up = renderer::axisFromName(m_options.upAxis);
         m_state.settings = m_options.settings;
+        if (m_options.cullingByDriver)
+            m_state.settings.occlusionCulling = renderer::driverProfile(m_glRenderer).occlusionCulling;
         m_state.showHeatmap = m_options.settings.heatmap;
         m_state.heatmapOpacity = m_options.heatmapOpacity;
         if (m_options.split) {

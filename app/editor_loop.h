@@ -126,7 +126,8 @@ class EditorLoop {
     void showRenderedView();    // the newest finished image into the viewport's texture
     void countPatchesIfShown(); // the Filters panel's patches per filter
     void drawGalleryIfOpen();   // the TF panel's Gallery: the next preset's thumbnail (preset_gallery.h)
-    std::optional<ThumbnailSource> thumbnailSource() const; // none while the scene is being re-classified
+    int thumbnailLevel() const;                      // 0: the full scan, k: the preview's level k
+    ThumbnailSource thumbnailSource(int level) const; // what the gallery draws its thumbnails from
     void takeRenderErrors();    // what the render thread failed at, reported
 
     // == The panels (editor_panels.cpp)

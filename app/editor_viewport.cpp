@@ -30,8 +30,17 @@ void EditorLoop::renderViewport() {
     drawGalleryIfOpen();
 }
 
-std::optional<ThumbnailSource> EditorLoop::thumbnailSource() const {
-    if (!m_hasScene || !m_doc.volume || m_classifyJob || m_fullWindowStale) return std::nullopt;
+int EditorLoop::thumbnailLevel() const {
+    // A large scan's thumbnails come from the finest level small enough (a 96-pixel image needs no more).
+    if (m_doc.volume->voxelCount() <= kThumbnailMaxVoxels || !m_doc.preview) return 0;
+    const auto& levels = m_doc.preview->levels;
+    for (size_t k = 0; k < levels.size(); ++k)
+        if (levels[k].volume.voxelCount() <= kThumbnailMaxVoxels || k + 1 == levels.size()) return int(k) + 1;
+    return 0;
+}
+
+ThumbnailSource EditorLoop::thumbnailSource(int level) const {
+    const renderer::SplatScene& scene = level ? m_doc.preview->levels[size_t(level - 1)].scene : m_doc.scene;
     ThumbnailSource source;
     source.plane = thumbnailPlane(m_doc.scene, m_state.camera.up);
     source.settings = m_state.settings;
@@ -40,32 +49,26 @@ std::optional<ThumbnailSource> EditorLoop::thumbnailSource() const {
         source.settings.shading = renderer::SplatSettings::Shading::None;
         source.settings.surfaceFlatten = 1.0;
     }
-    source.window = m_doc.scene.window;
-    source.shownTables = renderer::tfTables(m_doc.scene);
-    // A large scan's thumbnails come from the finest level small enough (a 96-pixel image needs no more).
-    if (m_doc.volume->voxelCount() > kThumbnailMaxVoxels && m_doc.preview)
-        for (size_t k = 0; k < m_doc.preview->levels.size(); ++k) {
-            const Level& level = m_doc.preview->levels[k];
-            if (level.volume.voxelCount() > kThumbnailMaxVoxels && k + 1 < m_doc.preview->levels.size())
-                continue;
-            source.level = int(k) + 1;
-            source.window = level.scene.window;
-            source.shownTables = renderer::tfTables(level.scene);
-            source.settings.density =
-                renderer::densityFor(level.volume, *m_doc.volume, m_state.settings.density);
-            break;
-        }
+    source.level = level;
+    source.window = scene.window;
+    source.shownTables = renderer::tfTables(scene);
+    if (level)
+        source.settings.density = renderer::densityFor(m_doc.preview->levels[size_t(level - 1)].volume,
+                                                       *m_doc.volume, m_state.settings.density);
     return source;
 }
 
 void EditorLoop::drawGalleryIfOpen() {
-    if (!m_state.tfGalleryOpen) return;
-    const std::optional<ThumbnailSource> source = thumbnailSource();
-    if (!source) return;
-    const auto of = std::tuple{m_volumesShown, source->window.lo, source->window.hi, m_state.gradientsReady};
+    // Not while the scene is being re-classified; and once every thumbnail of this view is drawn, each
+    // frame costs only the check of what they were drawn from.
+    if (!m_state.tfGalleryOpen || !m_hasScene || !m_doc.volume || m_classifyJob || m_fullWindowStale) return;
+    const int level = thumbnailLevel();
+    const renderer::ValueRange& window = (level ? m_doc.preview->levels[size_t(level - 1)].scene : m_doc.scene).window;
+    const auto of = std::tuple{m_volumesShown, window.lo, window.hi, m_state.gradientsReady};
     if (m_galleryOf != of) m_gallery.invalidate(), m_galleryOf = of;
     if (m_gallery.complete()) return;
-    guarded([&] { m_gallery.step(*m_render, *source, m_state.background, m_scripted); });
+    const ThumbnailSource source = thumbnailSource(level);
+    guarded([&] { m_gallery.step(*m_render, source, m_state.background, m_scripted); });
 }
 
 void EditorLoop::stepFilterMeasurement() {

@@ -10,6 +10,7 @@
 
 #include "renderer/math/camera.h"
 #include "renderer/errors.h"
+#include "renderer/gl/driver_profile.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/model/gradients.h"
 #include "renderer/model/paraview_preset.h"
@@ -164,7 +165,7 @@ struct SplatFlags {
     double cMin = SplatSettings{}.cMin, cMax = SplatSettings{}.cMax, hysteresis = SplatSettings{}.hysteresis;
     double opaqueAlpha = SplatSettings{}.opaqueAlpha;
     int patchSize = SplatSettings{}.patchSize, opaqueRefresh = SplatSettings{}.opaqueRefreshSlices;
-    bool noOcclusionCulling = false;
+    bool noOcclusionCulling = false, occlusionCulling = false;   // neither: the driver's default
 };
 
 void addSplatFlags(CLI::App* cmd, SplatFlags& f) {
@@ -185,9 +186,13 @@ void addSplatFlags(CLI::App* cmd, SplatFlags& f) {
     cmd->add_option("--opaque-refresh", f.opaqueRefresh,
                     "Slices between refreshes of the opaque pixels (occlusion culling; 0: auto, every slice "
                     "with tiles, every 8 rasterised)")->capture_default_str();
-    cmd->add_flag("--no-occlusion-culling", f.noOcclusionCulling,
-                  "Front to back, keep splats whose tiles or pixels are already opaque (early termination still "
-                  "skips those pixels): the baseline culling is measured against");
+    auto* off = cmd->add_flag("--no-occlusion-culling", f.noOcclusionCulling,
+                              "Front to back, keep splats whose tiles or pixels are already opaque (early termination "
+                              "still skips those pixels): the default on a GPU, where culling's read-backs cost more "
+                              "than it saves");
+    cmd->add_flag("--occlusion-culling", f.occlusionCulling,
+                  "Front to back, cull splats whose tiles or pixels are already opaque: the default with llvmpipe")
+        ->excludes(off);
     cmd->add_option("--primitive", f.primitive, kPrimitiveHelp)->capture_default_str();
     sessionSets(cmd, before);
 }
@@ -205,8 +210,11 @@ void applySplatFlags(const SplatFlags& f, SplatSettings& s) {
     s.hysteresis = inRange(f.hysteresis, "--hysteresis", kHysteresisRange);
     s.opaqueAlpha = inRange(f.opaqueAlpha, "--opaque-alpha", kOpaqueAlphaRange);
     s.opaqueRefreshSlices = int(inRange(f.opaqueRefresh, "--opaque-refresh", kOpaqueRefreshRange, " slices (0: auto)"));
-    s.occlusionCulling = !f.noOcclusionCulling;
+    if (f.noOcclusionCulling || f.occlusionCulling) s.occlusionCulling = f.occlusionCulling;
 }
+
+// Neither culling flag: the driver's profile chooses, once the GL context exists.
+bool cullingByDriver(const SplatFlags& f) { return !f.noOcclusionCulling && !f.occlusionCulling; }
 
 // `render --session`, `editor --session`: a flag for what the session sets is an error beside it, not
 // silently overridden by the session or overriding it.
@@ -404,6 +412,8 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     } else {
         auto context = HeadlessGl::create();
         device = glRendererName();
+        if (a.session.empty() && cullingByDriver(ra.splat))
+            s.settings.occlusionCulling = driverProfile(device).occlusionCulling;
         SplatRenderer gl;
         gl.setScene(s.scene);
         gl.render(s.plane, s.settings);   // warm-up: shader compilation and first-use costs
@@ -520,6 +530,11 @@ int runTf(const std::string& spec, const std::string& out, bool paraView) {
         return 0;
     }
     const TransferFunction tf = tfFromSpecNoting(spec);
+    if (paraView && !tf.gradientOpacity.empty())   // said, not dropped silently
+        std::fprintf(stderr,
+                     "splatlab: note: ParaView's colour-map presets hold no gradient opacity: the TF's %zu gradient "
+                     "opacity points are not written (SplatLab's JSON keeps them)\n",
+                     tf.gradientOpacity.size());
     if (paraView && out.empty()) std::fputs(paraViewPresetText(tf).c_str(), stdout);
     else if (paraView) saveParaViewPreset(tf, out);
     else if (out.empty()) std::fputs(transferFunctionText(tf).c_str(), stdout);
@@ -699,6 +714,7 @@ int main(int argc, char** argv) {
         if (e.splitDifference && !e.split) throw CLI::ValidationError("--split-difference", "needs --split A,B");
         applyLookFlags(editorLook, e.settings);
         applySplatFlags(editorSplat, e.settings);
+        e.cullingByDriver = cullingByDriver(editorSplat);
         e.camera.orthographic = editorLook.orthographic;
         e.window = parseWindow(editorLook.window);
         e.raw = rawOptions(editorRaw);

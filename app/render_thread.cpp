@@ -3,6 +3,7 @@
 #include "render_thread.h"
 
 #include "renderer/errors.h"
+#include "renderer/gl/driver_profile.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/out_of_memory.h"
 
@@ -60,7 +61,9 @@ RenderThread::~RenderThread() {
     m_thread.join();
 }
 
-double RenderThread::defaultBudgetMs() const { return m_glRenderer.rfind("llvmpipe", 0) == 0 ? 150.0 : 16.0; }
+double RenderThread::defaultBudgetMs() const {
+    return renderer::driverProfile(m_glRenderer).software ? 150.0 : 16.0;
+}
 
 void RenderThread::post(std::function<void(Renderers&)> task, bool reportErrors) {
     {

@@ -8,6 +8,7 @@
 #include "report_page.h"
 
 #include "renderer/errors.h"
+#include "renderer/gl/driver_profile.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/io/atomic_file.h"
 #include "renderer/io/volume_io.h"
@@ -63,6 +64,7 @@ ReportSection measureScan(SplatRenderer& gl, const ReportArgs& a, const fs::path
     const Volume volume = loadVolumeOrScene(volumePath);
     const SplatScene scene = buildSplatScene(volume, transferFunctionFromSpec(tfSpec), windowFor(volume, {}));
     ReportSection s;
+    s.current.occlusionCulling = driverProfile(glRendererName()).occlusionCulling;
     camera = framedCamera(camera, scene, s.current, size.x, size.y);
     const ImagePlane view = makeImagePlane(camera, scene.centre, scene.radius, size.x, size.y, scene.axes);
     const ImagePlane crop = centreCrop(view, kComparisonCropPx);

@@ -29,6 +29,9 @@ shader_program(tile_bases FILES tile_bases.comp AXES ${tile_header} RECORD_VEC4S
 shader_program(tile_scatter FILES tile_scatter.comp AXES ${tile_header} "${shading_axis}" "|OCCLUSION")
 shader_program(tile_composite FILES tile_composite.comp
   AXES ${tile_header} "${shading_axis}" "|HEATMAP" "|OCCLUSION" "|XRAY" "|COLUMN_RECURRENCE")
+# The composite shaped for a GPU (a pixel per invocation; DriverProfile::compositePerPixel).
+shader_program(tile_composite_pixels FILES tile_composite_pixels.comp
+  AXES ${tile_header} "${shading_axis}" "|HEATMAP" "|OCCLUSION" "|XRAY")
 
 # Full-screen passes and small compute passes, built once in SplatRenderer's constructor.
 shader_program(sheet_composite FILES fullscreen.vert sheet_composite.frag AXES "|HEATMAP")

@@ -28,9 +28,6 @@ void main() {
     if (uReverse) k = aRun.w - 1u - k;
     Footprint f;
     if (!footprint(aRun, k, f)) return;
-#ifdef OCCLUSION
-    if (hidden(f)) { count(10); return; }
-#endif
     count(6);
     count(7 + f.mode);
     vCentre = f.centre;

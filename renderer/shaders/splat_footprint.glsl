@@ -49,6 +49,25 @@ uint gradientTexel(ivec3 ijk) {
     return gradients[byte >> 2u] >> shift | (gradients[(byte >> 2u) + 1u] << (31u - shift)) << 1u;
 }
 
+// Pixels the footprint can touch, as the CPU's box: centres inside centre -+ halfExtent.
+ivec2 boxLo(Footprint f) { return ivec2(ceil(f.centre - f.halfExtent - 0.5)); }
+ivec2 boxHi(Footprint f) { return ivec2(floor(f.centre + f.halfExtent - 0.5)); }
+
+#ifdef OCCLUSION
+uniform int uTilesX;          // columns of the opaque-tile map
+// Culled when every tile under the pixels it can touch was opaque at the last snapshot of the map:
+// early termination would reject each of its pixels anyway. Boxes wider than 4 tiles are kept.
+bool hidden(Footprint f) {
+    ivec2 ta = clamp(boxLo(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
+    ivec2 tb = clamp(boxHi(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
+    if (tb.x - ta.x >= 4 || tb.y - ta.y >= 4) return false;
+    for (int ty = ta.y; ty <= tb.y; ++ty)
+        for (int tx = ta.x; tx <= tb.x; ++tx)
+            if (!tileOpaque(ty * uTilesX + tx)) return false;   // most splats leave at their first tile
+    return true;
+}
+#endif
+
 // Entry k of run `run` (first entry, tile base, slice | bucket << 16 | dense << 31, count): false when
 // a guard culls it (counted in its slot).
 bool footprint(uvec4 run, uint k, out Footprint f) {
@@ -118,6 +137,9 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
     f.centre = uCentrePx + uFPx * (uOrtho ? u.xy : u.xy * iz);
     if (f.centre.x + f.halfExtent.x < 0.0 || f.centre.x - f.halfExtent.x > uViewport.x ||
         f.centre.y + f.halfExtent.y < 0.0 || f.centre.y - f.halfExtent.y > uViewport.y) { count(5); return false; }
+#ifdef OCCLUSION   // hidden: culled before its conic, amplitude and shading are computed
+    if (hidden(f)) { count(10); return false; }
+#endif
 
     float detJ = uOrtho ? uFPx * uFPx : uFPx * uFPx * l * iz * iz * iz;
     f.conic = vec3(M[1][1], -M[0][1], M[0][0]) / det;
@@ -131,21 +153,3 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
     return true;
 }
 
-// Pixels the footprint can touch, as the CPU's box: centres inside centre -+ halfExtent.
-ivec2 boxLo(Footprint f) { return ivec2(ceil(f.centre - f.halfExtent - 0.5)); }
-ivec2 boxHi(Footprint f) { return ivec2(floor(f.centre + f.halfExtent - 0.5)); }
-
-#ifdef OCCLUSION
-uniform int uTilesX;          // columns of the opaque-tile map
-// Culled when every tile under the pixels it can touch was opaque at the last snapshot of the map:
-// early termination would reject each of its pixels anyway. Boxes wider than 4 tiles are kept.
-bool hidden(Footprint f) {
-    ivec2 ta = clamp(boxLo(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
-    ivec2 tb = clamp(boxHi(f), ivec2(0), ivec2(uViewport) - 1) / OPAQUE_TILE;
-    if (tb.x - ta.x >= 4 || tb.y - ta.y >= 4) return false;
-    for (int ty = ta.y; ty <= tb.y; ++ty)
-        for (int tx = ta.x; tx <= tb.x; ++tx)
-            if (!tileOpaque(ty * uTilesX + tx)) return false;   // most splats leave at their first tile
-    return true;
-}
-#endif

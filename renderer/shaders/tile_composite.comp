@@ -12,6 +12,7 @@
 #include "tile_state.glsl"
 #include "shading.glsl"
 #include "conic_form.glsl"
+#include "tile_sheet.glsl"
 #if SPLAT_TILE != 8
 #error the row macros below assume 8x8 tiles
 #endif
@@ -35,21 +36,7 @@ uniform float uCutoff, uFPx, uOpaqueAlpha;
 uniform bool uFrontToBack, uOrtho;
 uniform ShadingParams uShadingParams;
 
-// (sum c tau, sum tau) -> premultiplied colour of alpha 1 - exp(-sum tau), as the sheet composite.
-vec4 sheetRgba(vec4 q) {
-    if (!(q.a > 0.0)) return vec4(0.0);
-    float a = q.a < 1e-3 ? q.a * (1.0 - 0.5 * q.a) : 1.0 - exp(-q.a);
-    return vec4(q.rgb / q.a * a, a);
-}
-
-vec4 composite(vec4 image, vec4 sheet) {
-#ifdef XRAY
-    return image + sheet;
-#else
-    vec4 s = sheetRgba(sheet);
-    return uFrontToBack ? image + (1.0 - image.a) * s : s + (1.0 - s.a) * image;
-#endif
-}
+vec4 composite(vec4 image, vec4 sheet) { return compositeSheet(image, sheet, uFrontToBack); }
 
 #ifdef HEATMAP
 #define ADD_HEAT(r) sheetHeat##r += vec4(mode == 0u ? tau : 0.0, mode == 1u ? tau : 0.0, mode == 2u ? tau : 0.0, tau);

@@ -40,9 +40,6 @@ void main() {
          k += uint(RUN_LANES) * uSegments) {
         Footprint f;
         if (!footprint(run, k, f)) continue;
-#ifdef OCCLUSION
-        if (hidden(f)) { count(10); continue; }
-#endif
         count(6);
         count(7 + f.mode);
         uint i = atomicAdd(splatCount, 1u);

@@ -13,6 +13,7 @@
 #include "renderer/oracle/ground_truth.h"
 #include "renderer/math/metrics.h"
 #include "renderer/oracle/reference_renderer.h"
+#include "renderer/gl/driver_profile.h"
 #include "renderer/gl/splat_renderer.h"
 #include "renderer/model/transfer_function.h"
 #include "renderer/io/volume_io.h"
@@ -38,20 +39,27 @@ namespace {
 struct Dataset {
     std::string name;
     std::filesystem::path path;
-    const char* preset;
+    std::string preset;   // a built-in preset name or a TF file
     std::optional<ValueRange> window = std::nullopt;   // none: the data's range
     int phantomSize = 0;                               // > 0: the head phantom at this size^3 instead of a file
 };
+
+// The bundled assets: SPLATLAB_ASSET_DIR where set (a copy of the binary run from another checkout, as
+// scripts/gpu-bench does), else the source tree it was built from.
+std::filesystem::path assetDir() {
+    const char* dir = std::getenv("SPLATLAB_ASSET_DIR");
+    return dir && *dir ? std::filesystem::path(dir) : std::filesystem::path(SPLATLAB_ASSET_DIR);
+}
 
 std::vector<Dataset> datasets() {
     std::vector<Dataset> d;
     const char* dir = std::getenv("SPLATLAB_DATA_DIR");
     if (dir && std::filesystem::is_directory(dir)) {
         d.push_back({"bonsai", std::filesystem::path(dir) / "bonsai.nhdr",
-                     SPLATLAB_ASSET_DIR "/presets/bonsai.json"});
+                     (assetDir() / "presets" / "bonsai.json").string()});
         d.push_back({"engine", std::filesystem::path(dir) / "engine.nhdr", "fire"});
     }
-    d.push_back({"headsq", std::filesystem::path(SPLATLAB_ASSET_DIR) / "volumes" / "headsq.nhdr", "ct-skin-bone"});
+    d.push_back({"headsq", assetDir() / "volumes" / "headsq.nhdr", "ct-skin-bone"});
     if (const char* size = std::getenv("SPLATLAB_BENCH_PHANTOM"); size && std::atoi(size) > 0)
         d.push_back({"phantom" + std::to_string(std::atoi(size)), {}, "ct-skin-bone", kPhantomSkinBoneWindow,
                      std::atoi(size)});
@@ -93,7 +101,9 @@ const SplatScene& sceneOf(const Dataset& d, bool gradients = false, bool half = 
 // Times whole frames (render + glFinish) of one configuration; one more frame with GPU counters on
 // reports what was drawn per filter.
 // half: the preview's scene, seen from the full scene's camera, with its RMSE against the full frame.
-void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Camera camera = {}, bool half = false) {
+// tune: a change to the renderer itself (one of its setters for comparisons), before the warm-up.
+void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Camera camera = {}, bool half = false,
+                  const std::function<void(SplatRenderer&)>& tune = {}) {
     const SplatScene& full = sceneOf(d, needsGradients(s));
     const SplatScene& scene = half ? sceneOf(d, needsGradients(s), true) : full;
     const ImagePlane plane = makeImagePlane(camera, full.centre, full.radius, gWidth, gHeight);
@@ -106,6 +116,7 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
         s.density *= halfDensityScales().at(d.name);
     }
     SplatRenderer r;
+    if (tune) tune(r);
     r.setScene(scene);
     r.render(plane, s);   // warm-up
     if (fullImage) state.counters["rmse_vs_full"] = compareImages(r.readback(), *fullImage).rmse;
@@ -233,6 +244,14 @@ void add(const std::string& name, std::function<void(benchmark::State&)> fn, int
 
 } // namespace
 
+// The settings a user of this driver starts with: occlusion culling as its profile says (on with
+// llvmpipe, off on a GPU); the tiles-(no-)occlusion-culling rows set it either way.
+SplatSettings driverDefaults() {
+    SplatSettings s;
+    s.occlusionCulling = driverProfile(glRendererName()).occlusionCulling;
+    return s;
+}
+
 // Removes argv[i] .. argv[i + n - 1]: Google Benchmark rejects flags it does not know.
 void dropArgs(int& argc, char** argv, int i, int n) {
     for (int j = i; j + n < argc; ++j) argv[j] = argv[j + n];
@@ -281,7 +300,7 @@ int main(int argc, char** argv) {
         for (auto filter : {FilterMode::Ewa, FilterMode::Adaptive, FilterMode::Reconstruction, FilterMode::LowPass})
             for (auto comp : {Compositing::SplatEverySample, Compositing::SheetBackToFront, Compositing::SheetFrontToBack,
                               Compositing::XRay}) {
-                SplatSettings s;
+                SplatSettings s = driverDefaults();
                 s.filter = filter;
                 s.compositing = comp;
                 add(n + "/" + filterModeName(filter) + "/" + compositingName(comp),
@@ -290,18 +309,20 @@ int main(int argc, char** argv) {
         // Sheets and X-ray are tiled (auto) in the rows above; here through the rasteriser.
         for (auto filter : {FilterMode::Ewa, FilterMode::Adaptive})
             for (auto comp : {Compositing::SheetBackToFront, Compositing::SheetFrontToBack, Compositing::XRay}) {
-                SplatSettings s;
+                SplatSettings s = driverDefaults();
                 s.filter = filter;
                 s.compositing = comp;
                 s.primitive = SplatSettings::Primitive::Raster;
                 add(n + "/" + filterModeName(filter) + "/" + compositingName(comp) + "/raster",
                     [=](benchmark::State& st) { renderFrames(st, d, s); });
             }
-        // Tiles front to back: refresh every 8, no occlusion culling, no early termination.
+        // Tiles front to back: refresh every 8, occlusion culling on and off (the driver picks one for the
+        // other rows), no early termination.
         for (auto [name, alpha, refresh, cull] : {std::tuple{"tiles-refresh-8", 0.998, 8, true},
+                                                  std::tuple{"tiles-occlusion-culling", 0.998, 0, true},
                                                   std::tuple{"tiles-no-occlusion-culling", 0.998, 0, false},
                                                   std::tuple{"tiles-no-early-termination", 1.0, 0, true}}) {
-            SplatSettings s;
+            SplatSettings s = driverDefaults();
             s.compositing = Compositing::SheetFrontToBack;
             s.primitive = SplatSettings::Primitive::Tiles;
             s.opaqueAlpha = alpha;
@@ -309,28 +330,41 @@ int main(int argc, char** argv) {
             s.occlusionCulling = cull;
             add(n + "/ewa/sheet-front-to-back/" + name, [=](benchmark::State& st) { renderFrames(st, d, s); });
         }
+        // The tile composite's two layouts, a column or a pixel per invocation (the driver picks one).
+        for (auto comp : {Compositing::SheetFrontToBack, Compositing::SheetBackToFront})
+            for (auto [view, distance] : {std::pair{"", 2.5}, std::pair{"far/", 8.0}})
+                for (bool perPixel : {false, true}) {
+                    SplatSettings v = driverDefaults();
+                    v.compositing = comp;
+                    v.primitive = SplatSettings::Primitive::Tiles;
+                    add(n + "/" + view + "ewa/" + compositingName(comp) + "/composite-" + (perPixel ? "pixels" : "columns"),
+                        [=](benchmark::State& st) {
+                            renderFrames(st, d, v, Camera{.distance = distance}, false,
+                                         [=](SplatRenderer& r) { r.setCompositePerPixel(perPixel); });
+                        });
+                }
         // What each culling step and the primitive choice gain, full EWA.
-        SplatSettings s;
+        SplatSettings s = driverDefaults();
         s.primitive = SplatSettings::Primitive::Quads;
         add(n + "/ewa/splat-every-sample/quads", [=](benchmark::State& st) { renderFrames(st, d, s); });
-        s = {};
+        s = driverDefaults();
         s.drawAllBuckets = true;
         add(n + "/ewa/splat-every-sample/all-buckets", [=](benchmark::State& st) { renderFrames(st, d, s); });
         // Early termination and occlusion culling (front to back) against none (splat-every-sample then
         // runs back to front), and how often the opaque pixels are refreshed.
         for (auto comp : {Compositing::SplatEverySample, Compositing::SheetFrontToBack}) {
-            s = {};
+            s = driverDefaults();
             s.compositing = comp;
             s.primitive = SplatSettings::Primitive::Raster;
             s.opaqueAlpha = 1.0;
             add(n + "/ewa/" + compositingName(comp) + "/no-early-termination",
                 [=](benchmark::State& st) { renderFrames(st, d, s); });
         }
-        s = {};
+        s = driverDefaults();
         s.occlusionCulling = false;
         add(n + "/ewa/splat-every-sample/no-occlusion-culling", [=](benchmark::State& st) { renderFrames(st, d, s); });
         for (int refresh : {2, 4, 16, 32}) {
-            s = {};
+            s = driverDefaults();
             s.opaqueRefreshSlices = refresh;
             add(n + "/ewa/splat-every-sample/refresh-" + std::to_string(refresh),
                 [=](benchmark::State& st) { renderFrames(st, d, s); });
@@ -340,7 +374,7 @@ int main(int argc, char** argv) {
         for (auto [view, distance] : {std::pair{"near", 1.2}, std::pair{"far", 8.0}})
             for (auto comp : {Compositing::SplatEverySample, Compositing::SheetFrontToBack})
                 for (auto filter : {FilterMode::Ewa, FilterMode::Adaptive}) {
-                    SplatSettings v;
+                    SplatSettings v = driverDefaults();
                     v.filter = filter;
                     v.compositing = comp;
                     const std::string suffix = comp == Compositing::SplatEverySample ? "" : "/sheet-front-to-back";
@@ -348,12 +382,12 @@ int main(int argc, char** argv) {
                         [=](benchmark::State& st) { renderFrames(st, d, v, Camera{.distance = distance}); });
                 }
         // The editor's preview while the view moves (tiled sheets front to back, as the editor draws).
-        s = {};
+        s = driverDefaults();
         s.compositing = Compositing::SheetFrontToBack;
         add(n + "/ewa/sheet-front-to-back/half-resolution",
             [=](benchmark::State& st) { renderFrames(st, d, s, {}, true); });
         // Close up, each slice takes points where its footprints fit, against quads for every slice.
-        s = {};
+        s = driverDefaults();
         s.primitive = SplatSettings::Primitive::Quads;
         add(n + "/near/ewa/quads", [=](benchmark::State& st) { renderFrames(st, d, s, Camera{.distance = 1.2}); });
         // Shading per splat (record pass or vertex stage) against per fragment, and surface splats;
@@ -362,18 +396,18 @@ int main(int argc, char** argv) {
             const std::string mode = n + "/ewa/" + compositingName(comp) + "/";
             for (auto [name, shading] : {std::pair{"per-splat", SplatSettings::Shading::PerSplat},
                                          std::pair{"per-fragment", SplatSettings::Shading::PerFragment}}) {
-                SplatSettings v;
+                SplatSettings v = driverDefaults();
                 v.compositing = comp;
                 v.shading = shading;
                 add(mode + "shaded-" + name, [=](benchmark::State& st) { renderFrames(st, d, v); });
             }
-            s = {};
+            s = driverDefaults();
             s.compositing = comp;
             s.surfaceFlatten = 8.0;
             add(mode + "surface-splats", [=](benchmark::State& st) { renderFrames(st, d, s); });
         }
         for (auto comp : {Compositing::SplatEverySample, Compositing::SheetFrontToBack}) {
-            s = {};
+            s = driverDefaults();
             s.compositing = comp;
             const std::string row =
                 n + "/tf-edit/" + (comp == Compositing::SplatEverySample ? "" : "sheet-front-to-back/");

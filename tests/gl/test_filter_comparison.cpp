@@ -74,12 +74,13 @@ TEST_F(GlTest, EachFiltersErrorIsItsCropAgainstTheGroundTruthAndMinifiedReconstr
         EXPECT_LE(m.p10Ms, m.frameMs);
         EXPECT_GE(m.p90Ms, m.frameMs);
         // The figure is the crop's own error, as metrics.h measures it (tiles sum a pixel's splats in
-        // atomic order, so a second frame may differ in the last float bits).
+        // atomic order, so a second frame may differ in the last float bits: on an H200 the RMSE moved
+        // by 1.3e-6 of itself, on llvmpipe by less than 1e-6).
         SplatSettings same = s;
         same.filter = f;
         gl.render(crop, same);
         const ImageError e = compareImages(gl.readback(), truth);
-        EXPECT_NEAR(m.rmse, e.rmse, 1e-6 * e.rmse) << filterModeName(f);
+        EXPECT_NEAR(m.rmse, e.rmse, 1e-5 * e.rmse) << filterModeName(f);
         EXPECT_NEAR(m.psnrDb, e.psnrDb, 1e-4) << filterModeName(f);
         rmse[f] = m.rmse;
         std::printf("[ filters  ] %-14s rmse %.5f  psnr %.1f dB  %.2f ms\n", filterModeName(f), m.rmse, m.psnrDb, m.frameMs);

@@ -1,6 +1,8 @@
 // A test fixture that drives panels through ImGui with no renderer backend: mouse events in, the
 // panels' structs out, no pixels. Widget positions come from ImGui's own layout, found by hovering.
 #pragma once
+#include "ui/dock_layout.h"   // ui::Rect
+
 #include <gtest/gtest.h>
 #include <imgui.h>
 #include <imgui_internal.h>
@@ -93,5 +95,24 @@ class ImGuiNull : public testing::Test {
             if (ImGui::GetCurrentContext()->HoveredId == id) return x;
         }
         return -1.0f;
+    }
+    // The rectangle of the item `id` (a canvas), found by hovering: its first and last hovered pixels
+    // down the column x = 200 (to y = maxY), then across the row through its middle. `id` is read after
+    // each frame, so the body may be what sets it.
+    ui::Rect findItemRect(const ImGuiID& id, float maxY, const std::function<void()>& body) {
+        frame(body);
+        float top = -1, bottom = -1, left = -1, right = -1;
+        for (float y = 0; y < maxY; y += 1) {
+            mouse(200, y, false);
+            frame(body);
+            if (ImGui::GetCurrentContext()->HoveredId == id) (top < 0 ? top : bottom) = y;
+        }
+        const float mid = (top + bottom) * 0.5f;
+        for (float x = 0; x < 400; x += 1) {
+            mouse(x, mid, false);
+            frame(body);
+            if (ImGui::GetCurrentContext()->HoveredId == id) (left < 0 ? left : right) = x;
+        }
+        return {left, top, right + 1 - left, bottom + 1 - top};
     }
 };

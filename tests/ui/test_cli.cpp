@@ -5,6 +5,7 @@
 #include "renderer/errors.h"
 #include "renderer/io/image.h"
 #include "renderer/math/metrics.h"
+#include "renderer/model/paraview_preset.h"
 #include "renderer/model/splat_settings.h"
 #include "renderer/model/transfer_function.h"
 #include "renderer/io/volume_io.h"
@@ -271,6 +272,28 @@ TEST(Cli, NoOcclusionCullingKeepsHiddenSplatsForTheSameImage) {
     EXPECT_GT(renderer::imageStats(images[1]).coveredFraction, 0.2);
 }
 
+TEST(Cli, OcclusionCullingFollowsTheDriverUnlessAFlagSays) {
+    // Dense headsq front to back: how many splats were culled says whether culling ran. llvmpipe culls by
+    // default, a GPU does not (SPLATLAB_DRIVER_PROFILE=gpu gives llvmpipe the GPU's profile); either flag
+    // overrides the driver, and the two together are refused.
+    const auto out = testing_support::testOutputDir("cli_occlusion") / "driver.exr";
+    auto hidden = [&](const char* profile, const std::string& flags) {
+        if (*profile) setenv("SPLATLAB_DRIVER_PROFILE", profile, 1);
+        const CliRun r = renderHeadsqFrontToBack(out, "--density 30 " + flags);
+        unsetenv("SPLATLAB_DRIVER_PROFILE");
+        EXPECT_EQ(r.status, 0) << r.output;
+        const size_t at = r.output.find("hidden behind opaque ");
+        return at == std::string::npos ? -1LL : std::stoll(r.output.substr(at + 21));
+    };
+    EXPECT_GT(hidden("", ""), 1000);
+    EXPECT_EQ(hidden("gpu", ""), 0);
+    EXPECT_GT(hidden("gpu", "--occlusion-culling"), 1000);
+    EXPECT_EQ(hidden("", "--no-occlusion-culling"), 0);
+    const CliRun both = renderHeadsqFrontToBack(out, "--occlusion-culling --no-occlusion-culling");
+    EXPECT_NE(both.status, 0);
+    EXPECT_THAT(both.output, HasSubstr("--occlusion-culling"));
+}
+
 TEST(Cli, BadRenderOptionsNameTheFlag) {
     const auto out = (testing_support::testOutputDir() / "cli_bad.png").string();
     for (auto [args, flag] : {std::pair{"--shading phong", "--shading"}, std::pair{"--surface 0.5", "--surface"},
@@ -502,6 +525,25 @@ TEST(Cli, TfListsThePresetsAndWritesOneAsAFileTheEditorLoads) {
     const CliRun notJson = splatlab("tf \"" + headsq() + "\"");
     EXPECT_NE(notJson.status, 0);
     EXPECT_THAT(notJson.output, HasSubstr("headsq.nhdr: not valid JSON"));
+}
+
+TEST(Cli, TfToParaViewSaysItLeavesOutTheGradientOpacity) {
+    // A TF with gradient opacity (a file of SplatLab's own) exported as a ParaView preset: the colour and
+    // opacity points are written, and a note says the gradient opacity is not; without one, no note.
+    renderer::TransferFunction tf = renderer::builtinPreset("ct-bone");
+    tf.gradientOpacity = {{0.0, 0.0}, {20.0, 1.0}};
+    const auto file = testing_support::testOutputDir() / "cli_tf_gradient.json";
+    renderer::saveTransferFunction(tf, file);
+    const auto out = testing_support::testOutputDir() / "cli_tf_gradient_paraview.json";
+    const CliRun withGradient = splatlab("tf \"" + file.string() + "\" --paraview --out \"" + out.string() + "\"");
+    ASSERT_EQ(withGradient.status, 0) << withGradient.output;
+    EXPECT_THAT(withGradient.output, HasSubstr("the TF's 2 gradient opacity points are not written"));
+    const renderer::TransferFunction back = renderer::loadParaViewPreset(out);
+    EXPECT_EQ(back.opacities.size(), tf.opacities.size());
+    EXPECT_TRUE(back.gradientOpacity.empty());
+    const CliRun without = splatlab("tf ct-bone --paraview --out \"" + out.string() + "\"");
+    ASSERT_EQ(without.status, 0) << without.output;
+    EXPECT_THAT(without.output, Not(HasSubstr("gradient opacity")));
 }
 
 // A Slicer presets.xml through --tf: `tf FILE.xml#NAME` converts the preset named, its gradient opacity too,

@@ -1,28 +1,12 @@
 // `editor --scene NAME` opens each demo scene in its TF and view, and the session it closes with names
 // the scene, so that the session opens it again and `render --session` draws it.
+#include "cli_run.h"
 #include "renderer/oracle/demo_scenes.h"
-#include "test_paths.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
-#include <fstream>
-
-namespace {
-
-// Runs the editor under Xvfb for three frames with `flags`; the session it closed with (empty on failure).
-nlohmann::json editorSession(const std::string& flags, const std::filesystem::path& out) {
-    std::filesystem::remove(out);
-    const std::string command = "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" "
-                                "xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor " + flags +
-                                " --frames 3 --size 1280x800 --session-out \"" + out.string() + "\"";
-    EXPECT_EQ(std::system(command.c_str()), 0) << command;
-    std::ifstream in(out);
-    return in ? nlohmann::json::parse(in) : nlohmann::json();
-}
-
-} // namespace
 
 TEST(EditorDemoScenes, EachSceneOpensInItsTfAndViewAndItsSessionOpensItAgain) {
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
@@ -30,7 +14,7 @@ TEST(EditorDemoScenes, EachSceneOpensInItsTfAndViewAndItsSessionOpensItAgain) {
     const std::filesystem::path dir = testing_support::testOutputDir("demo_scenes");
     for (const renderer::DemoSceneInfo& info : renderer::demoSceneList()) {
         SCOPED_TRACE(info.name);
-        const nlohmann::json s = editorSession("--scene " + info.name, dir / (info.name + ".json"));
+        const nlohmann::json s = testing_support::editorClosingSession("--scene " + info.name, dir / (info.name + ".json"));
         ASSERT_TRUE(s.contains("scene")) << "the session names no scene";
         EXPECT_EQ(s["scene"], info.name);
         EXPECT_FALSE(s.contains("volume"));
@@ -55,7 +39,7 @@ TEST(EditorDemoScenes, EachSceneOpensInItsTfAndViewAndItsSessionOpensItAgain) {
     }
     // The session reopens the scene, in the editor and in `render --session`.
     const nlohmann::json again =
-        editorSession("--session \"" + (dir / "zebra.json").string() + "\"", dir / "zebra_again.json");
+        testing_support::editorClosingSession("--session \"" + (dir / "zebra.json").string() + "\"", dir / "zebra_again.json");
     EXPECT_EQ(again.value("scene", ""), "zebra");
     const std::filesystem::path png = dir / "zebra_render.png";
     std::filesystem::remove(png);

@@ -70,22 +70,7 @@ class GradientCurvePanel : public ImGuiNull {
             changed |= ui::drawGradientOpacityCurve(tf, edit, view);
         };
     }
-    Rect findCanvas() {
-        frame(body());
-        float top = -1, bottom = -1, left = -1, right = -1;
-        for (float y = 0; y < 300; y += 1) {
-            mouse(200, y, false);
-            frame(body());
-            if (ImGui::GetCurrentContext()->HoveredId == canvasId) (top < 0 ? top : bottom) = y;
-        }
-        const float mid = (top + bottom) * 0.5f;
-        for (float x = 0; x < 400; x += 1) {
-            mouse(x, mid, false);
-            frame(body());
-            if (ImGui::GetCurrentContext()->HoveredId == canvasId) (left < 0 ? left : right) = x;
-        }
-        return {left, top, right + 1 - left, bottom + 1 - top};
-    }
+    Rect findCanvas() { return findItemRect(canvasId, 300, body()); }
     void press(CanvasPoint p) {
         mouse(p.x, p.y, true);
         frame(body());

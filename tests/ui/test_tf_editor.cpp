@@ -277,23 +277,7 @@ class TfPanel : public ImGuiNull {
         click(40.0f, itemY, withCombo);
         return true;
     }
-    // The canvas's rectangle, found by hovering: its first and last hovered pixels across and down.
-    Rect findCanvas() {
-        frame(body());
-        float top = -1, bottom = -1, left = -1, right = -1;
-        for (float y = 0; y < 700; y += 1) {
-            mouse(200, y, false);
-            frame(body());
-            if (ImGui::GetCurrentContext()->HoveredId == canvasId) (top < 0 ? top : bottom) = y;
-        }
-        const float mid = (top + bottom) * 0.5f;
-        for (float x = 0; x < 400; x += 1) {
-            mouse(x, mid, false);
-            frame(body());
-            if (ImGui::GetCurrentContext()->HoveredId == canvasId) (left < 0 ? left : right) = x;
-        }
-        return {left, top, right + 1 - left, bottom + 1 - top};
-    }
+    Rect findCanvas() { return findItemRect(canvasId, 700, body()); }
     // The colour bar's rectangle, found the same way below the canvas.
     Rect findColourBar(const Rect& canvas) {
         float top = -1, bottom = -1;

@@ -102,14 +102,7 @@ bool drawGradientOpacityCurve(renderer::TransferFunction& tf, GradientCurveEdit&
     bool changed = false;
 
     // 1. The canvas: one button takes left presses (pick or add, then drag) and right clicks (remove).
-    const ImVec2 origin = ImGui::GetCursorScreenPos();
-    const Rect canvas{origin.x, origin.y, std::max(ImGui::GetContentRegionAvail().x, 32.0f),
-                      ImGui::GetFontSize() * 5.0f};
-    ImGui::InvisibleButton("##gradient_canvas", ImVec2(canvas.w, canvas.h),
-                           ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
-    const ImGuiIO& io = ImGui::GetIO();
-    const CanvasPoint mouse{io.MousePos.x, io.MousePos.y};
-    const bool moved = io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f;
+    const auto [canvas, mouse, moved] = canvasInput("##gradient_canvas", ImGui::GetFontSize() * 5.0f);
     if (ImGui::IsItemActivated() && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
         int picked = pickGradientPoint(tf, canvas, mouse, maxMagnitude, kPickRadiusPx);
         if (picked < 0) {

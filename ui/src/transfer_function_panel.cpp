@@ -202,15 +202,8 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
 
     // 2. The opacity curve. One button over the canvas takes left presses (pick or add, then drag) and
     //    right clicks (remove).
-    const ImVec2 origin = ImGui::GetCursorScreenPos();
-    const Rect canvas{origin.x, origin.y, std::max(ImGui::GetContentRegionAvail().x, 32.0f),
-                      ImGui::GetFontSize() * 11.0f};
-    ImGui::InvisibleButton("##tf_canvas", ImVec2(canvas.w, canvas.h),
-                           ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
-    const ImGuiIO& io = ImGui::GetIO();
-    const CanvasPoint mouse{io.MousePos.x, io.MousePos.y};
+    const auto [canvas, mouse, moved] = canvasInput("##tf_canvas", ImGui::GetFontSize() * 11.0f);
     const OpacityAxis axis = state.tfLogOpacity ? OpacityAxis::Log : OpacityAxis::Linear;
-    const bool moved = io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f;
     if (ImGui::IsItemActivated() && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
         int picked = pickOpacityPoint(tf, window, canvas, mouse, kPickRadiusPx, axis);
         if (picked < 0) {   // empty space: a new point under the mouse
@@ -263,10 +256,7 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
     //    only. A colour stop's drag never touches opacity, nor an opacity point's colour.
     ImGui::Dummy(ImVec2(canvas.w, 2.0f));
     const float gradientH = ImGui::GetFontSize() * 0.6f;
-    const ImVec2 barOrigin = ImGui::GetCursorScreenPos();
-    const Rect bar{barOrigin.x, barOrigin.y, canvas.w, gradientH + ImGui::GetFontSize() * 0.9f};
-    ImGui::InvisibleButton("##tf_colour_bar", ImVec2(bar.w, bar.h),
-                           ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
+    const Rect bar = canvasInput("##tf_colour_bar", gradientH + ImGui::GetFontSize() * 0.9f, canvas.w).rect;
     if (ImGui::IsItemActivated() && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
         int picked = pickColourStop(tf, window, bar, mouse, kStopHalfWidthPx + 2.0f);
         if (picked < 0) {

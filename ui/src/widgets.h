@@ -4,6 +4,7 @@
 #include "ui/editor_state.h"
 #include "ui/number_field.h"
 #include "ui/text_wrap.h"
+#include "ui/tf_editor.h"
 
 #include <imgui.h>
 
@@ -14,6 +15,23 @@
 #include <string>
 
 namespace ui {
+
+// A canvas at the cursor, `width` (0: the panel's) by `height` px, under one button that takes left
+// presses (pick or add, then drag) and right clicks (remove): the curve editors' gestures. Gives its
+// rectangle, the mouse and whether the mouse moved this frame; ImGui::IsItem* then ask about the button.
+struct CanvasInput {
+    Rect rect;
+    CanvasPoint mouse;
+    bool moved = false;
+};
+inline CanvasInput canvasInput(const char* id, float height, float width = 0.0f) {
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const Rect rect{origin.x, origin.y, width > 0.0f ? width : std::max(ImGui::GetContentRegionAvail().x, 32.0f),
+                    height};
+    ImGui::InvisibleButton(id, ImVec2(rect.w, rect.h), ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
+    const ImGuiIO& io = ImGui::GetIO();
+    return {rect, CanvasPoint{io.MousePos.x, io.MousePos.y}, io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f};
+}
 
 // A tooltip on the item just drawn: says what a setting does, not what it is called. Disabled items
 // keep theirs, since what a setting would do is also why it is greyed out.

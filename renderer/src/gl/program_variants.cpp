@@ -55,6 +55,7 @@ GLuint SplatRenderer::Gl::tileProgram(int pass, int bits) {
                           : pass == kTileOffsets ? "tile_offsets"
                           : pass == kTileBases   ? "tile_bases"
                           : pass == kTileScatter ? "tile_scatter"
+                          : bits & kTileCompositePixels ? "tile_composite_pixels"
                                                  : "tile_composite";
     const std::string source = programSource(program, defines, std::string(program) + ".comp");
     const GLuint p = gl::buildComputeProgram("tiled_splatting", source.c_str());

@@ -7,6 +7,7 @@
 // This file: construction, render() and the steps of drawFrame(), read-back; the steps live beside it.
 #include "splat_renderer_state.h"
 
+#include "renderer/gl/driver_profile.h"
 #include "renderer/out_of_memory.h"
 
 #include <chrono>
@@ -36,10 +37,10 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     g.maxPointSize = GLint(pointRange[1]);
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &g.maxTexelBuffer);
     glCreateFramebuffers(1, &g.computeFbo);
-    if (glRendererName().rfind("llvmpipe", 0) == 0) {
-        g.runLanes = 8;
-        g.listChunkSlices = 16;
-    }
+    const DriverProfile driver = driverProfile(glRendererName());
+    g.runLanes = driver.runLanes;
+    g.listChunkSlices = driver.listChunkSlices;
+    g.compositePerPixel = driver.compositePerPixel;
     g.loopLimit = measureLoopLimit();
     checkGlErrors("SplatRenderer setup");
 }
@@ -195,6 +196,7 @@ uint64_t SplatRenderer::workingBytes() const {
 void SplatRenderer::setMemoryLimit(uint64_t bytes) { m_gl->memoryLimit = bytes; }
 void SplatRenderer::setTexelBufferLimit(uint64_t texels) { m_gl->texelLimit = texels; }
 void SplatRenderer::setListChunkSlices(uint32_t slices) { m_gl->listChunkSlicesSet = slices; }
+void SplatRenderer::setCompositePerPixel(bool perPixel) { m_gl->compositePerPixel = perPixel; }
 void SplatRenderer::setInterrupt(std::function<bool()> interrupted) { m_gl->interrupt = std::move(interrupted); }
 
 } // namespace renderer

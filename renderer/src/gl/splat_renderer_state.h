@@ -182,15 +182,10 @@ struct SplatRenderer::Gl {
     uint64_t texelCap() const {
         return texelLimit ? std::min<uint64_t>(texelLimit, uint64_t(maxTexelBuffer)) : uint64_t(maxTexelBuffer);
     }
-    // Invocations a run of voxels takes in the record pass. llvmpipe: one SIMD row (8 lanes of 256
-    // bits) looping over the run, 5 % faster on bonsai than 64 (fewer idle rows, each started once);
-    // a GPU keeps full warps.
+    // Run lanes, chunk slices and the composite's layout by the kind of driver (driver_profile.h).
     int runLanes = 64;
-    // Slices tiled splatting bins at once where nothing is culled (back to front, X-ray, no early
-    // termination). A GPU waits for each chunk's read-back, so it takes 64 (bonsai back to front: 126 MB
-    // for its largest chunk against 255 MB for all slices at once, at the same speed). llvmpipe: 16,
-    // whose smaller lists stay in cache: bonsai and engine 3-5 % faster than 64, headsq 2-14 %.
     uint32_t listChunkSlices = 64;
+    bool compositePerPixel = false;
     uint32_t listChunkSlicesSet = 0;   // setListChunkSlices(); 0: listChunkSlices
     // Loop iterations the driver lets one shader invocation run, all its loops together (llvmpipe
     // ends them at 65535; measured at start by measureLoopLimit()); 0: no limit found.
@@ -243,7 +238,8 @@ struct SplatRenderer::Gl {
     // Tiled splatting's passes (renderer/shaders/tile_*.comp); bits: SplatVariant features of the splat and
     // composite passes.
     enum TilePass { kTileSplat = 1 << 8, kTileOffsets = 2 << 8, kTileBases = 3 << 8, kTileScatter = 4 << 8,
-                    kTileComposite = 5 << 8, kTileXRay = 1 << 12, kTileColumnRecurrence = 1 << 13 };
+                    kTileComposite = 5 << 8, kTileXRay = 1 << 12, kTileColumnRecurrence = 1 << 13,
+                    kTileCompositePixels = 1 << 14 };
     GLuint tileProgram(int pass, int bits);
 
     // scene_upload.cpp: puts the lists of `axis` on the GPU in place of the resident axis's, so a scene

@@ -89,10 +89,15 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
     const GLuint offsets = g.tileProgram(Gl::kTileOffsets, 0);
     const GLuint bases = g.tileProgram(Gl::kTileBases, 0);
     const GLuint scatter = g.tileProgram(Gl::kTileScatter, variant & (kSplatShading | kFragmentShading | kOcclusion));
+    // The composite's layout by driver (a column per invocation on llvmpipe, a pixel on a GPU); only the
+    // column layout takes the Gaussian by recurrence.
+    const int compositeLayout =
+        g.compositePerPixel ? Gl::kTileCompositePixels
+        : columnRecurrence(drawnFilter, g.dims, g.origin, g.spacing, plane, settings) ? Gl::kTileColumnRecurrence
+                                                                                     : 0;
     const GLuint composite = g.tileProgram(
-        Gl::kTileComposite,
-        (variant & (kHeatmap | kSplatShading | kFragmentShading | kOcclusion)) | (xray ? Gl::kTileXRay : 0) |
-            (columnRecurrence(drawnFilter, g.dims, g.origin, g.spacing, plane, settings) ? Gl::kTileColumnRecurrence : 0));
+        Gl::kTileComposite, (variant & (kHeatmap | kSplatShading | kFragmentShading | kOcclusion)) |
+                                (xray ? Gl::kTileXRay : 0) | compositeLayout);
     glUniform2i(glGetUniformLocation(p, "uTiles"), grid.x, grid.y);
     glUniform1i(glGetUniformLocation(p, "uSlices"), GLint(slices));
     glUniform1i(glGetUniformLocation(p, "uRankDescending"), descending);
@@ -200,8 +205,10 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
             // Texels of the lists, or of the records where they take more.
             const uint64_t needed = std::max(uint64_t(counts[1]) * texels, uint64_t(counts[0]) * recordVec4s(variant));
             const uint64_t limit = std::min(g.texelCap(), kTileListBudgetTexels);
-            // The composite's loops: the busiest tile's entries and each rank (twice).
-            const uint64_t loops = uint64_t(counts[2]) + 2 * uint64_t(ranks) + kCompositeLoopSlack;
+            // The composite's loops: the busiest tile's entries and each rank (twice); a pixel per
+            // invocation also loops over the batches of 64 entries (at most one more a rank).
+            const uint64_t batches = g.compositePerPixel ? uint64_t(counts[2]) / 64 + ranks : 0;
+            const uint64_t loops = uint64_t(counts[2]) + batches + 2 * uint64_t(ranks) + kCompositeLoopSlack;
             const bool overTexels = needed > (ranks > partSlices ? limit : g.texelCap());
             const bool overLoops = g.loopLimit && loops > g.loopLimit;
             if (overTexels || overLoops) {

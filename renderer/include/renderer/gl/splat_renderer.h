@@ -113,6 +113,9 @@ public:
     // Slices a tiled frame bins at once where nothing is culled (back to front, X-ray, no early
     // termination; 0: this driver's choice, 16 on llvmpipe and 64 elsewhere). For tests, and to compare.
     void setListChunkSlices(uint32_t slices);
+    // The tile composite's layout: a pixel per invocation (a GPU's, true) or a column of 8 (llvmpipe's);
+    // the driver's profile chooses it (renderer/gl/driver_profile.h). To compare the two on one driver.
+    void setCompositePerPixel(bool perPixel);
     // Asked between chunks of slices (tiled) and between slices (rasterised) while a frame is issued: once it
     // returns true the frame stops there, and render() throws Cancelled (the image is incomplete). An editor
     // drops a frame that a newer edit superseded this way. Empty: frames always finish.
