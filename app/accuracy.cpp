@@ -56,6 +56,7 @@ struct Report {
         std::fprintf(stderr, "  %-40s reference %s (%.1f s)\n", what,
                      stats.fromCache ? "from the cache" : "computed",
                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        if (!stats.cacheNote.empty()) std::fprintf(stderr, "  note: not cached: %s\n", stats.cacheNote.c_str());
         return gt;
     }
 };

@@ -480,6 +480,7 @@ int runReference(const SceneArgs& a, const SplatFlags& splat, const GroundTruthO
                     "to %.1e\n",
                     a.out.c_str(), (unsigned long long)stats.rays, stats.seconds, stats.meanHalvings,
                     (unsigned long long)stats.unconvergedRays, options.tolerance);
+    if (!stats.cacheNote.empty()) std::fprintf(stderr, "splatlab: note: not cached: %s\n", stats.cacheNote.c_str());
     return 0;
 }
 

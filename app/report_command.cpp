@@ -106,7 +106,7 @@ ReportSection measureScan(SplatRenderer& gl, const ReportArgs& a, const fs::path
 CLI::App* addReportCommand(CLI::App& app, ReportArgs& a) {
     auto* cmd =
         app.add_subcommand("report", "Speed against error: time every filter x compositing mode on each "
-                                     "volume and compare it with the ground truth; write DIR/index.html");
+                                     "volume and compare it with the ground truth; write DIR/index.html and DIR/speed.md");
     cmd->add_option("volume", a.volumes, std::string("Volumes: ") + supportedVolumeTypes())->required();
     cmd->add_option("--out", a.out, "Folder for index.html and its thumbnails (created)")->required();
     cmd->add_option("--repeats", a.repeats, "Timed frames per setting (median, p10, p90)")
@@ -138,6 +138,7 @@ int runReport(const ReportArgs& a) {
         throw LoadError(a.out, "",
                         "cannot create the report folder" + (ec ? " (" + ec.message() + ")" : std::string()));
     checkFileReplaceable(out / "index.html");
+    checkFileReplaceable(out / "speed.md");
     const fs::path cacheDir = a.cache.empty() ? defaultGroundTruthCacheDir() : fs::path(a.cache);
     auto context = HeadlessGl::create();
     ReportPage page;
@@ -150,6 +151,7 @@ int runReport(const ReportArgs& a) {
             measureScan(gl, a, a.volumes[i], size, camera, cacheDir, out, "scan" + std::to_string(i + 1)));
     page.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     writeFileAtomically(out / "index.html", reportHtml(page));
+    writeFileAtomically(out / "speed.md", reportMarkdown(page));   // the tables for docs/speed.md
     std::printf("%s: written in %.1f s on %s\n", (out / "index.html").string().c_str(), page.seconds,
                 page.glRenderer.c_str());
     return 0;

@@ -1,5 +1,6 @@
 // The HTML page `splatlab report` writes: a section per scan with its speed-against-error chart (inline
-// SVG from ui's chart layout), a table of the figures and the thumbnails. Text only; no I/O.
+// SVG from ui's chart layout), a table of the figures and the thumbnails; and the same tables as
+// markdown, for docs/speed.md and the README. Text only; no I/O.
 #pragma once
 #include "renderer/oracle/filter_comparison.h"
 
@@ -29,3 +30,6 @@ struct ReportPage {
 std::string speedErrorSvg(std::span<const renderer::FilterMeasurement> points,
                           const renderer::SplatSettings& current, int width, int height);
 std::string reportHtml(const ReportPage& page);
+// A table per scan: each setting's median frame time with its p10-p90, PSNR and whether it is on the
+// Pareto front, under a line naming GL_RENDERER, the machine and the repeats.
+std::string reportMarkdown(const ReportPage& page);

@@ -167,6 +167,22 @@ TEST(Cli, ReportWritesAPageWhoseChartShowsTheMeasuredFigures) {
         EXPECT_NEAR(charted[i].p90Ms, printed[i].p90Ms, 5e-4) << i;
         EXPECT_NEAR(charted[i].psnrDb, printed[i].psnrDb, 5e-4) << i;
     }
+    // The markdown tables (speed.md) hold the same figures, in the same order, and the same front (to
+    // their two decimals against the printed three: 5e-3 + 5e-4).
+    std::ifstream mdIn(dir / "page" / "speed.md");
+    const std::string md((std::istreambuf_iterator<char>(mdIn)), std::istreambuf_iterator<char>());
+    EXPECT_THAT(md, HasSubstr("**headsq.nhdr**"));
+    const std::regex row(R"(\| [a-z-]+, [a-z-]+ \| ([0-9.]+) \(([0-9.]+)-([0-9.]+)\) \| ([0-9.inf-]+) \| (yes)? \|)");
+    size_t rows = 0;
+    for (auto it = std::sregex_iterator(md.begin(), md.end(), row); it != std::sregex_iterator(); ++it, ++rows) {
+        ASSERT_LT(rows, printed.size());
+        EXPECT_NEAR(std::stod((*it)[1]), printed[rows].frameMs, 5.5e-3) << rows;
+        EXPECT_NEAR(std::stod((*it)[2]), printed[rows].p10Ms, 5.5e-3) << rows;
+        EXPECT_NEAR(std::stod((*it)[3]), printed[rows].p90Ms, 5.5e-3) << rows;
+        EXPECT_NEAR(std::stod((*it)[4]), printed[rows].psnrDb, 5.5e-3) << rows;
+        EXPECT_EQ((*it)[5].matched, bool(pareto[rows])) << rows;
+    }
+    EXPECT_EQ(rows, printed.size()) << md;
     // The axes of the SVG, and the points placed on them as the figures say.
     const std::regex axes(
         R"re(data-left="([^"]+)" data-right="([^"]+)" data-top="([^"]+)" data-bottom="([^"]+)" data-ms-lo="([^"]+)" data-ms-hi="([^"]+)" data-db-lo="([^"]+)" data-db-hi="([^"]+)")re");

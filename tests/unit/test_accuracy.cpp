@@ -696,4 +696,14 @@ TEST(GroundTruth, CacheKeyChangesWithTheViewAndCachedImagesAreReused) {
     EXPECT_EQ(cachedGroundTruth(scene, a, SplatSettings{}, o, dir, {}, &third).rgba, x.rgba);
     EXPECT_FALSE(third.fromCache);
     EXPECT_EQ(readImage(entry).rgba, x.rgba);
+    EXPECT_TRUE(third.cacheNote.empty());
+
+    // An entry that cannot be written (here a folder in its place; a read-only or full disk alike): the
+    // truth is returned all the same, and the note says why it was not kept.
+    std::filesystem::remove(entry);
+    std::filesystem::create_directory(entry);
+    GroundTruthStats fourth;
+    EXPECT_EQ(cachedGroundTruth(scene, a, SplatSettings{}, o, dir, {}, &fourth).rgba, x.rgba);
+    EXPECT_FALSE(fourth.fromCache);
+    EXPECT_NE(fourth.cacheNote.find(entry.filename().string()), std::string::npos) << fourth.cacheNote;
 }

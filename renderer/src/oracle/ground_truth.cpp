@@ -364,7 +364,7 @@ Image cachedGroundTruth(const SplatScene& scene, const ImagePlane& plane, const 
         try {
             Image img = readImage(file);
             if (img.width == plane.width && img.height == plane.height) {
-                if (stats) *stats = GroundTruthStats{.fromCache = true};
+                if (stats) *stats = GroundTruthStats{.fromCache = true, .cacheNote = {}};
                 return img;
             }
         } catch (const LoadError&) {
@@ -378,7 +378,11 @@ Image cachedGroundTruth(const SplatScene& scene, const ImagePlane& plane, const 
         throw LoadError(cacheDir.string(), "",
                         "cannot be the ground-truth cache folder: " + (ec ? ec.message() : std::string("not a folder")));
     Image img = renderGroundTruth(scene, plane, settings, options, progress, stats);
-    writeImage(img, file);   // atomically: a reader never sees half a file
+    try {
+        writeImage(img, file);   // atomically: a reader never sees half a file
+    } catch (const LoadError& e) {
+        if (stats) stats->cacheNote = e.what();
+    }
     return img;
 }
 

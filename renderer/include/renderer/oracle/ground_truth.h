@@ -36,6 +36,7 @@ struct GroundTruthStats {
     double meanHalvings = 0.0;     // step halvings per ray
     double seconds = 0.0;
     bool fromCache = false;
+    std::string cacheNote;   // cachedGroundTruth: why the new truth was not kept in the cache ("": it was)
 };
 
 // With X-ray compositing the integral is taken without attenuation and shown as the renderer resolves
@@ -64,7 +65,9 @@ std::string groundTruthKey(const SplatScene& scene, const ImagePlane& plane, con
                            const GroundTruthOptions& options);
 // $SPLATLAB_CACHE_DIR, else $XDG_CACHE_HOME/splatlab/reference, else ~/.cache/splatlab/reference.
 std::filesystem::path defaultGroundTruthCacheDir();
-// The cached reference (an EXR under the key) or a new one, written to the cache atomically.
+// The cached reference (an EXR under the key) or a new one, written to the cache atomically. A new one
+// that cannot be written (a read-only or full disk, an entry that is a folder) is still returned, with
+// the reason in stats->cacheNote: the next run pays the time again, this one keeps its figure.
 Image cachedGroundTruth(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                         const GroundTruthOptions& options, const std::filesystem::path& cacheDir,
                         const Progress& progress = {}, GroundTruthStats* stats = nullptr);
