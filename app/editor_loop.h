@@ -127,6 +127,7 @@ class EditorLoop {
     void countPatchesIfShown(); // the Filters panel's patches per filter
     void drawGalleryIfOpen();   // the TF panel's Gallery: the next preset's thumbnail (preset_gallery.h)
     int thumbnailLevel() const;                      // 0: the full scan, k: the preview's level k
+    const renderer::SplatScene& thumbnailScene(int level) const; // that level's scene
     ThumbnailSource thumbnailSource(int level) const; // what the gallery draws its thumbnails from
     void takeRenderErrors();    // what the render thread failed at, reported
 

@@ -39,8 +39,12 @@ int EditorLoop::thumbnailLevel() const {
     return 0;
 }
 
+const renderer::SplatScene& EditorLoop::thumbnailScene(int level) const {
+    return level ? m_doc.preview->levels[size_t(level - 1)].scene : m_doc.scene;
+}
+
 ThumbnailSource EditorLoop::thumbnailSource(int level) const {
-    const renderer::SplatScene& scene = level ? m_doc.preview->levels[size_t(level - 1)].scene : m_doc.scene;
+    const renderer::SplatScene& scene = thumbnailScene(level);
     ThumbnailSource source;
     source.plane = thumbnailPlane(m_doc.scene, m_state.camera.up);
     source.settings = m_state.settings;
@@ -63,7 +67,7 @@ void EditorLoop::drawGalleryIfOpen() {
     // frame costs only the check of what they were drawn from.
     if (!m_state.tfGalleryOpen || !m_hasScene || !m_doc.volume || m_classifyJob || m_fullWindowStale) return;
     const int level = thumbnailLevel();
-    const renderer::ValueRange& window = (level ? m_doc.preview->levels[size_t(level - 1)].scene : m_doc.scene).window;
+    const renderer::ValueRange& window = thumbnailScene(level).window;
     const auto of = std::tuple{m_volumesShown, window.lo, window.hi, m_state.gradientsReady};
     if (m_galleryOf != of) m_gallery.invalidate(), m_galleryOf = of;
     if (m_gallery.complete()) return;

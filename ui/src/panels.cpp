@@ -202,7 +202,7 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
         hint("Drop splats whose tiles (or, rasterised, pixels) were all opaque at the last refresh, before they\n"
              "cost any work; off, they are drawn and early termination alone skips their pixels (the same image).\n"
              "With tiles the culling needs chunks of slices, each ending in a read-back: on by default with\n"
-             "llvmpipe, where it pays; off on a GPU, where it cost 1.8x (H100) and 2.2x (H200) at 1920x1080");
+             "llvmpipe, where it pays; off on a GPU, where it cost 1.8x (H100) and 2.1x (H200) at 1920x1080");
     }
 
     sectionTitle("Split view");

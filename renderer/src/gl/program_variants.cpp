@@ -50,7 +50,7 @@ GLuint SplatRenderer::Gl::tileProgram(int pass, int bits) {
     defines += "#define SPLAT_TILE " + std::to_string(kSplatTilePx) + "\n#define BUSY_ROW 4096u\n";
     defines += "#define RECORD_VEC4S " + std::to_string(recordVec4s(bits)) + "u\n";
     defines += "#define ENTRY_TEXELS " + std::to_string(entryTexels(bits)) + "u\n";
-    if (pass == kTileSplat) defines += "#define RUN_LANES " + std::to_string(runLanes) + "\n";
+    if (pass == kTileSplat) defines += "#define RUN_LANES " + std::to_string(driver.runLanes) + "\n";
     const char* program = pass == kTileSplat     ? "tile_record"
                           : pass == kTileOffsets ? "tile_offsets"
                           : pass == kTileBases   ? "tile_bases"

@@ -37,10 +37,7 @@ SplatRenderer::SplatRenderer() : m_gl(std::make_unique<Gl>()) {
     g.maxPointSize = GLint(pointRange[1]);
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &g.maxTexelBuffer);
     glCreateFramebuffers(1, &g.computeFbo);
-    const DriverProfile driver = driverProfile(glRendererName());
-    g.runLanes = driver.runLanes;
-    g.listChunkSlices = driver.listChunkSlices;
-    g.compositePerPixel = driver.compositePerPixel;
+    g.driver = driverProfile(glRendererName());
     g.loopLimit = measureLoopLimit();
     checkGlErrors("SplatRenderer setup");
 }
@@ -196,7 +193,7 @@ uint64_t SplatRenderer::workingBytes() const {
 void SplatRenderer::setMemoryLimit(uint64_t bytes) { m_gl->memoryLimit = bytes; }
 void SplatRenderer::setTexelBufferLimit(uint64_t texels) { m_gl->texelLimit = texels; }
 void SplatRenderer::setListChunkSlices(uint32_t slices) { m_gl->listChunkSlicesSet = slices; }
-void SplatRenderer::setCompositePerPixel(bool perPixel) { m_gl->compositePerPixel = perPixel; }
+void SplatRenderer::setCompositePerPixel(bool perPixel) { m_gl->driver.compositePerPixel = perPixel; }
 void SplatRenderer::setInterrupt(std::function<bool()> interrupted) { m_gl->interrupt = std::move(interrupted); }
 
 } // namespace renderer

@@ -1,6 +1,7 @@
 // The private state of SplatRenderer, shared by the files of renderer/src/gl/: every GL object it owns
 // (struct SplatRenderer::Gl), the per-axis slice lists, and the plan of a frame its two paths read.
 #pragma once
+#include "renderer/gl/driver_profile.h"
 
 #include "renderer/gl/splat_renderer.h"
 
@@ -182,10 +183,8 @@ struct SplatRenderer::Gl {
     uint64_t texelCap() const {
         return texelLimit ? std::min<uint64_t>(texelLimit, uint64_t(maxTexelBuffer)) : uint64_t(maxTexelBuffer);
     }
-    // Run lanes, chunk slices and the composite's layout by the kind of driver (driver_profile.h).
-    int runLanes = 64;
-    uint32_t listChunkSlices = 64;
-    bool compositePerPixel = false;
+    // Run lanes, chunk slices and the composite's layout by the kind of driver (set at construction).
+    DriverProfile driver;
     uint32_t listChunkSlicesSet = 0;   // setListChunkSlices(); 0: listChunkSlices
     // Loop iterations the driver lets one shader invocation run, all its loops together (llvmpipe
     // ends them at 65535; measured at start by measureLoopLimit()); 0: no limit found.

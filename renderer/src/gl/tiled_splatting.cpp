@@ -60,7 +60,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
     // Chunks: occlusion ones (nextOcclusionChunk(), at most maxOcclusionChunk()), else listChunkSlices.
     const bool occlusion = variant & kOcclusion;
     uint32_t chunk = occlusion ? uint32_t(occlusionSlices(settings))
-                               : (g.listChunkSlicesSet ? g.listChunkSlicesSet : g.listChunkSlices);
+                               : (g.listChunkSlicesSet ? g.listChunkSlicesSet : g.driver.listChunkSlices);
     const uint32_t maxChunk = std::min(occlusion ? uint32_t(maxOcclusionChunk(settings)) : chunk, slices);
     const size_t binBytes = size_t(tileCount) * maxChunk * 4;
     // Records are numbered afresh in each part of a chunk, so they need room for the most splats any
@@ -92,7 +92,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
     // The composite's layout by driver (a column per invocation on llvmpipe, a pixel on a GPU); only the
     // column layout takes the Gaussian by recurrence.
     const int compositeLayout =
-        g.compositePerPixel ? Gl::kTileCompositePixels
+        g.driver.compositePerPixel ? Gl::kTileCompositePixels
         : columnRecurrence(drawnFilter, g.dims, g.origin, g.spacing, plane, settings) ? Gl::kTileColumnRecurrence
                                                                                      : 0;
     const GLuint composite = g.tileProgram(
@@ -207,7 +207,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
             const uint64_t limit = std::min(g.texelCap(), kTileListBudgetTexels);
             // The composite's loops: the busiest tile's entries and each rank (twice); a pixel per
             // invocation also loops over the batches of 64 entries (at most one more a rank).
-            const uint64_t batches = g.compositePerPixel ? uint64_t(counts[2]) / 64 + ranks : 0;
+            const uint64_t batches = g.driver.compositePerPixel ? uint64_t(counts[2]) / 64 + ranks : 0;
             const uint64_t loops = uint64_t(counts[2]) + batches + 2 * uint64_t(ranks) + kCompositeLoopSlack;
             const bool overTexels = needed > (ranks > partSlices ? limit : g.texelCap());
             const bool overLoops = g.loopLimit && loops > g.loopLimit;
