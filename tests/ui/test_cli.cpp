@@ -10,6 +10,7 @@
 #include "renderer/model/transfer_function.h"
 #include "renderer/io/volume_io.h"
 #include "cli_run.h"
+#include "scoped_env.h"
 #include "test_paths.h"
 #include "ui/session.h"
 
@@ -278,9 +279,8 @@ TEST(Cli, OcclusionCullingFollowsTheDriverUnlessAFlagSays) {
     // overrides the driver, and the two together are refused.
     const auto out = testing_support::testOutputDir("cli_occlusion") / "driver.exr";
     auto hidden = [&](const char* profile, const std::string& flags) {
-        if (*profile) setenv("SPLATLAB_DRIVER_PROFILE", profile, 1);
+        const testing_support::ScopedEnv forced("SPLATLAB_DRIVER_PROFILE", *profile ? profile : nullptr);
         const CliRun r = renderHeadsqFrontToBack(out, "--density 30 " + flags);
-        unsetenv("SPLATLAB_DRIVER_PROFILE");
         EXPECT_EQ(r.status, 0) << r.output;
         const size_t at = r.output.find("hidden behind opaque ");
         return at == std::string::npos ? -1LL : std::stoll(r.output.substr(at + 21));

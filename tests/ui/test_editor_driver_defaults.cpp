@@ -1,6 +1,7 @@
 // The editor starts with the settings the driver's profile chooses (renderer/gl/driver_profile.h) where
 // no flag chose: occlusion culling on with llvmpipe, off on a GPU; a flag overrides the driver.
 #include "cli_run.h"
+#include "scoped_env.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -14,10 +15,9 @@ TEST(EditorDriverDefaults, OcclusionCullingStartsAsTheDriverSaysUnlessAFlagSays)
     // The session the editor closes with says whether culling was on; SPLATLAB_DRIVER_PROFILE=gpu gives
     // llvmpipe the GPU's profile.
     auto culling = [&](const char* profile, const std::string& flags) {
-        if (*profile) setenv("SPLATLAB_DRIVER_PROFILE", profile, 1);
+        const testing_support::ScopedEnv forced("SPLATLAB_DRIVER_PROFILE", *profile ? profile : nullptr);
         const nlohmann::json s = testing_support::editorClosingSession(
             "\"" + testing_support::headsq() + "\" --up -z " + flags, out);
-        unsetenv("SPLATLAB_DRIVER_PROFILE");
         EXPECT_TRUE(s.contains("splatting")) << flags;
         return s.value("splatting", nlohmann::json::object()).value("occlusion_culling", false);
     };

@@ -2,6 +2,7 @@
 // name, the recent-files lists and their file, and the config folder's environment variables.
 #include "renderer/errors.h"
 #include "renderer/io/volume_io.h"
+#include "scoped_env.h"
 #include "test_paths.h"
 #include "ui/file_listing.h"
 
@@ -125,23 +126,16 @@ TEST(RecentFiles, TheListsRoundTripThroughTheConfigFolderAndABadFileIsNamed) {
 }
 
 TEST(RecentFiles, TheConfigFolderComesFromTheEnvironment) {
-    // The three variables as they were, put back at the end.
-    std::vector<std::pair<const char*, std::optional<std::string>>> saved;
-    for (const char* name : {"SPLATLAB_CONFIG_DIR", "XDG_CONFIG_HOME", "HOME"}) {
-        const char* value = std::getenv(name);
-        saved.emplace_back(name, value ? std::optional<std::string>(value) : std::nullopt);
+    using testing_support::ScopedEnv;
+    {
+        const ScopedEnv config("SPLATLAB_CONFIG_DIR", "/tmp/splatlab_test_config"), xdg("XDG_CONFIG_HOME", "/tmp/xdg");
+        EXPECT_EQ(ui::configFolder(), fs::path("/tmp/splatlab_test_config"));
     }
-    setenv("SPLATLAB_CONFIG_DIR", "/tmp/splatlab_test_config", 1);
-    setenv("XDG_CONFIG_HOME", "/tmp/xdg", 1);
-    EXPECT_EQ(ui::configFolder(), fs::path("/tmp/splatlab_test_config"));
-    unsetenv("SPLATLAB_CONFIG_DIR");
-    EXPECT_EQ(ui::configFolder(), fs::path("/tmp/xdg/splatlab"));
-    unsetenv("XDG_CONFIG_HOME");
-    setenv("HOME", "/home/someone", 1);
+    const ScopedEnv noConfig("SPLATLAB_CONFIG_DIR", nullptr);
+    {
+        const ScopedEnv xdg("XDG_CONFIG_HOME", "/tmp/xdg");
+        EXPECT_EQ(ui::configFolder(), fs::path("/tmp/xdg/splatlab"));
+    }
+    const ScopedEnv noXdg("XDG_CONFIG_HOME", nullptr), home("HOME", "/home/someone");
     EXPECT_EQ(ui::configFolder(), fs::path("/home/someone/.config/splatlab"));
-    for (const auto& [name, value] : saved)
-        if (value)
-            setenv(name, value->c_str(), 1);
-        else
-            unsetenv(name);
 }

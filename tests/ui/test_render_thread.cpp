@@ -2,6 +2,7 @@
 // flight, and a progressive request gives each level, coarsest first, then the full frame, with each
 // level's error against it. SPLATLAB_RENDER_DELAY_MS makes every frame slow, as a large scan's are.
 #include "render_thread.h"
+#include "scoped_env.h"
 
 #include "renderer/model/procedural.h"
 #include "renderer/model/splat_scene.h"
@@ -47,10 +48,11 @@ std::unique_ptr<RenderThread> startOrSkip(std::string& why) {
 // Request A, then B while A waits out its slow frame: A stops once it missed the budget and never shows;
 // B's image is the only one.
 TEST(RenderThread, ANewerRequestSupersedesTheFrameInFlight) {
-    setenv("SPLATLAB_RENDER_DELAY_MS", "1000", 1);
     std::string why;
-    auto thread = startOrSkip(why);
-    unsetenv("SPLATLAB_RENDER_DELAY_MS");
+    auto thread = [&] {
+        const testing_support::ScopedEnv slow("SPLATLAB_RENDER_DELAY_MS", "1000");
+        return startOrSkip(why);
+    }();
     if (!thread) {
         if (const char* r = std::getenv("REQUIRE_GL"); r && std::string(r) == "1") FAIL() << why;
         GTEST_SKIP() << "no headless GL context: " << why;

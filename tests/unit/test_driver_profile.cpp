@@ -1,24 +1,24 @@
 // The parameters chosen by the kind of driver: llvmpipe's and a GPU's, each from its own measurements.
 #include "renderer/gl/driver_profile.h"
 
+#include "scoped_env.h"
+
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 
 using renderer::driverProfile;
 
 namespace {
 
-// Sets SPLATLAB_DRIVER_PROFILE for one test and clears it after, whatever the test does.
-struct ForcedProfile {
-    explicit ForcedProfile(const char* kind) { setenv("SPLATLAB_DRIVER_PROFILE", kind, 1); }
-    ~ForcedProfile() { unsetenv("SPLATLAB_DRIVER_PROFILE"); }
+// SPLATLAB_DRIVER_PROFILE set to `kind` (nullptr: cleared) for one scope.
+struct ForcedProfile : testing_support::ScopedEnv {
+    explicit ForcedProfile(const char* kind) : ScopedEnv("SPLATLAB_DRIVER_PROFILE", kind) {}
 };
 
 } // namespace
 
 TEST(DriverProfile, LlvmpipeCullsHiddenSplatsAndTakesNarrowRunsShortChunksAndAColumnAnInvocation) {
-    unsetenv("SPLATLAB_DRIVER_PROFILE");
+    const ForcedProfile none(nullptr);
     const auto p = driverProfile("llvmpipe (LLVM 15.0.6, 256 bits)");
     EXPECT_TRUE(p.software);
     EXPECT_TRUE(p.occlusionCulling);
@@ -28,7 +28,7 @@ TEST(DriverProfile, LlvmpipeCullsHiddenSplatsAndTakesNarrowRunsShortChunksAndACo
 }
 
 TEST(DriverProfile, AGpuKeepsHiddenSplatsAndTakesFullWarpsAndLongChunks) {
-    unsetenv("SPLATLAB_DRIVER_PROFILE");
+    const ForcedProfile none(nullptr);
     for (const char* name :
          {"NVIDIA H200/PCIe/SSE2", "NVIDIA H100 80GB HBM3/PCIe/SSE2", "AMD Radeon RX 7900 XTX"}) {
         const auto p = driverProfile(name);

@@ -5,6 +5,7 @@
 #include "renderer/io/nrrd_writer.h"
 #include "renderer/io/volume_io.h"
 #include "renderer/model/phantom.h"
+#include "scoped_env.h"
 #include "test_paths.h"
 
 #include <gtest/gtest.h>
@@ -15,6 +16,7 @@
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 using namespace renderer;
@@ -196,7 +198,7 @@ TEST(Phantom, TheSkullIsAClosedShell) {
 }
 
 TEST(Phantom, ASizeOverTheMemoryBudgetIsRefusedBeforeAllocating) {
-    ASSERT_EQ(setenv("SPLATLAB_MEMORY_BUDGET_MB", "1", 1), 0);
+    std::optional<testing_support::ScopedEnv> budget(std::in_place, "SPLATLAB_MEMORY_BUDGET_MB", "1");
     EXPECT_EQ(phantom(glm::ivec3(64)).voxelCount(), size_t(1) << 18) << "64^3 floats are 1 MiB: within it";
     const auto t0 = std::chrono::steady_clock::now();
     std::string error;
@@ -205,7 +207,7 @@ TEST(Phantom, ASizeOverTheMemoryBudgetIsRefusedBeforeAllocating) {
     } catch (const RenderError& e) {
         error = e.what();
     }
-    unsetenv("SPLATLAB_MEMORY_BUDGET_MB");
+    budget.reset();
     EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(100));
     EXPECT_NE(error.find("size 4096 x 4096 x 16 needs 1024 MiB"), std::string::npos) << error;
     EXPECT_NE(error.find("memory budget of 1 MiB"), std::string::npos) << error;

@@ -3,6 +3,7 @@
 #include "renderer/errors.h"
 #include "renderer/model/procedural.h"
 #include "renderer/io/volume_io.h"
+#include "scoped_env.h"
 #include "test_paths.h"
 
 #include <gtest/gtest.h>
@@ -16,6 +17,7 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -584,7 +586,7 @@ TEST(VolumeMemoryBudget, AClaimOverTheBudgetIsRefusedAtOnceNamingFileClaimAndBud
                         gzipBytes(zeros));
     EXPECT_EQ(loadVolume(nrrd).voxelCount(), size_t(64) * 64 * 128) << "within the default budget it loads";
 
-    ASSERT_EQ(setenv("SPLATLAB_MEMORY_BUDGET_MB", "1", 1), 0);
+    std::optional<testing_support::ScopedEnv> budget(std::in_place, "SPLATLAB_MEMORY_BUDGET_MB", "1");
     const auto t0 = std::chrono::steady_clock::now();
     std::string error;
     try {
@@ -596,7 +598,7 @@ TEST(VolumeMemoryBudget, AClaimOverTheBudgetIsRefusedAtOnceNamingFileClaimAndBud
     const fs::path bomb = outDir() / "bomb_2048x1024x1024_uint8.raw.gz";
     writeFile(bomb, gzipBytes(std::string(4096, '\0')));
     EXPECT_THROW(loadVolume(bomb), LoadError);
-    unsetenv("SPLATLAB_MEMORY_BUDGET_MB");
+    budget.reset();
     EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1));
     EXPECT_NE(error.find(nrrd.string()), std::string::npos) << error;
     EXPECT_NE(error.find("64 x 64 x 128 voxels need 2 MiB"), std::string::npos) << error;
