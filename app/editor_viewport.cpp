@@ -24,6 +24,7 @@ void EditorLoop::renderViewport() {
     editForProbe();
     renderIfPending();
     showRenderedView();
+    stepSplitTruth(); // |A - ground truth|: its truth, and the difference of the image shown
     // 4. The Filters panel's patches per filter, of the full frame shown.
     countPatchesIfShown();
     // 5. The TF panel's Gallery, after the view: one preset's thumbnail at a time.
@@ -242,7 +243,7 @@ void EditorLoop::startSaveView(const std::filesystem::path& path) {
         classifyNow(); // the full scene, with the window on screen
         ViewRequest view = viewRequest();
         const double opacity = view.heatmap ? std::clamp(m_state.heatmapOpacity, 0.0, 1.0) : 0.0;
-        if (view.second) {
+        if (!view.others.empty()) {
             m_save = PendingSave{.path = path, .heatmapOpacity = 0.0, .images = {}, .split = startSaveSplitView(view)};
             return;
         }
