@@ -195,6 +195,7 @@ class EditorLoop {
         bool coarse = false;
         ui::DifferencePane pane; // its figures (the pixels are in m_differenceImage)
         double seconds = 0.0;
+        bool cached = false;
     };
     std::optional<TruthDifference> m_truthDifference;
     int m_renderWidth = 0, m_renderHeight = 0;

@@ -86,19 +86,19 @@ void EditorLoop::stepSplitTruth() {
         d.rgba = {};
         m_truthDifference = TruthDifference{.of = of, .key = truth->key, .truth = truth->image,
                                             .coarse = truth->coarse, .pane = std::move(d),
-                                            .seconds = truth->seconds};
+                                            .seconds = truth->seconds, .cached = truth->cached};
     });
 }
 
 std::string EditorLoop::truthLabel() const {
-    char text[160];
+    char text[96];
     if (!m_truthDifference) return "|A - truth|";
     const auto& t = *m_truthDifference;
-    if (t.coarse)
-        std::snprintf(text, sizeof text, "|A - truth|, coarse truth %dx%d upsampled; computing %dx%d...",
-                      std::get<1>(t.of), std::get<2>(t.of), t.pane.width, t.pane.height);
-    else
-        std::snprintf(text, sizeof text, "|A - truth|, truth at %dx%d", t.pane.width, t.pane.height);
+    // The time is from the view's start (the camera at rest) to this truth: what the next one will cost.
+    char took[32] = "cached";
+    if (!t.cached) std::snprintf(took, sizeof took, "%.1f s", t.seconds);
+    std::snprintf(text, sizeof text, "|A - truth|, %struth %dx%d (%s)", t.coarse ? "coarse " : "",
+                  std::get<1>(t.of), std::get<2>(t.of), took);
     return text;
 }
 
@@ -122,6 +122,8 @@ std::vector<ui::ViewportPane> EditorLoop::splitPanes() const {
             pane.texture = m_differenceImage.id();
             const ui::DifferencePane& d = m_truthDifference->pane;
             pane.difference = ui::ViewportDifference{d.rmse, d.psnrDb, d.scaleMax};
+            if (m_truthDifference->coarse && m_truth && m_truth->computing())
+                pane.note = "upsampled; computing " + std::to_string(d.width) + "x" + std::to_string(d.height) + "...";
         } else if (!m_truthUnavailable.empty()) {
             pane.note = m_truthUnavailable;
         } else if (const auto error = m_truth ? m_truth->error() : std::nullopt) {

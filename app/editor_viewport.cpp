@@ -119,7 +119,14 @@ void EditorLoop::frameIfAsked() {
         m_renderPending = true;
     }
     if (m_sceneCameraPending && m_renderHeight > 0 && !m_volumeJob) {
-        guarded([&] { m_state.camera = renderer::demoScene(*m_sceneCameraPending, m_renderHeight).camera; });
+        // Framed for the height of the image it is drawn in: a pane's in a split view.
+        const int height = m_state.split.enabled
+                               ? ui::splitLayout(m_renderWidth, m_renderHeight, m_state.split.shownImagePanes(),
+                                                 m_state.split.difference != ui::SplitDifference::Off)
+                                     .panes.front()
+                                     .height
+                               : m_renderHeight;
+        guarded([&] { m_state.camera = renderer::demoScene(*m_sceneCameraPending, height).camera; });
         m_sceneCameraPending.reset();
         m_renderPending = true;
     }

@@ -101,10 +101,11 @@ void SplitTruth::startPending(bool now) {
         // Below the render thread (10): the truth's own threads inherit it, and the view stays fluid.
         setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 15);
         const renderer::ProgressCallback progress = [&](double) { return !job->cancel.load(); };
+        renderer::GroundTruthStats stats;
         const auto compute = [&](const renderer::ImagePlane& at) {
             return cacheDir.empty()
-                       ? renderer::renderGroundTruth(*scene, at, settings, {}, progress)
-                       : renderer::cachedGroundTruth(*scene, at, settings, {}, cacheDir, progress);
+                       ? renderer::renderGroundTruth(*scene, at, settings, {}, progress, &stats)
+                       : renderer::cachedGroundTruth(*scene, at, settings, {}, cacheDir, progress, &stats);
         };
         try {
             // The coarse truth: the same view at a quarter of the size (its focal length and principal
@@ -124,7 +125,8 @@ void SplitTruth::startPending(bool now) {
                             .coarse = at.width != plane.width || at.height != plane.height,
                             .computedWidth = at.width,
                             .computedHeight = at.height,
-                            .seconds = std::chrono::duration<double>(Clock::now() - started).count()};
+                            .seconds = std::chrono::duration<double>(Clock::now() - started).count(),
+                            .cached = stats.fromCache};
                 std::lock_guard lock(job->mutex);
                 job->truth = std::move(truth);
                 job->coarseDone = true;

@@ -49,7 +49,8 @@ class SplitTruth {
         std::shared_ptr<const renderer::Image> image; // at the pane's size
         bool coarse = false;
         int computedWidth = 0, computedHeight = 0;    // the resolution it was computed at
-        double seconds = 0.0;                         // from the view's start to this truth (cache: ~0)
+        double seconds = 0.0;                         // from the view's start to this truth
+        bool cached = false;                          // read from the cache, not computed
     };
     std::optional<Truth> latest() const;
     bool computing() const;                     // wanted and not yet at full size (nor failed)

@@ -1,8 +1,8 @@
 // ui layer, end to end: the editor under Xvfb with --split (two or four filters) and --split-difference
-// (|A - B| or |A - truth|). Save image writes the
-// panes side by side; each pane is what `splatlab render` draws at the pane's size with that pane's filter,
-// the difference pane's RMSE is renderer::compareImages of those two renders, and the viewport shows the
-// panes it saves.
+// (|A - B| or |A - truth|). Save image writes the panes in their layout; each pane is what `splatlab render`
+// draws at the pane's size with that pane's filter, |A - B|'s RMSE is renderer::compareImages of two such
+// renders, |A - truth|'s that of pane A against `splatlab reference`, and the viewport shows the panes it
+// saves.
 #include "editor_window.h"
 #include "image_compare.h"
 #include "renderer/io/image.h"

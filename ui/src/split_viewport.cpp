@@ -117,9 +117,9 @@ void drawSplitPanes(const ViewportOverlay& overlay, float x, float y, float w, f
         if (pane.isDifference) // its own frame: beside a grid it does not fill its column
             draw->AddRect(min, max, IM_COL32(120, 120, 120, 255));
         labelAt(draw, ImVec2(min.x + font * 0.5f, min.y + font * 0.4f), pane.label.c_str());
-        if (!pane.note.empty())
-            labelAt(draw, ImVec2(min.x + font * 0.5f, min.y + font * 1.8f), pane.note.c_str(),
-                    IM_COL32(255, 210, 120, 255));
+        if (!pane.note.empty()) // below the figures, if any
+            labelAt(draw, ImVec2(min.x + font * 0.5f, min.y + font * (pane.difference ? 3.2f : 1.8f)),
+                    pane.note.c_str(), IM_COL32(255, 210, 120, 255));
         if (pane.difference) {
             char figures[96];
             std::snprintf(figures, sizeof figures, "RMSE %.5f   PSNR %.2f dB", pane.difference->rmse,
