@@ -204,7 +204,8 @@ std::string EditorLoop::splitSavedText(const SplitImage& split) const {
                       split.difference->rmse, split.difference->psnrDb);
         text += figures + split.truthOf;
     } else if (m_state.split.difference == ui::SplitDifference::AgainstTruth) {
-        text += " | |A - truth| left empty: the ground truth is still computing";
+        text += " | |A - truth| left empty: " +
+                (m_truthUnavailable.empty() ? std::string("the ground truth is still computing") : m_truthUnavailable);
     }
     return text + ")";
 }
