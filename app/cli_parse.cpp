@@ -78,11 +78,12 @@ std::vector<renderer::FilterMode> parseSplit(const std::string& text) {
     const size_t commas = size_t(std::count(text.begin(), text.end(), ','));
     if ((commas != 1 && commas != 3) || names.size() != commas + 1)
         throw CLI::ValidationError("--split", "expected two or four filters, FILTER_A,FILTER_B or "
-                                              "FILTER_A,FILTER_B,FILTER_C,FILTER_D, got '" + text + "' (" +
-                                              std::to_string(commas + 1) + " names)");
+                                              "FILTER_A,FILTER_B,FILTER_C,FILTER_D, got '" +
+                                                  text + "' (" + std::to_string(commas + 1) + " names)");
     std::vector<renderer::FilterMode> filters;
     try {
-        for (const std::string& name : names) filters.push_back(renderer::filterModeFromName(name));
+        for (const std::string& name : names)
+            filters.push_back(renderer::filterModeFromName(name));
     } catch (const renderer::RenderError& error) {
         throw CLI::ValidationError("--split", error.what());
     }
@@ -93,6 +94,7 @@ ui::SplitDifference parseSplitDifference(const std::string& text, bool split) {
     if (!split) throw CLI::ValidationError("--split-difference", "needs --split A,B (or A,B,C,D)");
     if (text.empty() || text == "b") return ui::SplitDifference::AgainstB;
     if (text == "truth") return ui::SplitDifference::AgainstTruth;
-    throw CLI::ValidationError("--split-difference", "expected nothing (|A - B|) or 'truth' (|A - ground truth|), got '" +
-                                                         text + "'");
+    throw CLI::ValidationError("--split-difference",
+                               "expected nothing (|A - B|) or 'truth' (|A - ground truth|), got '" + text +
+                                   "'");
 }

@@ -34,14 +34,16 @@ void EditorLoop::splitViewRequest(ViewRequest& request) const {
             level.density = density;
         }
     };
-    request.others.assign(size_t(split.shownImagePanes() - 1), ViewRequest::OtherPane{.full = {}, .coarse = request.coarse});
+    request.others.assign(size_t(split.shownImagePanes() - 1),
+                          ViewRequest::OtherPane{.full = {}, .coarse = request.coarse});
     for (size_t i = 0; i < request.others.size(); ++i)
         withPane(split.panes[i + 1], request.others[i].full, request.others[i].coarse);
     withPane(split.panes[0], request.full, request.coarse);
     request.heatmap = false; // the heatmap belongs to the one image
     request.difference = split.difference == ui::SplitDifference::AgainstB;
     request.keepFirstPane = split.difference == ui::SplitDifference::AgainstTruth;
-    if (request.keepFirstPane) request.truthKey = SplitTruth::viewKey(request.plane, request.full, m_sceneVersion);
+    if (request.keepFirstPane)
+        request.truthKey = SplitTruth::viewKey(request.plane, request.full, m_sceneVersion);
 }
 
 void EditorLoop::showSplitPanes(RenderedView& view) {
@@ -63,7 +65,8 @@ void EditorLoop::stepSplitTruth() {
     }
     if (!m_truth) // scripted runs start at once (and wait); the editor once the view rests
         m_truth = std::make_unique<SplitTruth>(renderer::defaultGroundTruthCacheDir(),
-                                               m_scripted ? SplitTruth::Clock::duration{} : std::chrono::milliseconds(300));
+                                               m_scripted ? SplitTruth::Clock::duration{}
+                                                          : std::chrono::milliseconds(300));
     const ViewRequest request = viewRequest();
     m_truthUnavailable.clear();
     if (!renderer::hasGroundTruth(request.full)) { // as Measure: surface splats have none
@@ -73,7 +76,8 @@ void EditorLoop::stepSplitTruth() {
     }
     // Not while the full scene is being re-classified: the truth would be of the window left behind.
     if (!m_classifyJob && !m_fullWindowStale)
-        m_truth->want(request.truthKey, request.plane, request.full, [this] { return copyForRender(m_doc.scene); });
+        m_truth->want(request.truthKey, request.plane, request.full,
+                      [this] { return copyForRender(m_doc.scene); });
     if (m_scripted) m_truth->waitUntilDone();
     // The difference of the A image shown against the truth of its own view, once per (image, truth).
     const std::optional<SplitTruth::Truth> truth = m_truth->latest();
@@ -84,9 +88,13 @@ void EditorLoop::stepSplitTruth() {
         ui::DifferencePane d = ui::differencePane(*m_shown->firstPane, *truth->image);
         m_differenceImage.upload(d.width, d.height, d.rgba);
         d.rgba = {};
-        m_truthDifference = TruthDifference{.of = of, .key = truth->key, .truth = truth->image,
-                                            .coarse = truth->coarse, .pane = std::move(d),
-                                            .seconds = truth->seconds, .cached = truth->cached};
+        m_truthDifference = TruthDifference{.of = of,
+                                            .key = truth->key,
+                                            .truth = truth->image,
+                                            .coarse = truth->coarse,
+                                            .pane = std::move(d),
+                                            .seconds = truth->seconds,
+                                            .cached = truth->cached};
     });
 }
 
@@ -108,12 +116,17 @@ std::vector<ui::ViewportPane> EditorLoop::splitPanes() const {
     std::vector<ui::ViewportPane> panes{{m_image.id(), "A: " + ui::paneLabel(split.panes[0]), {}, {}, false}};
     for (int i = 1; i < m_shownPanes; ++i)
         panes.push_back({m_otherImages[size_t(i - 1)].id(),
-                         std::string(kPaneNames[i]) + ": " + ui::paneLabel(split.panes[size_t(i)]), {}, {}, false});
+                         std::string(kPaneNames[i]) + ": " + ui::paneLabel(split.panes[size_t(i)]),
+                         {},
+                         {},
+                         false});
     if (split.difference == ui::SplitDifference::AgainstB && m_shown->difference)
-        panes.push_back({m_differenceImage.id(), "|A - B|",
+        panes.push_back({m_differenceImage.id(),
+                         "|A - B|",
                          ui::ViewportDifference{m_shown->difference->rmse, m_shown->difference->psnrDb,
                                                 m_shown->difference->scaleMax},
-                         {}, true});
+                         {},
+                         true});
     if (split.difference == ui::SplitDifference::AgainstTruth) {
         // Only a difference of the A image shown against the truth of that same view; else why not.
         const bool current = m_truthDifference && m_shown->truthKey == m_truthDifference->key;
@@ -123,7 +136,8 @@ std::vector<ui::ViewportPane> EditorLoop::splitPanes() const {
             const ui::DifferencePane& d = m_truthDifference->pane;
             pane.difference = ui::ViewportDifference{d.rmse, d.psnrDb, d.scaleMax};
             if (m_truthDifference->coarse && m_truth && m_truth->computing())
-                pane.note = "upsampled; computing " + std::to_string(d.width) + "x" + std::to_string(d.height) + "...";
+                pane.note = "upsampled; computing " + std::to_string(d.width) + "x" +
+                            std::to_string(d.height) + "...";
         } else if (!m_truthUnavailable.empty()) {
             pane.note = m_truthUnavailable;
         } else if (const auto error = m_truth ? m_truth->error() : std::nullopt) {
@@ -158,7 +172,8 @@ std::future<EditorLoop::SplitImage> EditorLoop::startSaveSplitView(const ViewReq
         truth = m_truthDifference->truth;
         char text[96];
         std::snprintf(text, sizeof text, " against the truth at %dx%d%s", std::get<1>(m_truthDifference->of),
-                      std::get<2>(m_truthDifference->of), m_truthDifference->coarse ? " (coarse, upsampled)" : "");
+                      std::get<2>(m_truthDifference->of),
+                      m_truthDifference->coarse ? " (coarse, upsampled)" : "");
         truthOf = text;
     }
     const bool differenceOn = m_state.split.difference != ui::SplitDifference::Off;
@@ -172,22 +187,27 @@ std::future<EditorLoop::SplitImage> EditorLoop::startSaveSplitView(const ViewReq
         panes[0] = r.full->readback();
         SplitImage split;
         if (view.difference) split.difference = ui::differencePane(panes[0], panes[1]);
-        if (truth) split.difference = ui::differencePane(panes[0], *truth), split.against = "truth", split.truthOf = truthOf;
+        if (truth)
+            split.difference = ui::differencePane(panes[0], *truth), split.against = "truth",
+            split.truthOf = truthOf;
         const int w = panes[0].width, h = panes[0].height;
         // The layout the viewport shows, at the pane's size (splitLayout over the panes' whole extent).
         const int columns = 2 + (differenceOn ? 1 : 0), rows = panes.size() == 4 ? 2 : 1;
-        const ui::SplitLayout layout = ui::splitLayout(w * columns, h * rows, int(panes.size()), differenceOn);
+        const ui::SplitLayout layout =
+            ui::splitLayout(w * columns, h * rows, int(panes.size()), differenceOn);
         split.panes = renderer::Image(w * columns, h * rows); // transparent: the background where no pane is
         const auto place = [&](const ui::PaneRect& at, auto pixel) {
             for (int y = 0; y < h; ++y)
                 for (int x = 0; x < w; ++x)
-                    for (int c = 0; c < 4; ++c) split.panes.pixel(at.x + x, at.y + y)[c] = pixel(x, y, c);
+                    for (int c = 0; c < 4; ++c)
+                        split.panes.pixel(at.x + x, at.y + y)[c] = pixel(x, y, c);
         };
         for (size_t i = 0; i < panes.size(); ++i)
             place(layout.panes[i], [&](int x, int y, int c) { return panes[i].pixel(x, y)[c]; });
         if (split.difference) // the colour scale, opaque: written as it is over any background
             place(*layout.difference, [&](int x, int y, int c) {
-                return float(split.difference->rgba[(size_t(y) * size_t(w) + size_t(x)) * 4 + size_t(c)]) / 255.0f;
+                return float(split.difference->rgba[(size_t(y) * size_t(w) + size_t(x)) * 4 + size_t(c)]) /
+                       255.0f;
             });
         if (split.difference) split.difference->rgba = {};
         return split;
@@ -197,15 +217,17 @@ std::future<EditorLoop::SplitImage> EditorLoop::startSaveSplitView(const ViewReq
 std::string EditorLoop::splitSavedText(const SplitImage& split) const {
     std::string text = " (split:";
     for (int i = 0; i < m_state.split.shownImagePanes(); ++i)
-        text += std::string(i ? " |" : "") + " " + kPaneNames[i] + " " + ui::paneLabel(m_state.split.panes[size_t(i)]);
+        text += std::string(i ? " |" : "") + " " + kPaneNames[i] + " " +
+                ui::paneLabel(m_state.split.panes[size_t(i)]);
     char figures[160];
     if (split.difference) {
         std::snprintf(figures, sizeof figures, " | |A - %s| RMSE %.9g PSNR %.4f dB", split.against.c_str(),
                       split.difference->rmse, split.difference->psnrDb);
         text += figures + split.truthOf;
     } else if (m_state.split.difference == ui::SplitDifference::AgainstTruth) {
-        text += " | |A - truth| left empty: " +
-                (m_truthUnavailable.empty() ? std::string("the ground truth is still computing") : m_truthUnavailable);
+        text += " | |A - truth| left empty: " + (m_truthUnavailable.empty()
+                                                     ? std::string("the ground truth is still computing")
+                                                     : m_truthUnavailable);
     }
     return text + ")";
 }

@@ -50,12 +50,16 @@ std::string SplitTruth::viewKey(const renderer::ImagePlane& p, const renderer::S
     };
     add(sceneVersion), add(p.width), add(p.height), add(p.fPx), add(p.orthographic), add(p.tanHalfFovY);
     for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) add(p.viewFromObject[i][j]);
-    for (int i = 0; i < 3; ++i) add(p.translation[i]);
+        for (int j = 0; j < 3; ++j)
+            add(p.viewFromObject[i][j]);
+    for (int i = 0; i < 3; ++i)
+        add(p.translation[i]);
     add(p.centrePx.x), add(p.centrePx.y), add(p.nearDepth);
-    add(s.kernelScale), add(s.cutoffSigmas), add(s.density), add(s.compositing == renderer::Compositing::XRay);
+    add(s.kernelScale), add(s.cutoffSigmas), add(s.density),
+        add(s.compositing == renderer::Compositing::XRay);
     add(double(s.shading)), add(s.shadingParams.ambient), add(s.shadingParams.diffuse);
-    add(s.shadingParams.specular), add(s.shadingParams.shininess), add(s.surfaceFlatten), add(s.surfaceGradient);
+    add(s.shadingParams.specular), add(s.shadingParams.shininess), add(s.surfaceFlatten),
+        add(s.surfaceGradient);
     return key;
 }
 
@@ -121,7 +125,9 @@ void SplitTruth::startPending(bool now) {
                 if (job->cancel) break;
                 Truth truth{.key = job->key,
                             .image = std::make_shared<const renderer::Image>(
-                                at.width == plane.width ? image : ui::upsampleBilinear(image, plane.width, plane.height)),
+                                at.width == plane.width
+                                    ? image
+                                    : ui::upsampleBilinear(image, plane.width, plane.height)),
                             .coarse = at.width != plane.width || at.height != plane.height,
                             .computedWidth = at.width,
                             .computedHeight = at.height,

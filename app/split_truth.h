@@ -39,7 +39,8 @@ class SplitTruth {
     // The view the difference pane is of now, asked each frame. The same key as last time: nothing
     // changes. Another: the truth under way is cancelled and what was computed is dropped; the new view
     // starts after the rest (scene() is called then, for the copy the worker reads).
-    void want(const std::string& key, const renderer::ImagePlane& plane, const renderer::SplatSettings& settings,
+    void want(const std::string& key, const renderer::ImagePlane& plane,
+              const renderer::SplatSettings& settings,
               const std::function<std::shared_ptr<const renderer::SplatScene>()>& scene);
     void clear(); // no truth wanted: the one under way cancelled
 
@@ -48,15 +49,15 @@ class SplitTruth {
         std::string key;
         std::shared_ptr<const renderer::Image> image; // at the pane's size
         bool coarse = false;
-        int computedWidth = 0, computedHeight = 0;    // the resolution it was computed at
-        double seconds = 0.0;                         // from the view's start to this truth
-        bool cached = false;                          // read from the cache, not computed
+        int computedWidth = 0, computedHeight = 0; // the resolution it was computed at
+        double seconds = 0.0;                      // from the view's start to this truth
+        bool cached = false;                       // read from the cache, not computed
     };
     std::optional<Truth> latest() const;
-    bool computing() const;                     // wanted and not yet at full size (nor failed)
-    bool coarseComputing() const;               // still on the coarse one (or resting before it)
-    std::optional<std::string> error() const;   // why the wanted view's truth failed
-    void waitUntilDone();                       // scripted runs: starts the wanted view now, and waits
+    bool computing() const;                   // wanted and not yet at full size (nor failed)
+    bool coarseComputing() const;             // still on the coarse one (or resting before it)
+    std::optional<std::string> error() const; // why the wanted view's truth failed
+    void waitUntilDone();                     // scripted runs: starts the wanted view now, and waits
 
   private:
     struct Job;
@@ -70,6 +71,6 @@ class SplitTruth {
     renderer::SplatSettings m_settings;
     std::function<std::shared_ptr<const renderer::SplatScene>()> m_scene;
     Clock::time_point m_wantedSince;
-    std::shared_ptr<Job> m_job;                 // of m_wantedKey, once started
+    std::shared_ptr<Job> m_job;                  // of m_wantedKey, once started
     std::vector<std::shared_ptr<Job>> m_retired; // cancelled, their threads still ending
 };

@@ -48,8 +48,9 @@ renderer::Image crop(const renderer::Image& image, int x0, int width) {
 
 TEST(EditorSplit, ASplitThatIsNotTwoOrFourFiltersIsRefusedNamingTheFlag) {
     const std::pair<const char*, const char*> bad[] = {
-        {"--split ewa", "--split: expected two or four filters, FILTER_A,FILTER_B or FILTER_A,FILTER_B,FILTER_C,"
-                        "FILTER_D, got 'ewa' (1 names)"},
+        {"--split ewa",
+         "--split: expected two or four filters, FILTER_A,FILTER_B or FILTER_A,FILTER_B,FILTER_C,"
+         "FILTER_D, got 'ewa' (1 names)"},
         {"--split ewa,low-pass,adaptive", "got 'ewa,low-pass,adaptive' (3 names)"},
         {"--split ewa,low-pass,adaptive,ewa,ewa", "(5 names)"},
         {"--split ewa,,low-pass,adaptive", "--split: unknown filter ''"},
@@ -76,19 +77,23 @@ TEST(EditorSplit, FourFiltersOpenFourPanesEachItsFiltersRenderAndTheSessionKeeps
         GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
     const std::string volume = (testing_support::assetDir() / "volumes" / "headsq.nhdr").string();
     const std::filesystem::path out = testing_support::testOutputDir("editor_split_four");
-    const std::filesystem::path saved = out / "four.exr", session = out / "four.json", again = out / "again.exr";
+    const std::filesystem::path saved = out / "four.exr", session = out / "four.json",
+                                again = out / "again.exr";
     const std::string view = "--up -z --camera 30,20,2.5,30 --compositing sheet-back-to-front ";
-    const std::string xvfb = "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" xvfb-run -a -s "
-                             "\"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor ";
+    const std::string xvfb =
+        "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" xvfb-run -a -s "
+        "\"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor ";
     int status = -1;
     const std::string editor = xvfb + "\"" + volume + "\" " + view +
                                "--split reconstruction,low-pass,ewa,adaptive --size 1280x800 --frames 3 "
-                               "--save-image \"" + saved.string() + "\" --session-out \"" + session.string() + "\"";
+                               "--save-image \"" +
+                               saved.string() + "\" --session-out \"" + session.string() + "\"";
     std::string printed = runCapturing(editor, status);
     ASSERT_EQ(status, 0) << editor << "\n" << printed;
-    EXPECT_NE(printed.find("(split: A reconstruction, sheet-back-to-front | B low-pass, sheet-back-to-front | "
-                           "C ewa, sheet-back-to-front | D adaptive, sheet-back-to-front)"),
-              std::string::npos)
+    EXPECT_NE(
+        printed.find("(split: A reconstruction, sheet-back-to-front | B low-pass, sheet-back-to-front | "
+                     "C ewa, sheet-back-to-front | D adaptive, sheet-back-to-front)"),
+        std::string::npos)
         << printed;
 
     const renderer::Image panes = renderer::readImage(saved);
@@ -110,8 +115,10 @@ TEST(EditorSplit, FourFiltersOpenFourPanesEachItsFiltersRenderAndTheSessionKeeps
                 for (int c = 0; c < 4; ++c)
                     pane.pixel(x, y)[c] = panes.pixel((i % 2) * width + x, (i / 2) * height + y)[c];
         const auto d = testing_support::renderDifference(alone, pane);
-        EXPECT_LE(d.elsewhere, 1e-5f) << "pane " << "ABCD"[i] << " (" << filters[i] << ")";
-        EXPECT_LE(d.atOpaque, 2e-3f) << "pane " << "ABCD"[i] << " (" << filters[i] << ")";
+        EXPECT_LE(d.elsewhere, 1e-5f) << "pane "
+                                      << "ABCD"[i] << " (" << filters[i] << ")";
+        EXPECT_LE(d.atOpaque, 2e-3f) << "pane "
+                                     << "ABCD"[i] << " (" << filters[i] << ")";
     }
 
     std::ifstream in(session);
@@ -122,8 +129,10 @@ TEST(EditorSplit, FourFiltersOpenFourPanesEachItsFiltersRenderAndTheSessionKeeps
         EXPECT_EQ(json["split"][std::string("filter_") + "abcd"[i]], filters[i]);
     EXPECT_EQ(json["split"]["difference"], "off");
     // The session opens the same four panes: the same image.
-    const std::string reopen = xvfb + "--session \"" + session.string() + "\" --size 1280x800 --frames 3 "
-                                      "--save-image \"" + again.string() + "\"";
+    const std::string reopen = xvfb + "--session \"" + session.string() +
+                               "\" --size 1280x800 --frames 3 "
+                               "--save-image \"" +
+                               again.string() + "\"";
     printed = runCapturing(reopen, status);
     ASSERT_EQ(status, 0) << reopen << "\n" << printed;
     const renderer::Image reopened = renderer::readImage(again);
@@ -139,16 +148,16 @@ TEST(EditorSplit, TheTruthDifferenceIsPaneAAgainstTheGroundTruthOfItsView) {
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
     const std::filesystem::path out = testing_support::testOutputDir("editor_split_truth");
-    const std::filesystem::path saved = out / "truth.exr", session = out / "truth.json", cache = out / "cache",
-                                reference = out / "reference.exr";
+    const std::filesystem::path saved = out / "truth.exr", session = out / "truth.json",
+                                cache = out / "cache", reference = out / "reference.exr";
     std::filesystem::remove_all(cache); // the editor computes it
     int status = -1;
     const std::string editor =
         "SPLATLAB_CACHE_DIR=\"" + cache.string() +
         "\" LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" xvfb-run -a -s "
         "\"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor --scene far-away --split reconstruction,ewa "
-        "--split-difference truth --size 1280x800 --frames 3 --save-image \"" + saved.string() +
-        "\" --session-out \"" + session.string() + "\"";
+        "--split-difference truth --size 1280x800 --frames 3 --save-image \"" +
+        saved.string() + "\" --session-out \"" + session.string() + "\"";
     const std::string printed = runCapturing(editor, status);
     ASSERT_EQ(status, 0) << editor << "\n" << printed;
     const size_t at = printed.find("|A - truth| RMSE ");
@@ -158,16 +167,19 @@ TEST(EditorSplit, TheTruthDifferenceIsPaneAAgainstTheGroundTruthOfItsView) {
     ASSERT_EQ(panes.width % 3, 0);
     const int width = panes.width / 3, height = panes.height;
     const std::string size = std::to_string(width) + "x" + std::to_string(height);
-    EXPECT_NE(printed.find("against the truth at " + size + ")"), std::string::npos) << "the full truth: " << printed;
+    EXPECT_NE(printed.find("against the truth at " + size + ")"), std::string::npos)
+        << "the full truth: " << printed;
 
-    const std::string direct = "env -u DISPLAY \"" SPLATLAB_EXE "\" reference --session \"" + session.string() +
-                               "\" --size " + size + " --no-cache -o \"" + reference.string() + "\" > /dev/null 2>&1";
+    const std::string direct = "env -u DISPLAY \"" SPLATLAB_EXE "\" reference --session \"" +
+                               session.string() + "\" --size " + size + " --no-cache -o \"" +
+                               reference.string() + "\" > /dev/null 2>&1";
     ASSERT_EQ(std::system(direct.c_str()), 0) << direct;
-    const renderer::ImageError metric = renderer::compareImages(crop(panes, 0, width), renderer::readImage(reference));
+    const renderer::ImageError metric =
+        renderer::compareImages(crop(panes, 0, width), renderer::readImage(reference));
     EXPECT_GT(metric.rmse, 1e-4) << "reconstruction and the truth should differ at this view";
     EXPECT_NEAR(rmse, metric.rmse, 1e-3 * metric.rmse) << printed;
-    std::printf("[ split    ] editor's |A - truth| RMSE %.6f, pane A against `reference`: %.6f (%.2f dB)\n", rmse,
-                metric.rmse, metric.psnrDb);
+    std::printf("[ split    ] editor's |A - truth| RMSE %.6f, pane A against `reference`: %.6f (%.2f dB)\n",
+                rmse, metric.rmse, metric.psnrDb);
 }
 
 TEST(EditorSplit, EachPaneIsItsFiltersRenderAndTheDifferenceRmseIsTheirMetric) {

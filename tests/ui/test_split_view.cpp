@@ -7,17 +7,17 @@
 
 #include "renderer/errors.h"
 #include "renderer/math/metrics.h"
-#include "renderer/oracle/ground_truth.h"
 #include "renderer/model/procedural.h"
 #include "renderer/model/splat_scene.h"
 #include "renderer/model/transfer_function.h"
+#include "renderer/oracle/ground_truth.h"
 
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <thread>
 
@@ -39,9 +39,10 @@ TEST(SplitView, PanesAreEqualSideBySideAndFitTheViewport) {
     EXPECT_EQ(two[1].width, 477);
     EXPECT_EQ(ui::splitPaneRects(1, 0, 2, false)[1].width, 1) << "a pane is never empty";
     EXPECT_EQ((ui::SplitView{.enabled = true, .difference = ui::SplitDifference::AgainstB}).paneCount(), 3);
-    EXPECT_EQ((ui::SplitView{.enabled = true, .imagePanes = 4, .difference = ui::SplitDifference::AgainstTruth})
-                  .paneCount(),
-              5);
+    EXPECT_EQ(
+        (ui::SplitView{.enabled = true, .imagePanes = 4, .difference = ui::SplitDifference::AgainstTruth})
+            .paneCount(),
+        5);
     EXPECT_EQ((ui::SplitView{.enabled = false, .difference = ui::SplitDifference::AgainstB}).paneCount(), 1);
 }
 
@@ -71,14 +72,16 @@ TEST(SplitView, FourPanesAreAGridAndTheDifferenceAColumnBesideIt) {
 
 TEST(SplitView, AnUpsampledImageKeepsAConstantAndInterpolatesBetweenPixelCentres) {
     Image small(2, 1);
-    for (int c = 0; c < 4; ++c) small.pixel(0, 0)[c] = 0.0f, small.pixel(1, 0)[c] = 1.0f;
+    for (int c = 0; c < 4; ++c)
+        small.pixel(0, 0)[c] = 0.0f, small.pixel(1, 0)[c] = 1.0f;
     const Image big = ui::upsampleBilinear(small, 8, 4);
     ASSERT_EQ(big.width, 8);
     ASSERT_EQ(big.height, 4);
     EXPECT_FLOAT_EQ(big.pixel(0, 0)[0], 0.0f) << "edges clamped";
     EXPECT_FLOAT_EQ(big.pixel(7, 3)[0], 1.0f);
     EXPECT_FLOAT_EQ(big.pixel(4, 2)[0], 0.5f + 0.125f); // x = 4.5 / 4 - 0.5 = 0.625 of the way
-    for (int x = 1; x < 8; ++x) EXPECT_GE(big.pixel(x, 1)[2], big.pixel(x - 1, 1)[2]);
+    for (int x = 1; x < 8; ++x)
+        EXPECT_GE(big.pixel(x, 1)[2], big.pixel(x - 1, 1)[2]);
 }
 
 TEST(SplitView, APaneOverridesFilterAndCompositingOnlyAndNeverTilesEverySample) {
@@ -204,8 +207,11 @@ TEST(SplitView, TheRenderThreadDrawsEachPaneWithItsSettingsAndTheDifferenceOfTho
     for (size_t i = 0; i < 3; ++i) {
         others.push_back(alone(request.others[i].full));
         ASSERT_EQ(shown->otherRgba[i].size(), shown->rgba.size());
-        EXPECT_LE(largest(shown->otherRgba[i], others[i].shown), 1) << "pane " << "BCD"[i] << " is not its settings' image";
-        EXPECT_GT(largest(a.shown, others[i].shown), 20) << "pane " << "BCD"[i] << " should differ from A in this view";
+        EXPECT_LE(largest(shown->otherRgba[i], others[i].shown), 1)
+            << "pane "
+            << "BCD"[i] << " is not its settings' image";
+        EXPECT_GT(largest(a.shown, others[i].shown), 20) << "pane "
+                                                         << "BCD"[i] << " should differ from A in this view";
     }
     EXPECT_LT(compareImages(*shown->firstPane, a.image).rmse, 1e-6) << "the first pane's float image";
     const ImageError metric = compareImages(a.image, others[0].image);
@@ -220,11 +226,11 @@ namespace {
 
 // A small scene's truths: a few thousand rays each.
 struct TruthScene {
-    std::shared_ptr<const SplatScene> scene =
-        std::make_shared<const SplatScene>(buildSplatScene(makeMarschnerLobb(16), builtinPreset("grey-ramp")));
+    std::shared_ptr<const SplatScene> scene = std::make_shared<const SplatScene>(
+        buildSplatScene(makeMarschnerLobb(16), builtinPreset("grey-ramp")));
     ImagePlane plane(double azimuth, int width = 24, int height = 16) const {
-        return makeImagePlane(Camera{.azimuthDeg = azimuth, .elevationDeg = 20, .distance = 3.0}, scene->centre,
-                              scene->radius, width, height);
+        return makeImagePlane(Camera{.azimuthDeg = azimuth, .elevationDeg = 20, .distance = 3.0},
+                              scene->centre, scene->radius, width, height);
     }
 };
 
@@ -265,7 +271,8 @@ TEST(SplitTruth, ANewViewWhileTheTruthComputesSupersedesItAndNoStaleTruthIsShown
     settings.density = 4.0;
     SplitTruth truth({}, {});
     const ImagePlane first = t.plane(30, 96, 64), moved = t.plane(75);
-    const std::string firstKey = SplitTruth::viewKey(first, settings, 1), movedKey = SplitTruth::viewKey(moved, settings, 1);
+    const std::string firstKey = SplitTruth::viewKey(first, settings, 1),
+                      movedKey = SplitTruth::viewKey(moved, settings, 1);
     truth.want(firstKey, first, settings, [&] { return t.scene; });
     std::this_thread::sleep_for(std::chrono::milliseconds(20)); // under way (96 x 64 takes seconds)
     EXPECT_TRUE(truth.computing());

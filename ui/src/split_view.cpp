@@ -11,9 +11,12 @@ namespace ui {
 
 const char* splitDifferenceName(SplitDifference d) {
     switch (d) {
-    case SplitDifference::Off: return "off";
-    case SplitDifference::AgainstB: return "b";
-    case SplitDifference::AgainstTruth: return "truth";
+    case SplitDifference::Off:
+        return "off";
+    case SplitDifference::AgainstB:
+        return "b";
+    case SplitDifference::AgainstTruth:
+        return "truth";
     }
     return "off";
 }

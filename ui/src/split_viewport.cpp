@@ -75,7 +75,8 @@ bool drawSplitViewSection(EditorState& state, renderer::Compositing viewComposit
     changed |= ImGui::RadioButton("2", &split.imagePanes, 2);
     ImGui::SameLine();
     changed |= ImGui::RadioButton("4 (2 x 2)", &split.imagePanes, 4);
-    static constexpr const char* kTitles[] = {"A (top left)", "B (top right)", "C (bottom left)", "D (bottom right)"};
+    static constexpr const char* kTitles[] = {"A (top left)", "B (top right)", "C (bottom left)",
+                                              "D (bottom right)"};
     static constexpr const char* kTitlesInRow[] = {"A (left)", "B (right)"};
     for (int i = 0; i < split.shownImagePanes(); ++i) {
         ImGui::PushID(i);
@@ -86,13 +87,20 @@ bool drawSplitViewSection(EditorState& state, renderer::Compositing viewComposit
                              &renderer::compositingName);
         ImGui::PopID();
     }
-    constexpr std::array kDifferences{SplitDifference::Off, SplitDifference::AgainstB, SplitDifference::AgainstTruth};
-    changed |= enumCombo("Difference", split.difference, kDifferences, +[](SplitDifference d) -> const char* {
-        return d == SplitDifference::Off ? "none" : d == SplitDifference::AgainstB ? "|A - B|" : "|A - ground truth|";
-    });
-    hint("A pane more: each pixel's RMS difference of pane A's premultiplied RGBA against pane B's, or against\n"
-         "the ground truth (the exact integral Measure compares with), on a colour scale, with the RMSE and PSNR\n"
-         "of the whole pane (renderer::compareImages, the accuracy tests' metric). The truth takes seconds to\n"
+    constexpr std::array kDifferences{SplitDifference::Off, SplitDifference::AgainstB,
+                                      SplitDifference::AgainstTruth};
+    changed |= enumCombo(
+        "Difference", split.difference, kDifferences, +[](SplitDifference d) -> const char* {
+            return d == SplitDifference::Off        ? "none"
+                   : d == SplitDifference::AgainstB ? "|A - B|"
+                                                    : "|A - ground truth|";
+        });
+    hint("A pane more: each pixel's RMS difference of pane A's premultiplied RGBA against pane B's, or "
+         "against\n"
+         "the ground truth (the exact integral Measure compares with), on a colour scale, with the RMSE and "
+         "PSNR\n"
+         "of the whole pane (renderer::compareImages, the accuracy tests' metric). The truth takes seconds "
+         "to\n"
          "minutes on a CPU: it starts once the camera rests, a quarter-size one first, and a move drops it");
     return changed;
 }
@@ -102,8 +110,8 @@ void drawSplitPanes(const ViewportOverlay& overlay, float x, float y, float w, f
     ImDrawList* draw = ImGui::GetWindowDrawList();
     const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
     const int widthPx = int(std::lround(extent.x * scale.x)), heightPx = int(std::lround(extent.y * scale.y));
-    const int imagePanes =
-        int(std::count_if(overlay.panes.begin(), overlay.panes.end(), [](const ViewportPane& p) { return !p.isDifference; }));
+    const int imagePanes = int(std::count_if(overlay.panes.begin(), overlay.panes.end(),
+                                             [](const ViewportPane& p) { return !p.isDifference; }));
     const std::vector<PaneRect> rects =
         splitPaneRects(widthPx, heightPx, imagePanes, imagePanes < int(overlay.panes.size()));
     const float font = ImGui::GetFontSize();
@@ -112,8 +120,10 @@ void drawSplitPanes(const ViewportOverlay& overlay, float x, float y, float w, f
         const ImVec2 min{origin.x + float(rects[i].x) / scale.x, origin.y + float(rects[i].y) / scale.y};
         const ImVec2 max{min.x + float(rects[i].width) / scale.x, min.y + float(rects[i].height) / scale.y};
         if (pane.texture != 0) draw->AddImage(textureId(pane.texture), min, max);
-        if (rects[i].x > 0) draw->AddLine(ImVec2(min.x, min.y), ImVec2(min.x, max.y), IM_COL32(120, 120, 120, 255));
-        if (rects[i].y > 0) draw->AddLine(ImVec2(min.x, min.y), ImVec2(max.x, min.y), IM_COL32(120, 120, 120, 255));
+        if (rects[i].x > 0)
+            draw->AddLine(ImVec2(min.x, min.y), ImVec2(min.x, max.y), IM_COL32(120, 120, 120, 255));
+        if (rects[i].y > 0)
+            draw->AddLine(ImVec2(min.x, min.y), ImVec2(max.x, min.y), IM_COL32(120, 120, 120, 255));
         if (pane.isDifference) // its own frame: beside a grid it does not fill its column
             draw->AddRect(min, max, IM_COL32(120, 120, 120, 255));
         labelAt(draw, ImVec2(min.x + font * 0.5f, min.y + font * 0.4f), pane.label.c_str());

@@ -24,8 +24,8 @@ struct SplitPane {
 // What the difference pane shows: nothing (no pane), |A - B|, or |A - ground truth| (renderer/oracle/
 // ground_truth.h: the reference Measure and `splatlab report` compare with).
 enum class SplitDifference { Off, AgainstB, AgainstTruth };
-const char* splitDifferenceName(SplitDifference d);                  // "off", "b", "truth"
-SplitDifference splitDifferenceFromName(const std::string& name);    // RenderError naming the known ones
+const char* splitDifferenceName(SplitDifference d);               // "off", "b", "truth"
+SplitDifference splitDifferenceFromName(const std::string& name); // RenderError naming the known ones
 
 // Settings > View > Split view (and --split A,B[,C,D]): panes at one camera, navigation linked by it.
 struct SplitView {
@@ -51,8 +51,8 @@ struct PaneRect {
 // that the four keep their places whether it is on or not. Leftover pixels stay empty at the right and
 // bottom.
 struct SplitLayout {
-    std::vector<PaneRect> panes;         // the image panes, A first (row by row)
-    std::optional<PaneRect> difference;  // the difference pane, when on
+    std::vector<PaneRect> panes;        // the image panes, A first (row by row)
+    std::optional<PaneRect> difference; // the difference pane, when on
 };
 SplitLayout splitLayout(int width, int height, int imagePanes, bool difference);
 // The layout's rectangles in one list: the image panes, then the difference pane.
