@@ -130,7 +130,7 @@ std::vector<ui::ViewportPane> EditorLoop::splitPanes() const {
     if (split.difference == ui::SplitDifference::AgainstTruth) {
         // Only a difference of the A image shown against the truth of that same view; else why not.
         const bool current = m_truthDifference && m_shown->truthKey == m_truthDifference->key;
-        ui::ViewportPane pane{0, truthLabel(), {}, {}, true};
+        ui::ViewportPane pane{0, current ? truthLabel() : "|A - truth|", {}, {}, true};
         if (current) {
             pane.texture = m_differenceImage.id();
             const ui::DifferencePane& d = m_truthDifference->pane;

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 
 struct SplitTruth::Job {
     std::string key;
@@ -30,7 +31,9 @@ constexpr int kCoarseDivisor = 4;
 } // namespace
 
 SplitTruth::SplitTruth(std::filesystem::path cacheDir, Clock::duration rest)
-    : m_cacheDir(std::move(cacheDir)), m_rest(rest) {}
+    : m_cacheDir(std::move(cacheDir)), m_rest(rest) {
+    if (const char* delay = std::getenv("SPLATLAB_TRUTH_DELAY_MS")) m_delayMs = std::max(0, std::atoi(delay));
+}
 
 SplitTruth::~SplitTruth() {
     clear();
@@ -101,10 +104,12 @@ void SplitTruth::startPending(bool now) {
     m_scene = {};
     const Clock::time_point started = Clock::now();
     job->thread = std::thread([job, scene, plane = m_plane, settings = m_settings, cacheDir = m_cacheDir,
-                               started] {
+                               started, delayMs = m_delayMs] {
         // Below the render thread (10): the truth's own threads inherit it, and the view stays fluid.
         setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 15);
         const renderer::ProgressCallback progress = [&](double) { return !job->cancel.load(); };
+        for (int waited = 0; waited < delayMs && !job->cancel; waited += 10) // SPLATLAB_TRUTH_DELAY_MS
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
         renderer::GroundTruthStats stats;
         const auto compute = [&](const renderer::ImagePlane& at) {
             return cacheDir.empty()

@@ -66,6 +66,9 @@ class SplitTruth {
 
     std::filesystem::path m_cacheDir;
     Clock::duration m_rest;
+    // Tests: every truth waits this long first, in steps a newer view interrupts (SPLATLAB_TRUTH_DELAY_MS),
+    // standing for a scan whose truth takes minutes.
+    int m_delayMs = 0;
     std::string m_wantedKey;
     renderer::ImagePlane m_plane;
     renderer::SplatSettings m_settings;

@@ -312,3 +312,51 @@ TEST(EditorSplit, ADragInEitherPaneMovesTheOneCameraAndEachPaneShowsItsFilter) {
             << "pane " << pane << " after the drag, see " << (out / "split_drag.png");
     }
 }
+
+// Synthetic input while the truth computes: with every truth delayed 3 s (a slow scan's), a drag in pane
+// A moves the camera; 2 s later pane A shows the new view and the difference pane shows no difference at
+// all (its note says the truth is computing) rather than the old view's; once the new view's truth is in,
+// the difference is back. The difference pane's image is opaque (inferno's dark end where A matches the
+// truth), the empty pane the viewport's background.
+TEST(EditorSplit, ACameraMoveWhileTheTruthComputesShowsNoStaleDifference) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1 && command -v xdotool > /dev/null 2>&1 && "
+                    "command -v import > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run, xdotool or ImageMagick's import not found";
+    const std::filesystem::path out = testing_support::testOutputDir("editor_split_truth_move");
+    std::filesystem::remove_all(out / "cache");
+    std::filesystem::remove(out / "session.json");
+    const ui::DockLayout layout = ui::makeEditorLayout();
+    const ui::Rect node =
+        ui::computeDockRects(layout, testing_support::kEditorDockArea).node[size_t(layout.find("viewport"))];
+    const int dragX = int(node.x + node.w * 0.15f), dragY = int(node.y + node.h * 0.5f);
+    const std::string script = std::string(SPLATLAB_SOURCE_DIR) + "/tests/ui/scripts/split_truth_move.sh";
+    const std::string command = "LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1280x800x24\" \"" +
+                                script + "\" \"" SPLATLAB_EXE "\" \"" + out.string() + "\" " +
+                                std::to_string(dragX) + " " + std::to_string(dragY) + " > \"" +
+                                (out / "drive.log").string() + "\" 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0)
+        << "see " << (out / "drive.log") << " and " << (out / "editor.log");
+    std::ifstream in(out / "session.json");
+    ASSERT_TRUE(in) << "no session written";
+    const nlohmann::json session = nlohmann::json::parse(in);
+    EXPECT_NE(session["camera"]["azimuth"].get<double>(), 30.0) << "the drag moved the camera";
+
+    // The difference pane: the third of three columns, below its title, figures and note lines.
+    const int paneWidth = int(node.w) / 3, x0 = int(node.x) + 2 * paneWidth + 8, x1 = x0 + paneWidth / 2;
+    const int y0 = int(node.y) + 110, y1 = int(node.bottom()) - 30;
+    const auto share = [&](const char* file) { // of the pane's pixels that are the difference image's
+        const renderer::Image shot = renderer::readImage(out / file);
+        int image = 0, all = 0;
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x, ++all) {
+                const float* p = shot.pixel(x, y);
+                const bool background = std::abs(p[0] - 0.055f) < 0.01f && std::abs(p[1] - 0.060f) < 0.01f &&
+                                        std::abs(p[2] - 0.075f) < 0.01f;
+                image += background ? 0 : 1;
+            }
+        return double(image) / all;
+    };
+    EXPECT_GT(share("truth_before.png"), 0.95) << "the first view's difference is shown";
+    EXPECT_LT(share("truth_moved.png"), 0.01) << "a stale difference is shown after the move";
+    EXPECT_GT(share("truth_after.png"), 0.95) << "the moved view's difference is shown once its truth is in";
+}
