@@ -7,9 +7,12 @@
 #include "ui/split_view.h"
 
 #include <sys/resource.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_scheduler_observer.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 
@@ -27,6 +30,32 @@ namespace {
 
 // A quarter of the pane's size per axis, at least 1 x 1: a sixteenth of the rays.
 constexpr int kCoarseDivisor = 4;
+
+// The truth's rays are traced by TBB's worker threads, which the process shares and which run at the
+// priority of whoever started them (the UI's). In the truth's own arena each thread that joins it is
+// lowered below the render thread (nice 10) for as long as it works there, so on a CPU driver the view
+// and the UI keep the cores they need; a thread's old priority comes back when it leaves, where the
+// system allows raising it again (else it stays low: background work either way).
+class LowPriorityArena : public tbb::task_scheduler_observer {
+  public:
+    explicit LowPriorityArena(tbb::task_arena& arena) : tbb::task_scheduler_observer(arena) { observe(true); }
+    ~LowPriorityArena() override { observe(false); }
+    void on_scheduler_entry(bool) override {
+        errno = 0;
+        const int now = getpriority(PRIO_PROCESS, static_cast<id_t>(gettid()));
+        previous() = errno == 0 ? now : 0;
+        setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 15);
+    }
+    void on_scheduler_exit(bool) override {
+        setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), previous());
+    }
+
+  private:
+    static int& previous() {
+        thread_local int value = 0;
+        return value;
+    }
+};
 
 } // namespace
 
@@ -105,8 +134,11 @@ void SplitTruth::startPending(bool now) {
     const Clock::time_point started = Clock::now();
     job->thread = std::thread([job, scene, plane = m_plane, settings = m_settings, cacheDir = m_cacheDir,
                                started, delayMs = m_delayMs] {
-        // Below the render thread (10): the truth's own threads inherit it, and the view stays fluid.
+        // Below the render thread (10), and so is every TBB thread while it traces this truth's rays.
         setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 15);
+        tbb::task_arena arena;
+        arena.initialize();
+        LowPriorityArena lowered(arena);
         const renderer::ProgressCallback progress = [&](double) { return !job->cancel.load(); };
         for (int waited = 0; waited < delayMs && !job->cancel; waited += 10) // SPLATLAB_TRUTH_DELAY_MS
             std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -126,7 +158,7 @@ void SplitTruth::startPending(bool now) {
             coarse.fPx = plane.fPx * sy;
             coarse.centrePx = {plane.centrePx.x * sx, plane.centrePx.y * sy};
             for (const renderer::ImagePlane& at : {coarse, plane}) {
-                const renderer::Image image = compute(at);
+                const renderer::Image image = arena.execute([&] { return compute(at); });
                 if (job->cancel) break;
                 Truth truth{.key = job->key,
                             .image = std::make_shared<const renderer::Image>(
