@@ -60,7 +60,8 @@ void EditorLoop::stepSplitTruth() {
     const ui::SplitView& split = m_state.split;
     if (!split.enabled || split.difference != ui::SplitDifference::AgainstTruth || !m_hasScene ||
         m_renderWidth <= 0) {
-        m_truth.reset(), m_truthDifference.reset();
+        if (m_truth) m_truth->clear(); // cancelled, not joined: its worker ends on its own
+        m_truthDifference.reset();
         return;
     }
     if (!m_truth) // scripted runs start at once (and wait); the editor once the view rests

@@ -108,6 +108,7 @@ void SplitTruth::want(const std::string& key, const renderer::ImagePlane& plane,
 }
 
 void SplitTruth::clear() {
+    reap();
     if (m_job) {
         m_job->cancel = true;
         m_retired.push_back(std::move(m_job));

@@ -42,7 +42,7 @@ class SplitTruth {
     void want(const std::string& key, const renderer::ImagePlane& plane,
               const renderer::SplatSettings& settings,
               const std::function<std::shared_ptr<const renderer::SplatScene>()>& scene);
-    void clear(); // no truth wanted: the one under way cancelled
+    void clear(); // no truth wanted: the one under way cancelled (its thread ends on its own, unjoined)
 
     // The finest truth finished for the view wanted, at the pane's size (a coarse one upsampled).
     struct Truth {
