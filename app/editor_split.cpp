@@ -80,9 +80,11 @@ void EditorLoop::stepSplitTruth() {
         m_truth->want(request.truthKey, request.plane, request.full,
                       [this] { return copyForRender(m_doc.scene); });
     if (m_scripted) m_truth->waitUntilDone();
-    // The difference of the A image shown against the truth of its own view, once per (image, truth).
+    // The difference of the A image shown against the truth of its own view, once per (image, truth); of
+    // full frames only (a preview level's image is not what the truth is compared with).
     const std::optional<SplitTruth::Truth> truth = m_truth->latest();
-    if (!truth || !m_shown || !m_shown->firstPane || m_shown->truthKey != truth->key) return;
+    if (!truth || !m_shown || !m_shown->firstPane || m_shown->level != 0 || m_shown->truthKey != truth->key)
+        return;
     const auto of = std::tuple{m_shown->request, truth->computedWidth, truth->computedHeight};
     if (m_truthDifference && m_truthDifference->of == of) return;
     guarded([&] {
