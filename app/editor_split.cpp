@@ -64,10 +64,10 @@ void EditorLoop::stepSplitTruth() {
         m_truthDifference.reset();
         return;
     }
-    if (!m_truth) // scripted runs start at once (and wait); the editor once the view rests
-        m_truth = std::make_unique<SplitTruth>(renderer::defaultGroundTruthCacheDir(),
-                                               m_scripted ? SplitTruth::Clock::duration{}
-                                                          : std::chrono::milliseconds(300));
+    if (!m_truth) // scripted runs start at once and wait for it; the editor once the view rests, below the UI
+        m_truth = std::make_unique<SplitTruth>(
+            renderer::defaultGroundTruthCacheDir(),
+            m_scripted ? SplitTruth::Clock::duration{} : std::chrono::milliseconds(300), !m_scripted);
     const ViewRequest request = viewRequest();
     m_truthUnavailable.clear();
     if (!renderer::hasGroundTruth(request.full)) { // as Measure: surface splats have none

@@ -59,8 +59,8 @@ class LowPriorityArena : public tbb::task_scheduler_observer {
 
 } // namespace
 
-SplitTruth::SplitTruth(std::filesystem::path cacheDir, Clock::duration rest)
-    : m_cacheDir(std::move(cacheDir)), m_rest(rest) {
+SplitTruth::SplitTruth(std::filesystem::path cacheDir, Clock::duration rest, bool lowPriority)
+    : m_cacheDir(std::move(cacheDir)), m_rest(rest), m_lowPriority(lowPriority) {
     if (const char* delay = std::getenv("SPLATLAB_TRUTH_DELAY_MS")) m_delayMs = std::max(0, std::atoi(delay));
 }
 
@@ -134,12 +134,13 @@ void SplitTruth::startPending(bool now) {
     m_scene = {};
     const Clock::time_point started = Clock::now();
     job->thread = std::thread([job, scene, plane = m_plane, settings = m_settings, cacheDir = m_cacheDir,
-                               started, delayMs = m_delayMs] {
+                               started, delayMs = m_delayMs, low = m_lowPriority] {
         // Below the render thread (10), and so is every TBB thread while it traces this truth's rays.
-        setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 15);
+        if (low) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 15);
         tbb::task_arena arena;
         arena.initialize();
-        LowPriorityArena lowered(arena);
+        std::optional<LowPriorityArena> lowered;
+        if (low) lowered.emplace(arena);
         const renderer::ProgressCallback progress = [&](double) { return !job->cancel.load(); };
         for (int waited = 0; waited < delayMs && !job->cancel; waited += 10) // SPLATLAB_TRUTH_DELAY_MS
             std::this_thread::sleep_for(std::chrono::milliseconds(10));

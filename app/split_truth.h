@@ -25,8 +25,10 @@ class SplitTruth {
   public:
     using Clock = std::chrono::steady_clock;
     // `cacheDir` empty: never cached. A wanted view starts once it has stayed the same for `rest` (a drag
-    // asks for a new view every frame: only the view it rests at is worth the cores).
-    SplitTruth(std::filesystem::path cacheDir, Clock::duration rest);
+    // asks for a new view every frame: only the view it rests at is worth the cores). `lowPriority`: its
+    // threads below the render thread's (an editor's UI stays fluid; a scripted run that waits for it
+    // does not lower it, or other load would starve it).
+    SplitTruth(std::filesystem::path cacheDir, Clock::duration rest, bool lowPriority = true);
     ~SplitTruth(); // cancels and joins every worker
     SplitTruth(const SplitTruth&) = delete;
     SplitTruth& operator=(const SplitTruth&) = delete;
@@ -69,6 +71,7 @@ class SplitTruth {
     // Tests: every truth waits this long first, in steps a newer view interrupts (SPLATLAB_TRUTH_DELAY_MS),
     // standing for a scan whose truth takes minutes.
     int m_delayMs = 0;
+    bool m_lowPriority = true;
     std::string m_wantedKey;
     renderer::ImagePlane m_plane;
     renderer::SplatSettings m_settings;

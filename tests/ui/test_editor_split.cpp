@@ -313,8 +313,8 @@ TEST(EditorSplit, ADragInEitherPaneMovesTheOneCameraAndEachPaneShowsItsFilter) {
     }
 }
 
-// Synthetic input while the truth computes: with every truth delayed 2 s (a slow scan's), a drag in pane
-// A moves the camera; 1.5 s later pane A shows the new view and the difference pane shows no difference at
+// Synthetic input while the truth computes: with every truth delayed 6 s (a slow scan's), a drag in pane
+// A moves the camera; 3 s later pane A shows the new view and the difference pane shows no difference at
 // all (its note says the truth is computing) rather than the old view's; once the new view's truth is in,
 // the difference is back. The difference pane's image is opaque (inferno's dark end where A matches the
 // truth), the empty pane the viewport's background.
@@ -325,14 +325,21 @@ TEST(EditorSplit, ACameraMoveWhileTheTruthComputesShowsNoStaleDifference) {
     const std::filesystem::path out = testing_support::testOutputDir("editor_split_truth_move");
     std::filesystem::remove_all(out / "cache");
     std::filesystem::remove(out / "session.json");
+    for (const char* shot : {"truth_before.png", "truth_moved.png", "truth_after.png"})
+        std::filesystem::remove(out / shot);
     const ui::DockLayout layout = ui::makeEditorLayout();
     const ui::Rect node =
         ui::computeDockRects(layout, testing_support::kEditorDockArea).node[size_t(layout.find("viewport"))];
     const int dragX = int(node.x + node.w * 0.15f), dragY = int(node.y + node.h * 0.5f);
+    // The difference pane: the third of three columns, below its title, figures and note lines.
+    const int paneWidth = int(node.w) / 3, x0 = int(node.x) + 2 * paneWidth + 8, x1 = x0 + paneWidth / 2;
+    const int y0 = int(node.y) + 110, y1 = int(node.bottom()) - 30;
+    const std::string patch = std::to_string(x1 - x0) + "x" + std::to_string(y1 - y0) + "+" +
+                              std::to_string(x0) + "+" + std::to_string(y0);
     const std::string script = std::string(SPLATLAB_SOURCE_DIR) + "/tests/ui/scripts/split_truth_move.sh";
     const std::string command = "LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1280x800x24\" \"" +
                                 script + "\" \"" SPLATLAB_EXE "\" \"" + out.string() + "\" " +
-                                std::to_string(dragX) + " " + std::to_string(dragY) + " > \"" +
+                                std::to_string(dragX) + " " + std::to_string(dragY) + " " + patch + " > \"" +
                                 (out / "drive.log").string() + "\" 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0)
         << "see " << (out / "drive.log") << " and " << (out / "editor.log");
@@ -341,10 +348,7 @@ TEST(EditorSplit, ACameraMoveWhileTheTruthComputesShowsNoStaleDifference) {
     const nlohmann::json session = nlohmann::json::parse(in);
     EXPECT_NE(session["camera"]["azimuth"].get<double>(), 30.0) << "the drag moved the camera";
 
-    // The difference pane: the third of three columns, below its title, figures and note lines.
-    const int paneWidth = int(node.w) / 3, x0 = int(node.x) + 2 * paneWidth + 8, x1 = x0 + paneWidth / 2;
-    const int y0 = int(node.y) + 110, y1 = int(node.bottom()) - 30;
-    const auto share = [&](const char* file) { // of the pane's pixels that are the difference image's
+    const auto share = [&](const char* file) { // of the patch's pixels, those that are the difference image's
         const renderer::Image shot = renderer::readImage(out / file);
         int image = 0, all = 0;
         for (int y = y0; y < y1; ++y)
@@ -358,5 +362,5 @@ TEST(EditorSplit, ACameraMoveWhileTheTruthComputesShowsNoStaleDifference) {
     };
     EXPECT_GT(share("truth_before.png"), 0.95) << "the first view's difference is shown";
     EXPECT_LT(share("truth_moved.png"), 0.01) << "a stale difference is shown after the move";
-    EXPECT_GT(share("truth_after.png"), 0.95) << "the moved view's difference is shown once its (coarse) truth is in";
+    EXPECT_GT(share("truth_after.png"), 0.95) << "the moved view's difference is shown once its truth is in";
 }

@@ -243,7 +243,7 @@ TEST(SplitTruth, CoarseThenFullAreTheGroundTruthOfTheViewAsked) {
     SplatSettings settings;
     settings.density = 4.0;
     const ImagePlane plane = t.plane(30);
-    SplitTruth truth({}, {});
+    SplitTruth truth({}, {}, false); // at normal priority: other load on the machine must not starve the test
     const std::string key = SplitTruth::viewKey(plane, settings, 1);
     truth.want(key, plane, settings, [&] { return t.scene; });
     EXPECT_TRUE(truth.computing());
@@ -269,7 +269,7 @@ TEST(SplitTruth, ANewViewWhileTheTruthComputesSupersedesItAndNoStaleTruthIsShown
     const TruthScene t;
     SplatSettings settings;
     settings.density = 4.0;
-    SplitTruth truth({}, {});
+    SplitTruth truth({}, {}, false); // at normal priority: other load on the machine must not starve the test
     const ImagePlane first = t.plane(30, 96, 64), moved = t.plane(75);
     const std::string firstKey = SplitTruth::viewKey(first, settings, 1),
                       movedKey = SplitTruth::viewKey(moved, settings, 1);
