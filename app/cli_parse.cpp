@@ -1,8 +1,11 @@
 // Command-line values into the renderer's types (cli_parse.h).
 #include "cli_parse.h"
 
+#include "renderer/errors.h"
+
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -67,4 +70,31 @@ Camera parseCamera(const std::string& text) {
     if (!(c.fovYDeg >= 1 && c.fovYDeg <= 170))
         throw CLI::ValidationError("--camera", "fov must be 1..170 degrees");
     return c;
+}
+
+std::vector<renderer::FilterMode> parseSplit(const std::string& text) {
+    if (text.empty()) return {};
+    const std::vector<std::string> names = splitOn(text, ',');
+    const size_t commas = size_t(std::count(text.begin(), text.end(), ','));
+    if ((commas != 1 && commas != 3) || names.size() != commas + 1)
+        throw CLI::ValidationError("--split", "expected two or four filters, FILTER_A,FILTER_B or "
+                                              "FILTER_A,FILTER_B,FILTER_C,FILTER_D, got '" +
+                                                  text + "' (" + std::to_string(commas + 1) + " names)");
+    std::vector<renderer::FilterMode> filters;
+    try {
+        for (const std::string& name : names)
+            filters.push_back(renderer::filterModeFromName(name));
+    } catch (const renderer::RenderError& error) {
+        throw CLI::ValidationError("--split", error.what());
+    }
+    return filters;
+}
+
+ui::SplitDifference parseSplitDifference(const std::string& text, bool split) {
+    if (!split) throw CLI::ValidationError("--split-difference", "needs --split A,B (or A,B,C,D)");
+    if (text.empty() || text == "b") return ui::SplitDifference::AgainstB;
+    if (text == "truth") return ui::SplitDifference::AgainstTruth;
+    throw CLI::ValidationError("--split-difference",
+                               "expected nothing (|A - B|) or 'truth' (|A - ground truth|), got '" + text +
+                                   "'");
 }

@@ -5,6 +5,7 @@
 #include "renderer/model/splat_settings.h"
 #include "renderer/io/volume_io.h"
 #include "renderer/model/window.h"
+#include "ui/split_view.h"
 
 #include <filesystem>
 #include <optional>
@@ -29,10 +30,11 @@ struct EditorOptions {
     renderer::SplatSettings settings;     // the starting settings, heatmap included (the command line's)
     bool cullingByDriver = false;         // no culling flag: occlusion culling as the driver's profile says
     double heatmapOpacity = 1.0;          // the heatmap over the image: 0 the image only, 1 the heatmap only
-    // --split A,B: the viewport split in two panes with these filters (both in settings.compositing);
-    // --split-difference adds the |A - B| pane (ui/split_view.h).
-    std::optional<std::pair<renderer::FilterMode, renderer::FilterMode>> split;
-    bool splitDifference = false;
+    // --split A,B[,C,D]: the viewport split in two or four panes with these filters (all in
+    // settings.compositing); --split-difference adds the |A - B| pane, --split-difference truth the
+    // |A - ground truth| one (ui/split_view.h).
+    std::vector<renderer::FilterMode> split;
+    ui::SplitDifference splitDifference = ui::SplitDifference::Off;
     renderer::WindowSettings window;      // the starting window (--window)
     std::optional<renderer::RawOptions> raw;   // how to read the volume argument if it is headerless raw
     std::vector<std::string> tabs;        // panels brought to the front of their regions (--tab)

@@ -70,6 +70,7 @@ bool EditorLoop::showVolume(LoadedVolume loaded, const std::filesystem::path& pa
         next.volume = std::move(loaded.volume);
         m_hasScene = true;
         m_doc = std::move(next);
+        ++m_sceneVersion;
         ++m_volumesShown;
         m_state.preview.available = m_doc.preview != nullptr;
         m_state.gradientsReady = false;
@@ -124,6 +125,7 @@ void EditorLoop::takeClassified() {
         if (!done->levelsOnly) {
             m_doc.scene = std::move(done->full);
             renderer::setTransferFunction(m_doc.scene, m_doc.tf);
+            ++m_sceneVersion; // a split view's ground truth is of another scene now
         }
         if (m_doc.preview)
             for (size_t k = 0; k < m_doc.preview->levels.size() && k < done->levels.size(); ++k) {
@@ -187,6 +189,7 @@ void EditorLoop::applyTransferFunction() {
     guarded([&] {
         m_doc.tf = m_state.tf;
         renderer::setTransferFunction(m_doc.scene, m_doc.tf);
+        ++m_sceneVersion;
         if (m_doc.preview) m_doc.preview->setTransferFunction(m_doc.tf);
         // The lists stay; only the LUTs travel.
         m_render->setLuts(renderer::tfTables(m_doc.scene), levelTables(m_doc));
@@ -218,6 +221,7 @@ void EditorLoop::takeGradients() {
         m_doc.gradients = std::move(computed->field);
         m_doc.gradientHistogram = std::move(computed->magnitudeCounts);
         renderer::addGradients(m_doc.scene, std::move(computed->packed));   // re-bakes the TF with them
+        ++m_sceneVersion;
         if (m_doc.preview)
             for (size_t k = 0; k < m_doc.preview->levels.size() && k < computed->levelFields.size(); ++k) {
                 Level& level = m_doc.preview->levels[k];

@@ -52,10 +52,11 @@ bool EditorLoop::start() {
             m_state.settings.occlusionCulling = renderer::driverProfile(m_glRenderer).occlusionCulling;
         m_state.showHeatmap = m_options.settings.heatmap;
         m_state.heatmapOpacity = m_options.heatmapOpacity;
-        if (m_options.split) {
+        if (!m_options.split.empty()) { // 2 or 4 filters (main.cpp refuses other counts)
             m_state.split.enabled = true;
-            m_state.split.panes = {ui::SplitPane{m_options.split->first, m_options.settings.compositing},
-                                   ui::SplitPane{m_options.split->second, m_options.settings.compositing}};
+            m_state.split.imagePanes = int(m_options.split.size());
+            for (size_t i = 0; i < m_options.split.size() && i < m_state.split.panes.size(); ++i)
+                m_state.split.panes[i] = ui::SplitPane{m_options.split[i], m_options.settings.compositing};
             m_state.split.difference = m_options.splitDifference;
         }
         m_state.window = m_options.window;
@@ -126,9 +127,11 @@ void EditorLoop::waitForInput() {
         m_window.inputPending())
         glfwPollEvents();
     else
-        glfwWaitEventsTimeout(m_spaceMouse->connected()                                             ? 0.016
-                              : m_volumeJob || m_gradientJob || m_comparison || m_gallery.drawing() ? 0.05
-                                                                                                    : 0.5);
+        glfwWaitEventsTimeout(m_spaceMouse->connected() ? 0.016
+                              : m_volumeJob || m_gradientJob || m_comparison || m_gallery.drawing() ||
+                                      (m_truth && m_truth->computing()) // a split view's ground truth
+                                  ? 0.05
+                                  : 0.5);
     m_frameStart = InteractiveProbe::Clock::now();
     if (m_hasScene) m_perfHistory.addTimes(m_render->latestStats());
     takeRenderErrors();

@@ -10,6 +10,7 @@
 #include "interactive_probe.h"
 #include "preset_gallery.h"
 #include "render_thread.h"
+#include "split_truth.h"
 #include "view_texture.h"
 
 #include "renderer/errors.h"
@@ -103,17 +104,23 @@ class EditorLoop {
     // Settings > Files > Save image (and --save-image): the view as the viewport shows it, at its size,
     // rendered in full on the render thread; finishSaveView writes it once there (wait: at once).
     void startSaveView(const std::filesystem::path& path);
-    // The split view saved: its panes side by side, A | B (| |A - B|), and the difference's figures.
+    // The split view saved: its panes in their layout (ui::splitLayout), and the difference's figures.
     struct SplitImage {
         renderer::Image panes;
         std::optional<ui::DifferencePane> difference;
+        std::string against = "B"; // |A - B| or |A - truth|
+        std::string truthOf;       // " against the truth at 79x68 (coarse, upsampled)"
     };
     std::future<SplitImage> startSaveSplitView(const ViewRequest& view);
     std::string splitSavedText(const SplitImage& split) const; // " (split: A ... | B ... | |A - B| RMSE ...)"
 
     // == The split view (editor_split.cpp)
     void splitViewRequest(ViewRequest& request) const; // each pane's settings, at the pane's size
-    void showSplitPanes(RenderedView& view);           // the second and difference panes into textures
+    void showSplitPanes(RenderedView& view);           // the other and difference panes into textures
+    // |A - ground truth|: the truth of the view wanted (split_truth.h), and the difference of the A image
+    // shown against the truth of that same view (scripted runs wait for the full truth).
+    void stepSplitTruth();
+    std::string truthLabel() const; // "|A - truth|, truth at 318x272"
     std::vector<ui::ViewportPane> splitPanes() const;  // what the viewport lays out (none: one image)
     // The pointer over the viewport in the view's pixels: in a split view, within the pane it is over.
     std::optional<glm::dvec2> pointerInPane() const;
@@ -171,10 +178,26 @@ class EditorLoop {
     ViewTexture m_image;   // the viewport's image (the last finished one)
     ViewTexture m_heatmap; // and its heatmap, when the heatmap is on
     bool m_shownHasHeatmap = false; // the image shown came with its heatmap (m_heatmap holds it)
-    // The split view: the second pane's image and the difference pane's (split_view.h), and how many panes
-    // the image shown has (1: no split).
-    ViewTexture m_secondImage, m_differenceImage;
+    // The split view: the other panes' images (B, C, D) and the difference pane's (split_view.h), and how
+    // many image panes the image shown has (1: no split).
+    std::array<ViewTexture, 3> m_otherImages;
+    ViewTexture m_differenceImage;
     int m_shownPanes = 1;
+    // |A - truth|: the truth's worker; the scene's version (a new volume, TF, window or gradients), which
+    // its key holds; the difference shown, of (the request of the A image, the truth's computed size).
+    std::unique_ptr<SplitTruth> m_truth;
+    uint64_t m_sceneVersion = 0;
+    std::string m_truthUnavailable; // why there is no truth for these settings ("": there is)
+    struct TruthDifference {
+        std::tuple<uint64_t, int, int> of;
+        std::string key;
+        std::shared_ptr<const renderer::Image> truth;
+        bool coarse = false;
+        ui::DifferencePane pane; // its figures (the pixels are in m_differenceImage)
+        double seconds = 0.0;
+        bool cached = false;
+    };
+    std::optional<TruthDifference> m_truthDifference;
     int m_renderWidth = 0, m_renderHeight = 0;
     std::optional<RenderedView> m_shown;    // what the viewport shows (its pixels dropped once uploaded)
     uint64_t m_viewRequest = 0;             // the last view asked for

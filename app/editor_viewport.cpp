@@ -24,6 +24,7 @@ void EditorLoop::renderViewport() {
     editForProbe();
     renderIfPending();
     showRenderedView();
+    stepSplitTruth(); // |A - ground truth|: its truth, and the difference of the image shown
     // 4. The Filters panel's patches per filter, of the full frame shown.
     countPatchesIfShown();
     // 5. The TF panel's Gallery, after the view: one preset's thumbnail at a time.
@@ -118,7 +119,14 @@ void EditorLoop::frameIfAsked() {
         m_renderPending = true;
     }
     if (m_sceneCameraPending && m_renderHeight > 0 && !m_volumeJob) {
-        guarded([&] { m_state.camera = renderer::demoScene(*m_sceneCameraPending, m_renderHeight).camera; });
+        // Framed for the height of the image it is drawn in: a pane's in a split view.
+        const int height = m_state.split.enabled
+                               ? ui::splitLayout(m_renderWidth, m_renderHeight, m_state.split.shownImagePanes(),
+                                                 m_state.split.difference != ui::SplitDifference::Off)
+                                     .panes.front()
+                                     .height
+                               : m_renderHeight;
+        guarded([&] { m_state.camera = renderer::demoScene(*m_sceneCameraPending, height).camera; });
         m_sceneCameraPending.reset();
         m_renderPending = true;
     }
@@ -242,7 +250,7 @@ void EditorLoop::startSaveView(const std::filesystem::path& path) {
         classifyNow(); // the full scene, with the window on screen
         ViewRequest view = viewRequest();
         const double opacity = view.heatmap ? std::clamp(m_state.heatmapOpacity, 0.0, 1.0) : 0.0;
-        if (view.second) {
+        if (!view.others.empty()) {
             m_save = PendingSave{.path = path, .heatmapOpacity = 0.0, .images = {}, .split = startSaveSplitView(view)};
             return;
         }

@@ -218,18 +218,6 @@ bool cullingByDriver(const SplatFlags& f) { return !f.noOcclusionCulling && !f.o
 
 // `render --session`, `editor --session`: a flag for what the session sets is an error beside it, not
 // silently overridden by the session or overriding it.
-// --split A,B: two filter names.
-std::pair<FilterMode, FilterMode> parseSplit(const std::string& text) {
-    const size_t comma = text.find(',');
-    if (comma == std::string::npos || text.find(',', comma + 1) != std::string::npos)
-        throw CLI::ValidationError("--split", "expected two filters as FILTER_A,FILTER_B, got '" + text + "'");
-    try {
-        return {filterModeFromName(text.substr(0, comma)), filterModeFromName(text.substr(comma + 1))};
-    } catch (const RenderError& error) {
-        throw CLI::ValidationError("--split", error.what());
-    }
-}
-
 void rejectFlagsBesideSession(const CLI::App* cmd) {
     for (const CLI::Option* o : cmd->get_options())
         if (o->get_group() == kSessionSetGroup && o->count() > 0)
@@ -659,11 +647,12 @@ int main(int argc, char** argv) {
     editor->add_flag("--heatmap", e.settings.heatmap, "Start with the filter-mode heatmap over the image in the viewport");
     editor->add_option("--heatmap-opacity", e.heatmapOpacity, "The heatmap over the image: 0 the image only, 1 the "
                                                               "heatmap only")->capture_default_str()->check(CLI::Range(0.0, 1.0));
-    std::string editorSplit;
-    editor->add_option("--split", editorSplit, "Split the viewport in two panes at one camera with these filters, "
-                                               "e.g. reconstruction,ewa (Settings > Split view)");
-    editor->add_flag("--split-difference", e.splitDifference, "With --split: a third pane, |A - B|, with its "
-                                                              "colour scale, RMSE and PSNR");
+    std::string editorSplit, editorSplitDifference;
+    editor->add_option("--split", editorSplit, "Split the viewport in two or four panes at one camera with these "
+                                               "filters, e.g. reconstruction,ewa (Settings > Split view)");
+    editor->add_option("--split-difference", editorSplitDifference, "With --split: a difference pane, |A - B| (no "
+                                                                    "value) or |A - ground truth| ('truth')")
+        ->expected(0, 1);
     editor->add_option("--up", editorUp, "Axis of the file's world frame shown upwards: x, y, z, -x, -y, -z (default: z; "
                                          "y for the bundled bonsai)");
     sessionSets(editor, viewFlags);
@@ -711,8 +700,9 @@ int main(int argc, char** argv) {
             if (unset("--density")) editorLook.density = 2.0;
         }
         if (!editorCamera.empty()) e.camera = parseCamera(editorCamera);
-        if (!editorSplit.empty()) e.split = parseSplit(editorSplit);
-        if (e.splitDifference && !e.split) throw CLI::ValidationError("--split-difference", "needs --split A,B");
+        e.split = parseSplit(editorSplit);
+        if (editor->get_option("--split-difference")->count() > 0)
+            e.splitDifference = parseSplitDifference(editorSplitDifference, !e.split.empty());
         applyLookFlags(editorLook, e.settings);
         applySplatFlags(editorSplat, e.settings);
         e.cullingByDriver = cullingByDriver(editorSplat);

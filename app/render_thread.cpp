@@ -345,6 +345,7 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
     view.last = last;
     view.width = request.plane.width, view.height = request.plane.height;
     view.plane = request.plane;
+    view.truthKey = request.truthKey;
     const std::string whose = renderer::volumeSubject(m_sceneName);
     const std::string where = " at " + std::to_string(view.width) + "x" + std::to_string(view.height);
     // The image, and the heatmap when asked: the viewport blends them, so an opacity change draws no frame.
@@ -358,18 +359,23 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
         renderer::checkGlErrors("render thread: the view's pixels");
         return rgba;
     };
-    // The split view's second pane first, with the same renderer, so that its last frame (the stats, the
-    // timers the Stats panel collects) is the first pane's; |A - B| from the two float images.
+    // The split view's other panes first (D, C, B), with the same renderer, so that its last frame (the
+    // stats, the timers the Stats panel collects) is the first pane's; |A - B| from the two float images.
     renderer::Image second;
-    if (request.second) {
-        if (!renderPane(request.second->full, request.second->coarse)) return false;
-        view.secondRgba = pixels(false);
-        if (request.difference) second = which.readback();
+    view.otherRgba.resize(request.others.size());
+    for (size_t i = request.others.size(); i-- > 0;) {
+        if (!renderPane(request.others[i].full, request.others[i].coarse)) return false;
+        view.otherRgba[i] = pixels(false);
+        if (i == 0 && request.difference) second = which.readback();
     }
     if (!renderPane(request.full, request.coarse)) return false;
     view.rgba = pixels(false);
     if (request.heatmap) view.heatmapRgba = pixels(true);
-    if (request.second && request.difference) view.difference = ui::differencePane(which.readback(), second);
+    if (request.difference || request.keepFirstPane) {
+        renderer::Image first = which.readback();
+        if (!request.others.empty() && request.difference) view.difference = ui::differencePane(first, second);
+        if (request.keepFirstPane) view.firstPane = std::move(first);
+    }
     view.stats = which.stats();
     view.sceneBytes = which.sceneBytes();
     view.workingBytes = which.workingBytes();

@@ -40,14 +40,17 @@ struct ViewRequest {
                                                  // unit length: renderer::densityFor)
     std::array<float, 3> background{};
     bool heatmap = false; // also the heatmap (RenderedView::heatmapRgba); full.heatmap must be on
-    // The split view's second pane: the same plane drawn again with its own settings (of the full frame and
-    // of each level, as above), at each level right after the first pane; with `difference`, also |A - B|.
-    struct SecondPane {
+    // The split view's other panes (B, then C and D in a four-pane view): the same plane drawn again with
+    // each one's settings (of the full frame and of each level, as above), at each level before the first
+    // pane; with `difference`, also |A - B|.
+    struct OtherPane {
         renderer::SplatSettings full;
         std::vector<renderer::SplatSettings> coarse;
     };
-    std::optional<SecondPane> second;
-    bool difference = false; // needs `second`
+    std::vector<OtherPane> others;
+    bool difference = false;     // needs `others`
+    bool keepFirstPane = false;  // RenderedView::firstPane: the first pane's float image (|A - truth|)
+    std::string truthKey;        // what the first pane's ground truth is of (split_truth.h), handed back
     enum class Levels { Progressive, FullOnly, FinestOnly } levels = Levels::Progressive;
     double budgetMs = 150.0; // a first image within this, from the finest level whose last time fits
 };
@@ -61,8 +64,10 @@ struct RenderedView {
     std::vector<uint8_t> rgba;        // over the background, 8 bits a channel, row 0 at the top
     std::vector<uint8_t> heatmapRgba; // the filter-mode heatmap of the same render, likewise (empty
                                       // unless the request asked for it): the viewport blends the two
-    std::vector<uint8_t> secondRgba;            // the split view's second pane, likewise (empty: none)
+    std::vector<std::vector<uint8_t>> otherRgba;  // the split view's other panes, likewise (B, C, D)
     std::optional<ui::DifferencePane> difference; // |A - B| of the two panes' float images, when asked
+    std::optional<renderer::Image> firstPane;     // the first pane's float image, when asked
+    std::string truthKey;                         // the request's
     renderer::ImagePlane plane;
     renderer::FrameStats stats; // of the first pane
     uint64_t sceneBytes = 0, workingBytes = 0;

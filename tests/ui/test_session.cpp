@@ -66,9 +66,12 @@ ui::EditorState unusualState() {
     s.background = {0.5f, 0.25f, 0.0f};
     s.spaceMouse = {.enabled = false, .speed = 2.5, .invertRotation = true, .invertTranslation = true};
     s.split = {.enabled = true,
+               .imagePanes = 4,
                .panes = {ui::SplitPane{renderer::FilterMode::LowPass, renderer::Compositing::XRay},
-                         ui::SplitPane{renderer::FilterMode::Adaptive, renderer::Compositing::SheetBackToFront}},
-               .difference = true};
+                         ui::SplitPane{renderer::FilterMode::Adaptive, renderer::Compositing::SheetBackToFront},
+                         ui::SplitPane{renderer::FilterMode::Ewa, renderer::Compositing::SplatEverySample},
+                         ui::SplitPane{renderer::FilterMode::Reconstruction, renderer::Compositing::XRay}},
+               .difference = ui::SplitDifference::AgainstTruth};
     return s;
 }
 
@@ -118,7 +121,8 @@ void expectSameSession(const ui::EditorState& a, const ui::EditorState& b) {
     EXPECT_EQ(a.spaceMouse.invertRotation, b.spaceMouse.invertRotation);
     EXPECT_EQ(a.spaceMouse.invertTranslation, b.spaceMouse.invertTranslation);
     EXPECT_EQ(a.split.enabled, b.split.enabled);
-    for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(a.split.imagePanes, b.split.imagePanes);
+    for (size_t i = 0; i < 4; ++i) {
         EXPECT_EQ(a.split.panes[i].filter, b.split.panes[i].filter) << "pane " << i;
         EXPECT_EQ(a.split.panes[i].compositing, b.split.panes[i].compositing) << "pane " << i;
     }
@@ -167,6 +171,28 @@ TEST(Session, SectionsLeftOutKeepTheStateAndUnknownKeysAreIgnored) {
     ui::EditorState expected = unusualState();
     expected.camera.distance = 4.0;
     expectSameSession(state, expected);
+}
+
+// Sessions written before the four panes and the truth pane (difference true or false, panes A and B only)
+// still open: two panes, |A - B| or none.
+TEST(Session, AnOlderSplitViewStillOpensAsTwoPanesAndItsDifference) {
+    const auto dir = testing_support::testOutputDir("session");
+    for (const auto& [difference, expected] : {std::pair{"true", ui::SplitDifference::AgainstB},
+                                                std::pair{"false", ui::SplitDifference::Off}}) {
+        std::ofstream(dir / "old_split.json")
+            << R"({"splatlab_session": 1, "split": {"enabled": true, "filter_a": "ewa", "compositing_a": "xray",
+                  "filter_b": "low-pass", "compositing_b": "sheet-back-to-front", "difference": )"
+            << difference << "}}";
+        ui::EditorState state;
+        ui::loadSession(dir / "old_split.json", state);
+        EXPECT_TRUE(state.split.enabled);
+        EXPECT_EQ(state.split.imagePanes, 2);
+        EXPECT_EQ(state.split.shownImagePanes(), 2);
+        EXPECT_EQ(state.split.panes[0].filter, renderer::FilterMode::Ewa);
+        EXPECT_EQ(state.split.panes[0].compositing, renderer::Compositing::XRay);
+        EXPECT_EQ(state.split.panes[1].filter, renderer::FilterMode::LowPass);
+        EXPECT_EQ(state.split.difference, expected) << difference;
+    }
 }
 
 // A path of 10 MB in a session comes back as one short line: quoted input is cut at 200 characters.
@@ -219,6 +245,9 @@ TEST(Session, AWrongValueAnywhereIsRefusedNamingTheFieldAndChangesNothing) {
         {R"({"splatlab_session": 1, "split": {"filter_b": "sharp"}})", "'split.filter_b'"},
         {R"({"splatlab_session": 1, "split": {"compositing_a": 2}})", "'split.compositing_a'"},
         {R"({"splatlab_session": 1, "split": {"enabled": "yes"}})", "'split.enabled'"},
+        {R"({"splatlab_session": 1, "split": {"panes": 3}})", "'split.panes'"},
+        {R"({"splatlab_session": 1, "split": {"difference": "c"}})", "'split.difference'"},
+        {R"({"splatlab_session": 1, "split": {"filter_d": "sharp"}})", "'split.filter_d'"},
         {R"({"splatlab_session": 1, "transfer_function": {"points": []}})", "no control points"},
     };
     for (auto [text, expected] : bad) {

@@ -141,12 +141,13 @@ void saveSession(const EditorState& state, const std::filesystem::path& volume, 
                  {"histogram_log", state.histogramLog},
                  {"background", {state.background[0], state.background[1], state.background[2]}}};
     const SplitView& split = state.split;
-    j["split"] = {{"enabled", split.enabled},
-                  {"filter_a", renderer::filterModeName(split.panes[0].filter)},
-                  {"compositing_a", renderer::compositingName(split.panes[0].compositing)},
-                  {"filter_b", renderer::filterModeName(split.panes[1].filter)},
-                  {"compositing_b", renderer::compositingName(split.panes[1].compositing)},
-                  {"difference", split.difference}};
+    j["split"] = {{"enabled", split.enabled}, {"panes", split.imagePanes},
+                  {"difference", splitDifferenceName(split.difference)}};
+    for (size_t i = 0; i < split.panes.size(); ++i) { // all four: a 2-pane view keeps C and D for later
+        const std::string pane(1, char('a' + i));
+        j["split"]["filter_" + pane] = renderer::filterModeName(split.panes[i].filter);
+        j["split"]["compositing_" + pane] = renderer::compositingName(split.panes[i].compositing);
+    }
     j["space_mouse"] = {{"enabled", state.spaceMouse.enabled},
                         {"speed", state.spaceMouse.speed},
                         {"invert_rotation", state.spaceMouse.invertRotation},
@@ -252,11 +253,19 @@ std::filesystem::path loadSession(const std::filesystem::path& file, EditorState
 
     const Section split(j, "split", name);
     split.boolean("enabled", next.split.enabled);
-    split.name("filter_a", next.split.panes[0].filter, &renderer::filterModeFromName);
-    split.name("compositing_a", next.split.panes[0].compositing, &renderer::compositingFromName);
-    split.name("filter_b", next.split.panes[1].filter, &renderer::filterModeFromName);
-    split.name("compositing_b", next.split.panes[1].compositing, &renderer::compositingFromName);
-    split.boolean("difference", next.split.difference);
+    split.integer("panes", next.split.imagePanes, 2, 4);
+    if (next.split.imagePanes == 3) split.fail("panes", "expected 2 or 4");
+    for (size_t i = 0; i < next.split.panes.size(); ++i) {
+        const std::string pane(1, char('a' + i));
+        split.name(("filter_" + pane).c_str(), next.split.panes[i].filter, &renderer::filterModeFromName);
+        split.name(("compositing_" + pane).c_str(), next.split.panes[i].compositing, &renderer::compositingFromName);
+    }
+    // "difference": "off", "b" or "truth"; sessions before the truth pane wrote true (|A - B|) or false.
+    const json* difference = j.contains("split") ? &j["split"] : nullptr;
+    if (difference && difference->contains("difference") && (*difference)["difference"].is_boolean())
+        next.split.difference = (*difference)["difference"].get<bool>() ? SplitDifference::AgainstB : SplitDifference::Off;
+    else
+        split.name("difference", next.split.difference, &splitDifferenceFromName);
 
     const Section mouse(j, "space_mouse", name);
     mouse.boolean("enabled", next.spaceMouse.enabled);

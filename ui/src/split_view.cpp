@@ -1,6 +1,7 @@
 // The split view's layout, per-pane settings and difference image (split_view.h); no ImGui here.
 #include "ui/split_view.h"
 
+#include "renderer/errors.h"
 #include "renderer/math/metrics.h"
 
 #include <algorithm>
@@ -8,13 +9,61 @@
 
 namespace ui {
 
-std::vector<PaneRect> splitPaneRects(int width, int height, int count) {
-    count = std::max(count, 1);
-    const int paneWidth = std::max(1, width / count), paneHeight = std::max(1, height);
-    std::vector<PaneRect> panes;
-    for (int i = 0; i < count; ++i)
-        panes.push_back({i * paneWidth, 0, paneWidth, paneHeight});
-    return panes;
+const char* splitDifferenceName(SplitDifference d) {
+    switch (d) {
+    case SplitDifference::Off:
+        return "off";
+    case SplitDifference::AgainstB:
+        return "b";
+    case SplitDifference::AgainstTruth:
+        return "truth";
+    }
+    return "off";
+}
+
+SplitDifference splitDifferenceFromName(const std::string& name) {
+    for (SplitDifference d : {SplitDifference::Off, SplitDifference::AgainstB, SplitDifference::AgainstTruth})
+        if (name == splitDifferenceName(d)) return d;
+    throw renderer::RenderError("unknown difference '" + name + "' (known: off, b, truth)");
+}
+
+SplitLayout splitLayout(int width, int height, int imagePanes, bool difference) {
+    const bool grid = imagePanes == 4;
+    const int columns = 2 + (difference ? 1 : 0), rows = grid ? 2 : 1;
+    const int w = std::max(1, width / columns), h = std::max(1, height / rows);
+    SplitLayout layout;
+    for (int i = 0; i < (grid ? 4 : 2); ++i)
+        layout.panes.push_back({(i % 2) * w, (i / 2) * h, w, h});
+    if (difference) layout.difference = PaneRect{2 * w, grid ? h / 2 : 0, w, h};
+    return layout;
+}
+
+std::vector<PaneRect> splitPaneRects(int width, int height, int imagePanes, bool difference) {
+    SplitLayout layout = splitLayout(width, height, imagePanes, difference);
+    if (layout.difference) layout.panes.push_back(*layout.difference);
+    return layout.panes;
+}
+
+renderer::Image upsampleBilinear(const renderer::Image& image, int width, int height) {
+    renderer::Image out(width, height);
+    if (image.width < 1 || image.height < 1) return out;
+    const double sx = double(image.width) / width, sy = double(image.height) / height;
+    for (int y = 0; y < height; ++y) {
+        const double fy = std::clamp((y + 0.5) * sy - 0.5, 0.0, double(image.height - 1));
+        const int y0 = int(fy), y1 = std::min(y0 + 1, image.height - 1);
+        const double ty = fy - y0;
+        for (int x = 0; x < width; ++x) {
+            const double fx = std::clamp((x + 0.5) * sx - 0.5, 0.0, double(image.width - 1));
+            const int x0 = int(fx), x1 = std::min(x0 + 1, image.width - 1);
+            const double tx = fx - x0;
+            for (int c = 0; c < 4; ++c) {
+                const double top = image.pixel(x0, y0)[c] * (1 - tx) + image.pixel(x1, y0)[c] * tx;
+                const double bottom = image.pixel(x0, y1)[c] * (1 - tx) + image.pixel(x1, y1)[c] * tx;
+                out.pixel(x, y)[c] = float(top * (1 - ty) + bottom * ty);
+            }
+        }
+    }
+    return out;
 }
 
 renderer::SplatSettings paneSettings(renderer::SplatSettings view, const SplitPane& pane) {

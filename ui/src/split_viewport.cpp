@@ -8,6 +8,7 @@
 
 #include <imgui.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -62,25 +63,45 @@ bool drawSplitViewSection(EditorState& state, renderer::Compositing viewComposit
     bool changed = false;
     if (ImGui::Checkbox("Split view", &split.enabled)) {
         changed = true;
-        if (split.enabled) // both panes start in the view's compositing: only the filters differ
+        if (split.enabled) // every pane starts in the view's compositing: only the filters differ
             for (SplitPane& pane : split.panes)
                 pane.compositing = viewCompositing;
     }
-    hint("Two panes side by side at one camera (a drag in either moves both), each with its own filter and\n"
+    hint("Two or four panes at one camera (a drag in any moves all), each with its own filter and\n"
          "compositing; the rest of the settings above are shared. The heatmap is off meanwhile");
     if (!split.enabled) return changed;
-    for (int i = 0; i < 2; ++i) {
+    ImGui::TextUnformatted("Panes");
+    ImGui::SameLine();
+    changed |= ImGui::RadioButton("2", &split.imagePanes, 2);
+    ImGui::SameLine();
+    changed |= ImGui::RadioButton("4 (2 x 2)", &split.imagePanes, 4);
+    static constexpr const char* kTitles[] = {"A (top left)", "B (top right)", "C (bottom left)",
+                                              "D (bottom right)"};
+    static constexpr const char* kTitlesInRow[] = {"A (left)", "B (right)"};
+    for (int i = 0; i < split.shownImagePanes(); ++i) {
         ImGui::PushID(i);
-        ImGui::TextUnformatted(i == 0 ? "Left (A)" : "Right (B)");
+        ImGui::TextUnformatted(split.imagePanes == 4 ? kTitles[i] : kTitlesInRow[i]);
         changed |=
             enumCombo("Filter##pane", split.panes[size_t(i)].filter, kFilters, &renderer::filterModeName);
         changed |= enumCombo("Compositing##pane", split.panes[size_t(i)].compositing, kCompositings,
                              &renderer::compositingName);
         ImGui::PopID();
     }
-    changed |= ImGui::Checkbox("Difference pane |A - B|", &split.difference);
-    hint("A third pane: each pixel's RMS difference of the two panes' premultiplied RGBA on a colour scale,\n"
-         "with the RMSE and PSNR of the whole pane (renderer::compareImages, the accuracy tests' metric)");
+    constexpr std::array kDifferences{SplitDifference::Off, SplitDifference::AgainstB,
+                                      SplitDifference::AgainstTruth};
+    changed |= enumCombo(
+        "Difference", split.difference, kDifferences, +[](SplitDifference d) -> const char* {
+            return d == SplitDifference::Off        ? "none"
+                   : d == SplitDifference::AgainstB ? "|A - B|"
+                                                    : "|A - ground truth|";
+        });
+    hint("A pane more: each pixel's RMS difference of pane A's premultiplied RGBA against pane B's, or "
+         "against\n"
+         "the ground truth (the exact integral Measure compares with), on a colour scale, with the RMSE and "
+         "PSNR\n"
+         "of the whole pane (renderer::compareImages, the accuracy tests' metric). The truth takes seconds "
+         "to\n"
+         "minutes on a CPU: it starts once the camera rests, a quarter-size one first, and a move drops it");
     return changed;
 }
 
@@ -89,15 +110,26 @@ void drawSplitPanes(const ViewportOverlay& overlay, float x, float y, float w, f
     ImDrawList* draw = ImGui::GetWindowDrawList();
     const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
     const int widthPx = int(std::lround(extent.x * scale.x)), heightPx = int(std::lround(extent.y * scale.y));
-    const std::vector<PaneRect> rects = splitPaneRects(widthPx, heightPx, int(overlay.panes.size()));
+    const int imagePanes = int(std::count_if(overlay.panes.begin(), overlay.panes.end(),
+                                             [](const ViewportPane& p) { return !p.isDifference; }));
+    const std::vector<PaneRect> rects =
+        splitPaneRects(widthPx, heightPx, imagePanes, imagePanes < int(overlay.panes.size()));
     const float font = ImGui::GetFontSize();
-    for (size_t i = 0; i < rects.size(); ++i) {
+    for (size_t i = 0; i < rects.size() && i < overlay.panes.size(); ++i) {
         const ViewportPane& pane = overlay.panes[i];
         const ImVec2 min{origin.x + float(rects[i].x) / scale.x, origin.y + float(rects[i].y) / scale.y};
         const ImVec2 max{min.x + float(rects[i].width) / scale.x, min.y + float(rects[i].height) / scale.y};
         if (pane.texture != 0) draw->AddImage(textureId(pane.texture), min, max);
-        if (i > 0) draw->AddLine(ImVec2(min.x, min.y), ImVec2(min.x, max.y), IM_COL32(120, 120, 120, 255));
+        if (rects[i].x > 0)
+            draw->AddLine(ImVec2(min.x, min.y), ImVec2(min.x, max.y), IM_COL32(120, 120, 120, 255));
+        if (rects[i].y > 0)
+            draw->AddLine(ImVec2(min.x, min.y), ImVec2(max.x, min.y), IM_COL32(120, 120, 120, 255));
+        if (pane.isDifference) // its own frame: beside a grid it does not fill its column
+            draw->AddRect(min, max, IM_COL32(120, 120, 120, 255));
         labelAt(draw, ImVec2(min.x + font * 0.5f, min.y + font * 0.4f), pane.label.c_str());
+        if (!pane.note.empty()) // below the figures, if any
+            labelAt(draw, ImVec2(min.x + font * 0.5f, min.y + font * (pane.difference ? 3.2f : 1.8f)),
+                    pane.note.c_str(), IM_COL32(255, 210, 120, 255));
         if (pane.difference) {
             char figures[96];
             std::snprintf(figures, sizeof figures, "RMSE %.5f   PSNR %.2f dB", pane.difference->rmse,

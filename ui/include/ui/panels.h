@@ -142,13 +142,15 @@ struct ViewportPane {
     unsigned texture = 0;
     std::string label;                            // "reconstruction, sheet-front-to-back"
     std::optional<ViewportDifference> difference; // the difference pane's figures
+    std::string note;                             // instead of an image: why there is none (yet)
+    bool isDifference = false;                    // the difference pane (splitLayout places it)
 };
 
 // What the viewport draws over the image while state.showHeatmap is on, or instead of it in a split view.
 struct ViewportOverlay {
     unsigned heatmapTexture = 0;          // the filter-mode heatmap of the same render (GL name); 0: none
     std::optional<HeatmapLegend> legend;  // of the view shown; none: no legend (no volume)
-    // The split view's panes, left to right (splitPaneRects); empty: the one image.
+    // The split view's panes, A first, the difference pane last (splitLayout); empty: the one image.
     std::vector<ViewportPane> panes;
 };
 
