@@ -126,6 +126,9 @@ void SplatRenderer::setScene(const SplatScene& scene) {
                              GL_DYNAMIC_STORAGE_BIT);
         glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.lutTexture);
         glTextureBuffer(g.lutTexture, GL_RGBA32F, g.lutBuffer);
+        glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.tf2dTexture);
+        glTextureBufferRange(g.tf2dTexture, GL_RGBA32F, g.lutBuffer, GLintptr(kTf2dFirstEntry * sizeof(glm::vec4)),
+                             GLsizeiptr(size_t(kTf2dCells) * sizeof(glm::vec4)));
         checkAllocation("LUT buffer", scene.name, needed, freeBytes);
     }
     g.sceneBytes = scene.classes.size() * sizeof(uint16_t) + kLutBufferEntries * sizeof(glm::vec4);
@@ -185,6 +188,8 @@ void SplatRenderer::setLut(const TfTables& tables) {
     if (lut.size() != size_t(kLutSize)) throw RenderError("LUT must have " + std::to_string(kLutSize) + " entries");
     if (!gradientFactors.empty() && gradientFactors.size() != size_t(kGradientBins))
         throw RenderError("gradient factors must have " + std::to_string(kGradientBins) + " entries");
+    if (!tables.tf2d.empty() && tables.tf2d.size() != size_t(kTf2dCells))
+        throw RenderError("a 2D transfer function table must have " + std::to_string(kTf2dCells) + " entries");
     if (!g.lutBuffer) throw RenderError("SplatRenderer::setLut called before setScene");
     glNamedBufferSubData(g.lutBuffer, 0, GLsizeiptr(lut.size() * sizeof(glm::vec4)), lut.data());
     m_stats.uploadBytes = lut.size() * sizeof(glm::vec4);
@@ -195,7 +200,13 @@ void SplatRenderer::setLut(const TfTables& tables) {
                              GLsizeiptr(texels.size() * sizeof(glm::vec4)), texels.data());
         m_stats.uploadBytes += texels.size() * sizeof(glm::vec4);
     }
+    if (!tables.tf2d.empty()) {   // the cells after the factors (splat_footprint.glsl's TF_2D)
+        glNamedBufferSubData(g.lutBuffer, GLintptr(kTf2dFirstEntry * sizeof(glm::vec4)),
+                             GLsizeiptr(tables.tf2d.size() * sizeof(glm::vec4)), tables.tf2d.data());
+        m_stats.uploadBytes += tables.tf2d.size() * sizeof(glm::vec4);
+    }
     g.gradientOpacity = !gradientFactors.empty();
+    g.tf2d = !tables.tf2d.empty();
     g.lut = lut;
     ++g.lutVersion;
     g.uploadedSinceFrame += m_stats.uploadBytes;
