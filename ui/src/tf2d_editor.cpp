@@ -304,7 +304,10 @@ bool drawTf2dSection(renderer::TransferFunction& tf, Tf2dEdit& edit, const Tf2dV
                                 selected ? IM_COL32(255, 255, 255, 255) : IM_COL32(200, 200, 200, 160));
     }
     draw->PopClipRect();
-    ImGui::TextDisabled("value across (the window), |gradient| up (sqrt axis, top %.4g)", axes.maxMagnitude);
+    ImGui::PushTextWrapPos(0.0f);   // the panel may be narrow: wrap, do not cut
+    ImGui::TextDisabled("Value across (the window), |gradient| up (sqrt axis, 0 .. %.4g per world unit)",
+                        axes.maxMagnitude);
+    ImGui::PopTextWrapPos();
 
     // 3. Add, remove, and the selected widget's colour and opacity.
     if (ImGui::Button("Add rectangle")) edit.selected = addRectangle(tf, axes), changed = true;
@@ -335,8 +338,12 @@ bool drawTf2dSection(renderer::TransferFunction& tf, Tf2dEdit& edit, const Tf2dV
     } else if (!tf.widgets2d.empty()) {
         ImGui::TextDisabled("Click a widget to edit its colour and opacity");
     }
-    if (!tf.widgets2d.empty())
-        ImGui::TextDisabled("The widgets decide; the curves above apply again once none is left");
+    if (!tf.widgets2d.empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextDisabled("The widgets give each voxel its colour and opacity; the curves above apply "
+                            "again once none is left");
+        ImGui::PopTextWrapPos();
+    }
     return changed;
 }
 
