@@ -1,6 +1,6 @@
 // The 2D transfer function on the GL path: each voxel's colour and opacity by its (value, magnitude) cell
 // as the CPU oracle (kGlVsCpu), rasterised and tiled, unshaded and shaded, and in the near layer; a TF
-// edit uploads the table with the LUT.
+// edit uploads the table with the LUT, the first one making room for it.
 #include "gl_fixture.h"
 #include "image_compare.h"
 
@@ -121,9 +121,12 @@ TEST_F(GlTest, Tf2dEditUploadsTheTableAndRemovingTheWidgetsGivesThe1dImageBack) 
     s.compositing = Compositing::SheetBackToFront;
     r.render(plane, s);
     const Image before = r.readback();
+    const uint64_t bytesWithout = r.sceneBytes();
     setTransferFunction(scene, twoWidgets());
     r.setLut(tfTables(scene));
     EXPECT_EQ(r.stats().uploadBytes, size_t(kLutSize + kTf2dCells) * sizeof(glm::vec4));
+    EXPECT_EQ(r.sceneBytes(), bytesWithout + size_t(kTf2dCells) * sizeof(glm::vec4))
+        << "the cells' room comes with the first 2D TF, not with every scene";
     r.render(plane, s);
     EXPECT_GT(compareImages(r.readback(), before).rmse, 1e-3) << "the widgets must change the image";
     EXPECT_IMAGES_CLOSE(r.readback(), renderReference(scene, plane, s), kGlVsCpu, "gl_tf2d_edit");

@@ -61,7 +61,8 @@ enum SplatVariant { kCounters = 1, kSurface = 2, kSplatShading = 4, kFragmentSha
 
 // The LUT buffer: kLutSize class entries, then the kGradientBins gradient factors (GRADIENT_OPACITY in
 // splat_footprint.glsl and near_kernels.comp read them at this offset), then the 2D TF's kTf2dCells
-// (TF_2D, at kTf2dFirstEntry; the tiles' composite reads them through tf2dTexture, a view from there).
+// (TF_2D, at kTf2dFirstEntry; the tiles' composite reads them through tf2dTexture, a view from there;
+// allocated with the first 2D TF: Gl::lutBufferEntries).
 constexpr size_t kTf2dFirstEntry = size_t(kLutSize) + size_t(kGradientBins);
 constexpr size_t kLutBufferEntries = kTf2dFirstEntry + size_t(kTf2dCells);
 static_assert(kLutSize == 4096 && kTf2dFirstEntry == 4352 && kTf2dGradientBins == 64,
@@ -119,6 +120,10 @@ struct SplatRenderer::Gl {
     GLuint patchTexture = 0;   // R8UI, a texel a patch (PatchGrid: columns x rows x slices)
     GLuint lutTexture = 0;   // buffer texture over lutBuffer (the tiles' composite)
     GLuint tf2dTexture = 0;  // buffer texture over lutBuffer's 2D TF cells (the tiles' composite, TF_2D)
+    // lutBuffer's entries: kTf2dFirstEntry, or kLutBufferEntries from the first 2D TF on (a scene without
+    // one keeps its GPU bytes). createLutBuffer makes it afresh, with its texture views.
+    size_t lutBufferEntries = 0;
+    void createLutBuffer(size_t entries);
     bool hasGradients = false;
     bool gradientOpacity = false;   // the last setLut had gradient factors (drawn with them when hasGradients)
     bool tf2d = false;              // the last setLut had a 2D TF table (drawn with it when hasGradients)
