@@ -45,6 +45,7 @@ struct Document {
     renderer::ValueRange percentile;                  // p1..p99
     std::optional<renderer::GradientField> gradients; // once computed (for shading, a later issue)
     std::vector<uint64_t> gradientHistogram;          // voxels per magnitude byte, once computed
+    std::vector<uint32_t> histogram2d;                // voxels per 2D TF cell over scene.window, once computed
     std::unique_ptr<Preview> preview;                 // levels, for volumes of PreviewSettings::kMinVoxels or more
 };
 

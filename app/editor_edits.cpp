@@ -126,6 +126,7 @@ void EditorLoop::takeClassified() {
             m_doc.scene = std::move(done->full);
             renderer::setTransferFunction(m_doc.scene, m_doc.tf);
             ++m_sceneVersion; // a split view's ground truth is of another scene now
+            m_doc.histogram2d = renderer::valueGradientHistogram(m_doc.scene);   // over the new window
         }
         if (m_doc.preview)
             for (size_t k = 0; k < m_doc.preview->levels.size() && k < done->levels.size(); ++k) {
@@ -222,6 +223,7 @@ void EditorLoop::takeGradients() {
         m_doc.gradientHistogram = std::move(computed->magnitudeCounts);
         renderer::addGradients(m_doc.scene, std::move(computed->packed));   // re-bakes the TF with them
         ++m_sceneVersion;
+        m_doc.histogram2d = renderer::valueGradientHistogram(m_doc.scene);
         if (m_doc.preview)
             for (size_t k = 0; k < m_doc.preview->levels.size() && k < computed->levelFields.size(); ++k) {
                 Level& level = m_doc.preview->levels[k];

@@ -23,6 +23,8 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
                            .visible = m_hasScene ? renderer::visibleValueRange(m_doc.scene) : renderer::ValueRange{},
                            .gradients = {.maxMagnitude = m_state.gradientsReady ? m_doc.scene.gradientMax : 0.0,
                                          .histogram = &m_doc.gradientHistogram},
+                           .histogram2d = &m_doc.histogram2d,
+                           .histogram2dWindow = m_doc.scene.window,
                            .windowSettled = !m_volumeJob && !m_classifyJob && !m_fullWindowStale && !m_windowChanged,
                            .gallery = m_hasScene ? m_gallery.thumbnails() : std::vector<ui::GalleryThumbnail>{}});
              m_windowChanged =

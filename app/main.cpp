@@ -272,7 +272,8 @@ void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFla
                      volumePath.string().c_str(), volume.dims.x, volume.dims.y, volume.dims.z, volume.spacing.x,
                      volume.spacing.y, volume.spacing.z);
     s.scene = buildSplatScene(volume, tf, windowFor(volume, window));
-    if (needsGradients(s.settings) || !tf.gradientOpacity.empty()) {   // shading, surface splats, gradient opacity
+    // Shading, surface splats, gradient opacity, the 2D TF.
+    if (needsGradients(s.settings) || !tf.gradientOpacity.empty() || !tf.widgets2d.empty()) {
         std::fprintf(stderr, "gradients\n");
         addGradients(s.scene, *computeGradients(volume, printProgress));
     }
@@ -524,6 +525,11 @@ int runTf(const std::string& spec, const std::string& out, bool paraView) {
                      "splatlab: note: ParaView's colour-map presets hold no gradient opacity: the TF's %zu gradient "
                      "opacity points are not written (SplatLab's JSON keeps them)\n",
                      tf.gradientOpacity.size());
+    if (paraView && !tf.widgets2d.empty())
+        std::fprintf(stderr,
+                     "splatlab: note: ParaView's colour-map presets hold no 2D transfer function: the TF's %zu 2D "
+                     "widgets are not written (SplatLab's JSON keeps them)\n",
+                     tf.widgets2d.size());
     if (paraView && out.empty()) std::fputs(paraViewPresetText(tf).c_str(), stdout);
     else if (paraView) saveParaViewPreset(tf, out);
     else if (out.empty()) std::fputs(transferFunctionText(tf).c_str(), stdout);

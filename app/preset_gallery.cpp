@@ -23,7 +23,7 @@ renderer::TransferFunction galleryPreset(const std::string& name, renderer::Valu
 std::future<renderer::Image> renderThumbnail(RenderThread& thread, const ThumbnailSource& source,
                                              const renderer::TransferFunction& tf) {
     // A preset's own LUT; no gradient factors (the built-in presets have no gradient opacity).
-    return thread.run([source, tables = renderer::TfTables{renderer::bakeLut(tf, source.window), {}}](Renderers& r) {
+    return thread.run([source, tables = renderer::TfTables{renderer::bakeLut(tf, source.window), {}, {}}](Renderers& r) {
         if (source.level > int(r.levels.size()))
             throw renderer::RenderError("thumbnail: no level " + std::to_string(source.level) +
                                         " to draw from");

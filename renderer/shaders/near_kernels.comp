@@ -21,18 +21,22 @@ uniform float uExtinctionPerOpacity;   // density / mean spacing (voxelExtinctio
 // Gradient opacity (SplatScene::opacityOf): the factor by the voxel's magnitude byte, after the LUT's
 // 4096 entries; 0 when the renderer has none (a uniform branch: few voxels come here).
 uniform int uGradientOpacity;
+uniform int uTf2d;   // the 2D TF: colour and opacity by the (value, magnitude) cell, after the factors
 layout(std430, binding = 3) readonly buffer Gradients { uint gradients[]; };   // 3 bytes a voxel (shading.h)
 void main() {
     uint n = uint(uBoxSize.x) * uint(uBoxSize.y) * uint(uBoxSize.z);
     for (uint i = gl_GlobalInvocationID.x; i < n; i += gl_NumWorkGroups.x * 64u) {
         ivec3 ijk = uBoxLo + ivec3(int(i % uint(uBoxSize.x)), int(i / uint(uBoxSize.x) % uint(uBoxSize.y)),
                                    int(i / (uint(uBoxSize.x) * uint(uBoxSize.y))));
-        vec4 tf = texelFetch(lutTexels, int(texelFetch(classes, ijk, 0).r));
-        if (uGradientOpacity != 0) {
+        uint cls = texelFetch(classes, ijk, 0).r;
+        vec4 tf = texelFetch(lutTexels, int(cls));
+        if (uGradientOpacity != 0 || uTf2d != 0) {
             uint byte = 3u * (uint(ijk.x) + uint(uDims.x) * (uint(ijk.y) + uint(uDims.y) * uint(ijk.z)));
             uint shift = (byte & 3u) * 8u;
             uint texel = gradients[byte >> 2u] >> shift | (gradients[(byte >> 2u) + 1u] << (31u - shift)) << 1u;
-            tf.a *= texelFetch(lutTexels, 4096 + int((texel >> 16u) & 0xffu)).a;
+            uint magnitudeByte = (texel >> 16u) & 0xffu;
+            if (uTf2d != 0) tf = texelFetch(lutTexels, 4352 + int((cls >> 4) * 64u + (magnitudeByte >> 2)));
+            else tf.a *= texelFetch(lutTexels, 4096 + int(magnitudeByte)).a;
         }
         if (!(tf.a > 0.0)) continue;
         vec3 u = uViewFromObject * (uSpacing * vec3(ijk)) + uTranslation;

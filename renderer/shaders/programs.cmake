@@ -17,13 +17,13 @@ string(CONCAT shading_axis "RECORD_VEC4S=3u,ENTRY_TEXELS=2u"
 # Rasterised splats (SplatRenderer::Gl::splatProgram): the variant bits of SplatVariant.
 shader_program(splat FILES splat.vert splat.frag
   AXES OPAQUE_TILE=8 "|COUNTERS" "|SURFACE" "|SPLAT_SHADING|FRAGMENT_SHADING" "|HEATMAP" "|ADAPTIVE"
-       "|OCCLUSION" "|GRADIENT_OPACITY")
+       "|OCCLUSION" "|GRADIENT_OPACITY|TF_2D")
 
 # Tiled splatting's four passes (Gl::tileProgram). RUN_LANES: 8 on llvmpipe, 64 elsewhere.
 set(tile_header OPAQUE_TILE=8 SPLAT_TILE=8 BUSY_ROW=4096u)
 shader_program(tile_record FILES tile_record.comp
   AXES ${tile_header} "|COUNTERS" "|SURFACE" "${shading_axis}" "|ADAPTIVE" "|OCCLUSION"
-       "RUN_LANES=8|RUN_LANES=64" "|GRADIENT_OPACITY")
+       "RUN_LANES=8|RUN_LANES=64" "|GRADIENT_OPACITY|TF_2D")
 shader_program(tile_offsets FILES tile_offsets.comp AXES ${tile_header} RECORD_VEC4S=3u ENTRY_TEXELS=2u)
 shader_program(tile_bases FILES tile_bases.comp AXES ${tile_header} RECORD_VEC4S=3u ENTRY_TEXELS=2u)
 shader_program(tile_scatter FILES tile_scatter.comp AXES ${tile_header} "${shading_axis}" "|OCCLUSION")

@@ -38,7 +38,7 @@ struct Footprint {
     vec3 colour;
     vec3 gradient;            // per-fragment shading: W times the decoded relative gradient
     int mode;                 // the filter used
-    uint lutClass;            // tiles fetch the unshaded colour by it
+    uint lutClass;            // tiles fetch the unshaded colour by it (TF_2D: the 2D TF's cell)
 };
 
 // The packed gradient of voxel ijk: its 3 bytes from the two words they may span (gradientBufferBytes()
@@ -82,8 +82,14 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
     uint cls = texelFetch(classes, ijk, 0).r;
     if (dense && (cls >> 6) != ((run.z >> 16) & 0xffu)) return false;   // another bucket's voxel
     count(0);
+#ifdef TF_2D   // colour and opacity by the (value, magnitude) cell, after the factors (SplatScene::tf2dCell)
+    uint texel = gradientTexel(ijk);
+    f.lutClass = (cls >> 4) * 64u + (((texel >> 16u) & 0xffu) >> 2);   // tiles fetch the colour by the cell
+    vec4 tf = texelFetch(lutTexels, 4352 + int(f.lutClass));
+#else
     f.lutClass = cls;
     vec4 tf = texelFetch(lutTexels, int(cls));
+#endif
 #ifdef GRADIENT_OPACITY   // the factor by the magnitude byte, after the LUT's 4096 entries (SplatScene::opacityOf)
     uint texel = gradientTexel(ijk);
     tf.a *= texelFetch(lutTexels, 4096 + int((texel >> 16u) & 0xffu)).a;
@@ -101,7 +107,7 @@ bool footprint(uvec4 run, uint k, out Footprint f) {
                                      0.0, uFPx * iz, -uFPx * u.y * iz * iz,
                                      u.x / l, u.y / l, u.z / l));
 #if defined(SURFACE) || defined(SPLAT_SHADING) || defined(FRAGMENT_SHADING)
-#ifndef GRADIENT_OPACITY   // read here, past the culls, when only shading needs it
+#if !defined(GRADIENT_OPACITY) && !defined(TF_2D)   // read here, past the culls, when only shading needs it
     uint texel = gradientTexel(ijk);
 #endif
     vec4 grad = unpackGradient(texel & 0xffffffu);

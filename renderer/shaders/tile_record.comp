@@ -9,8 +9,10 @@
 // resolve follows the last). Front to back with early termination each chunk is binned against the
 // tiles earlier chunks made opaque (OCCLUSION), so hidden splats cost no entries.
 // Records are RECORD_VEC4S vec4s: centre and half extent; conic and amplitude; its bits (rank | mode << 16 |
-// LUT class << 18) in .w of the third, whose .rgb holds the colour with SPLAT_SHADING; FRAGMENT_SHADING: the
-// gradient. List entries are ENTRY_TEXELS vec4s (see tile_scatter.comp).
+// LUT class << 18, with TF_2D the 2D TF's cell, 14 bits) in .w of the third, whose .rgb holds the colour with
+// SPLAT_SHADING; FRAGMENT_SHADING: the gradient. The bits are only ever copied as a float, never computed
+// with, so any pattern (a denormal, with a cell's high bits a NaN) arrives intact. List entries are
+// ENTRY_TEXELS vec4s (see tile_scatter.comp).
 #include "tile_state.glsl"
 #include "shading.glsl"
 #include "splat_common.glsl"

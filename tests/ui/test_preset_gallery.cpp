@@ -143,7 +143,7 @@ TEST(PresetGallery, EachThumbnailIsAHeadlessRenderOfItsPreset) {
         ASSERT_NE(t.texture, 0u);
         std::vector<uint8_t> pixels(size_t(kThumbnailPx) * kThumbnailPx * 4);
         glGetTextureImage(t.texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(pixels.size()), pixels.data());
-        headless.setLut({renderer::bakeLut(galleryPreset(t.name, window), window), {}});
+        headless.setLut({renderer::bakeLut(galleryPreset(t.name, window), window), {}, {}});
         headless.render(source.plane, source.settings);
         const renderer::Image expected = headless.readback();
         showing += renderer::imageStats(expected).coveredFraction > 0.02;

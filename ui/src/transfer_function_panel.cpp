@@ -433,6 +433,7 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
         if (redo ? state.tfHistory.redoInto(tf) : state.tfHistory.undoInto(tf)) {
             state.tfGestureStart = tf;
             state.tfSelected = state.tfColourSelected = -1;
+            state.tf2d.selected = -1;
             state.tfEdited = changed = true;
         }
     };
@@ -462,6 +463,12 @@ bool drawTransferFunctionPanel(EditorState& state, const TransferFunctionView& v
             } catch (const std::exception& e) { // a bundled file that is not a TF, or one since removed
                 state.errorMessage = e.what();
             }
+    // 9. Under them: the 2D transfer function's widgets over (value, gradient magnitude) (tf2d_editor.cpp).
+    if (drawTf2dSection(tf, state.tf2d,
+                        {.axes = {.window = window, .maxMagnitude = view.gradients.maxMagnitude},
+                         .histogram = view.histogram2d,
+                         .histogramWindow = view.histogram2dWindow}))
+        state.tfEdited = changed = true;
     // A gesture ends when no widget is held: a drag released, a field left, or an instant edit (a
     // preset, a file, a removal). What it changed becomes one undo step.
     if (!ImGui::IsAnyItemActive()) {

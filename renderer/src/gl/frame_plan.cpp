@@ -101,7 +101,9 @@ FramePlan SplatRenderer::Gl::planFrame(const ImagePlane& plane, const SplatSetti
                         (settings.shading == Shading::PerFragment ? kFragmentShading : 0) |
                         (settings.heatmap ? kHeatmap : 0) | (drawnFilter == FilterMode::Adaptive ? kAdaptive : 0) |
                         (earlyTermination && settings.occlusionCulling ? kOcclusion : 0) |
-                        (g.gradientOpacity && g.hasGradients ? kGradientOpacity : 0);
+                        (g.tf2d && g.hasGradients               ? kTf2d
+                         : g.gradientOpacity && g.hasGradients ? kGradientOpacity
+                                                                : 0);
     const bool tiles = settings.primitive == Primitive::Tiles || (tiledSplatting(settings) && !rasterise);
     // Rasterised, slice by slice: points cost one vertex and one primitive a splat instead of six and
     // two; they need the slice's footprints to fit the largest point size, and a guard band, since a

@@ -57,6 +57,7 @@ SplatRenderer::Gl::~Gl() {
     glDeleteVertexArrays(2, vaos);
     glDeleteTextures(1, &classTexture);
     glDeleteTextures(1, &lutTexture);
+    glDeleteTextures(1, &tf2dTexture);
     glDeleteTextures(1, &patchTexture);
     const GLuint buffers[] = {lutBuffer, counterBuffer, gradientBuffer, commands, nearBuffer};
     glDeleteBuffers(5, buffers);

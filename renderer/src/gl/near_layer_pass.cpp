@@ -55,6 +55,7 @@ void SplatRenderer::Gl::drawNearLayer(const FramePlan& f) {
     glUniform1f(glGetUniformLocation(nearKernelsProgram, "uExtinctionPerOpacity"),
                 float(settings.density / meanSpacing));
     glUniform1i(glGetUniformLocation(nearKernelsProgram, "uGradientOpacity"), gradientOpacity && hasGradients);
+    glUniform1i(glGetUniformLocation(nearKernelsProgram, "uTf2d"), tf2d && hasGradients);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, gradientBuffer);
     glBindTextureUnit(0, classTexture);
     glBindTextureUnit(4, lutTexture);

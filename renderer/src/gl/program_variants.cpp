@@ -21,7 +21,7 @@ std::string variantDefines(int bits) {
                                                    {kSplatShading, "SPLAT_SHADING"},
                                                    {kFragmentShading, "FRAGMENT_SHADING"}, {kHeatmap, "HEATMAP"},
                                                    {kAdaptive, "ADAPTIVE"}, {kOcclusion, "OCCLUSION"},
-                                                   {kGradientOpacity, "GRADIENT_OPACITY"}};
+                                                   {kGradientOpacity, "GRADIENT_OPACITY"}, {kTf2d, "TF_2D"}};
     std::string header;
     for (auto [bit, name] : defines)
         if (bits & bit) header += std::string("#define ") + name + "\n";

@@ -98,7 +98,8 @@ void SplatRenderer::setScene(const SplatScene& scene) {
         mostRuns = std::max(mostRuns, a.hostRuns.size());
     }
     const uint64_t commandBytes = mostRuns * 32;   // both layouts (bucket_commands.comp)
-    uint64_t needed = scene.classes.size() * sizeof(uint16_t) + kLutBufferEntries * sizeof(glm::vec4) + listBytes +
+    if (!g.lutBuffer) g.lutBufferEntries = kTf2dFirstEntry;   // the 2D TF's cells come with the first 2D TF
+    uint64_t needed = scene.classes.size() * sizeof(uint16_t) + g.lutBufferEntries * sizeof(glm::vec4) + listBytes +
                       commandBytes + gradientBufferBytes(scene.gradients.size());
     std::optional<uint64_t> freeBytes = freeGpuMemoryBytes();
     if (freeBytes) *freeBytes += g.sceneBytes;
@@ -121,14 +122,10 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     m_stats.uploadBytes += scene.classes.size() * sizeof(uint16_t);
 
     if (!g.lutBuffer) {
-        glCreateBuffers(1, &g.lutBuffer);
-        glNamedBufferStorage(g.lutBuffer, GLsizeiptr(kLutBufferEntries * sizeof(glm::vec4)), nullptr,
-                             GL_DYNAMIC_STORAGE_BIT);
-        glCreateTextures(GL_TEXTURE_BUFFER, 1, &g.lutTexture);
-        glTextureBuffer(g.lutTexture, GL_RGBA32F, g.lutBuffer);
+        g.createLutBuffer(g.lutBufferEntries);
         checkAllocation("LUT buffer", scene.name, needed, freeBytes);
     }
-    g.sceneBytes = scene.classes.size() * sizeof(uint16_t) + kLutBufferEntries * sizeof(glm::vec4);
+    g.sceneBytes = scene.classes.size() * sizeof(uint16_t) + g.lutBufferEntries * sizeof(glm::vec4);
 
     for (int axis = 0; axis < 3; ++axis) {
         g.axes[size_t(axis)].release();
@@ -178,6 +175,23 @@ void SplatRenderer::setGradients(const SplatScene& scene) {
     g.uploadedSinceFrame += bytes;
 }
 
+void SplatRenderer::Gl::createLutBuffer(size_t entries) {
+    glDeleteTextures(1, &lutTexture);
+    glDeleteTextures(1, &tf2dTexture);
+    glDeleteBuffers(1, &lutBuffer);
+    tf2dTexture = 0;
+    glCreateBuffers(1, &lutBuffer);
+    glNamedBufferStorage(lutBuffer, GLsizeiptr(entries * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glCreateTextures(GL_TEXTURE_BUFFER, 1, &lutTexture);
+    glTextureBuffer(lutTexture, GL_RGBA32F, lutBuffer);
+    if (entries >= kLutBufferEntries) {   // a view of the cells for the tiles' composite
+        glCreateTextures(GL_TEXTURE_BUFFER, 1, &tf2dTexture);
+        glTextureBufferRange(tf2dTexture, GL_RGBA32F, lutBuffer, GLintptr(kTf2dFirstEntry * sizeof(glm::vec4)),
+                             GLsizeiptr(size_t(kTf2dCells) * sizeof(glm::vec4)));
+    }
+    lutBufferEntries = entries;
+}
+
 void SplatRenderer::setLut(const TfTables& tables) {
     Gl& g = *m_gl;
     const Lut& lut = tables.lut;
@@ -185,7 +199,14 @@ void SplatRenderer::setLut(const TfTables& tables) {
     if (lut.size() != size_t(kLutSize)) throw RenderError("LUT must have " + std::to_string(kLutSize) + " entries");
     if (!gradientFactors.empty() && gradientFactors.size() != size_t(kGradientBins))
         throw RenderError("gradient factors must have " + std::to_string(kGradientBins) + " entries");
+    if (!tables.tf2d.empty() && tables.tf2d.size() != size_t(kTf2dCells))
+        throw RenderError("a 2D transfer function table must have " + std::to_string(kTf2dCells) + " entries");
     if (!g.lutBuffer) throw RenderError("SplatRenderer::setLut called before setScene");
+    if (!tables.tf2d.empty() && g.lutBufferEntries < kLutBufferEntries) {
+        // The first 2D TF: a buffer with room for its cells (256 KiB more), the LUT uploaded into it below.
+        g.sceneBytes += (kLutBufferEntries - g.lutBufferEntries) * sizeof(glm::vec4);
+        g.createLutBuffer(kLutBufferEntries);
+    }
     glNamedBufferSubData(g.lutBuffer, 0, GLsizeiptr(lut.size() * sizeof(glm::vec4)), lut.data());
     m_stats.uploadBytes = lut.size() * sizeof(glm::vec4);
     // The factors after the LUT's entries, a texel each (splat_footprint.glsl reads .a).
@@ -195,7 +216,13 @@ void SplatRenderer::setLut(const TfTables& tables) {
                              GLsizeiptr(texels.size() * sizeof(glm::vec4)), texels.data());
         m_stats.uploadBytes += texels.size() * sizeof(glm::vec4);
     }
+    if (!tables.tf2d.empty()) {   // the cells after the factors (splat_footprint.glsl's TF_2D)
+        glNamedBufferSubData(g.lutBuffer, GLintptr(kTf2dFirstEntry * sizeof(glm::vec4)),
+                             GLsizeiptr(tables.tf2d.size() * sizeof(glm::vec4)), tables.tf2d.data());
+        m_stats.uploadBytes += tables.tf2d.size() * sizeof(glm::vec4);
+    }
     g.gradientOpacity = !gradientFactors.empty();
+    g.tf2d = !tables.tf2d.empty();
     g.lut = lut;
     ++g.lutVersion;
     g.uploadedSinceFrame += m_stats.uploadBytes;

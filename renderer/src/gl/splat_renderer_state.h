@@ -56,12 +56,19 @@ struct AxisBuffers {
 
 // Feature bits of a splat program variant: #defines of renderer/shaders/ (every set: programs.cmake).
 enum SplatVariant { kCounters = 1, kSurface = 2, kSplatShading = 4, kFragmentShading = 8, kHeatmap = 16, kAdaptive = 32,
-                    kOcclusion = 64, kGradientOpacity = 128 };
+                    kOcclusion = 64, kGradientOpacity = 128,
+                    kTf2d = 1 << 16 };   // past the bits of TilePass below: tile programs are keyed by both
 
 // The LUT buffer: kLutSize class entries, then the kGradientBins gradient factors (GRADIENT_OPACITY in
-// splat_footprint.glsl and near_kernels.comp read them at this offset).
-constexpr size_t kLutBufferEntries = size_t(kLutSize) + size_t(kGradientBins);
-static_assert(kLutSize == 4096, "splat_footprint.glsl and near_kernels.comp read the factors at texel 4096");
+// splat_footprint.glsl and near_kernels.comp read them at this offset), then the 2D TF's kTf2dCells
+// (TF_2D, at kTf2dFirstEntry; the tiles' composite reads them through tf2dTexture, a view from there;
+// allocated with the first 2D TF: Gl::lutBufferEntries).
+constexpr size_t kTf2dFirstEntry = size_t(kLutSize) + size_t(kGradientBins);
+constexpr size_t kLutBufferEntries = kTf2dFirstEntry + size_t(kTf2dCells);
+static_assert(kLutSize == 4096 && kTf2dFirstEntry == 4352 && kTf2dGradientBins == 64,
+              "splat_footprint.glsl and near_kernels.comp read the factors at texel 4096, the 2D TF at 4352, "
+              "64 cells a value bin");
+static_assert(kTf2dFirstEntry * 16 % 256 == 0, "a buffer texture's offset: a multiple of its alignment");
 
 // Tiled splatting's vec4s per splat record and per list entry (tile_record.comp, tile_scatter.comp).
 inline int recordVec4s(int bits) { return bits & kFragmentShading ? 4 : 3; }
@@ -112,8 +119,14 @@ struct SplatRenderer::Gl {
     GLuint lutBuffer = 0, counterBuffer = 0, gradientBuffer = 0;
     GLuint patchTexture = 0;   // R8UI, a texel a patch (PatchGrid: columns x rows x slices)
     GLuint lutTexture = 0;   // buffer texture over lutBuffer (the tiles' composite)
+    GLuint tf2dTexture = 0;  // buffer texture over lutBuffer's 2D TF cells (the tiles' composite, TF_2D)
+    // lutBuffer's entries: kTf2dFirstEntry, or kLutBufferEntries from the first 2D TF on (a scene without
+    // one keeps its GPU bytes). createLutBuffer makes it afresh, with its texture views.
+    size_t lutBufferEntries = 0;
+    void createLutBuffer(size_t entries);
     bool hasGradients = false;
     bool gradientOpacity = false;   // the last setLut had gradient factors (drawn with them when hasGradients)
+    bool tf2d = false;              // the last setLut had a 2D TF table (drawn with it when hasGradients)
     uint64_t gradientBytes = 0;   // of gradientBuffer, inside sceneBytes
     std::string sceneName;   // for messages
     glm::ivec3 patchTextureSize{0};

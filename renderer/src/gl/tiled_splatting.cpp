@@ -261,7 +261,8 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
             glUniform1i(glGetUniformLocation(composite, "uRanks"), GLint(ranks));
             Gl::bindTexels(g.tileListTexture, GL_RGBA32F, g.tileList,
                            GLsizeiptr(std::max<GLuint>(counts[1], 1) * texels * 16), 0);
-            glBindTextureUnit(1, g.lutTexture);
+            // The colour by the record's index: a LUT class, or with the 2D TF a cell of its table.
+            glBindTextureUnit(1, g.tf2d && g.hasGradients ? g.tf2dTexture : g.lutTexture);
             // A workgroup per tile with entries (listed by the bases pass); with OCCLUSION it also
             // leaves the opaque-tile map for the next chunk.
             glDispatchComputeIndirect(0);

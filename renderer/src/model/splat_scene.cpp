@@ -226,11 +226,60 @@ std::vector<uint32_t> countClassGradients(const SplatScene& s) {
 }
 } // namespace
 
+Tf2dTable bakeTf2d(const TransferFunction& tf, ValueRange window, double gradientMax) {
+    Tf2dTable table(static_cast<size_t>(kTf2dCells));
+    const double lo = window.lo, span = double(window.hi) - double(window.lo);
+    for (int j = 0; j < kTf2dGradientBins; ++j) {
+        // The middle of the cell's bytes on the byte's square-root axis (binMagnitude's).
+        const double a = ((j << kTf2dByteShift) + 0.5 * ((1 << kTf2dByteShift) - 1)) / 255.0;
+        const double magnitude = gradientMax * a * a;
+        for (int k = 0; k < kTf2dValueBins; ++k)
+            table[size_t(k * kTf2dGradientBins + j)] =
+                glm::vec4(evaluate2d(tf, lo + (k + 0.5) / kTf2dValueBins * span, magnitude));
+    }
+    return table;
+}
+
+std::vector<uint32_t> valueGradientHistogram(const SplatScene& s) {
+    if (s.gradients.size() != s.classes.size() || s.classes.empty()) return {};
+    std::vector<uint32_t> counted;   // counted here only when no TF has needed them yet
+    const std::vector<uint32_t>& perClass =
+        s.classGradientVoxels.empty() ? (counted = countClassGradients(s)) : s.classGradientVoxels;
+    std::vector<uint32_t> cells(size_t(kTf2dCells), 0);
+    for (int c = 0; c < kLutSize; ++c)
+        for (int b = 0; b < kGradientBins; ++b)
+            cells[size_t(tf2dCell(uint16_t(c), b))] += perClass[size_t(c) * kGradientBins + size_t(b)];
+    return cells;
+}
+
+namespace {
+// The 2D TF: the table, then per class its voxels whose cell is visible; a class with none is hidden
+// (LUT opacity 0: culled by bucket), one with some keeps its largest cell opacity.
+void setTf2d(SplatScene& s, const TransferFunction& tf) {
+    s.tf2d = bakeTf2d(tf, s.window, s.gradientMax);
+    if (s.classGradientVoxels.empty()) s.classGradientVoxels = countClassGradients(s);
+    for (int c = 0; c < kLutSize; ++c) {
+        size_t visible = 0;
+        float largest = 0.0f;
+        const uint32_t* counts = &s.classGradientVoxels[size_t(c) * kGradientBins];
+        for (int b = 0; b < kGradientBins; ++b) {
+            const float a = s.tf2d[size_t(tf2dCell(uint16_t(c), b))].a;
+            if (a > 0.0f && counts[b] > 0) visible += counts[b], largest = std::max(largest, a);
+        }
+        s.lut[size_t(c)].a = largest;
+        s.visibleVoxels += visible;
+    }
+}
+} // namespace
+
 void setTransferFunction(SplatScene& s, const TransferFunction& tf) {
     s.tf = tf;
     s.lut = bakeLut(tf, s.window);
     s.gradientFactors.clear();
+    s.tf2d.clear();
     s.visibleVoxels = 0;
+    const bool hasGradients = s.gradients.size() == s.classes.size() && !s.classes.empty();
+    if (!tf.widgets2d.empty() && hasGradients) return setTf2d(s, tf);
     if (tf.gradientOpacity.empty() || s.gradients.size() != s.classes.size() || s.classes.empty()) {
         for (size_t c = 0; c < s.classVoxels.size(); ++c) s.visibleVoxels += s.lut[c].a > 0.0f ? s.classVoxels[c] : 0;
         return;

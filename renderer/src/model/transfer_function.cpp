@@ -87,6 +87,31 @@ double evaluateGradientOpacity(const TransferFunction& tf, double magnitude) {
     return lo.opacity + (hi->opacity - lo.opacity) * w;
 }
 
+double widgetWeight(const Widget2D& w, double value, double magnitude) {
+    if (w.shape == WidgetShape::Rectangle)
+        return value >= w.valueLo && value <= w.valueHi && magnitude >= w.magnitudeLo && magnitude <= w.magnitudeHi
+                   ? 1.0
+                   : 0.0;
+    if (!(magnitude >= 0.0) || !(magnitude <= w.magnitudeTop) || !(w.magnitudeTop > 0.0)) return 0.0;
+    const double half = w.halfWidth * magnitude / w.magnitudeTop;   // the half-width at this magnitude
+    const double off = std::abs(value - w.apex);
+    if (!(half > 0.0)) return off == 0.0 ? 1.0 : 0.0;                // the apex itself
+    return std::max(0.0, 1.0 - off / half);
+}
+
+glm::dvec4 evaluate2d(const TransferFunction& tf, double value, double magnitude) {
+    double opacity = 0.0, weights = 0.0;
+    glm::dvec3 colour(0.0);
+    for (const Widget2D& w : tf.widgets2d) {
+        const double a = widgetWeight(w, value, magnitude) * w.opacity;
+        if (!(a > 0.0)) continue;
+        opacity = std::max(opacity, a);
+        colour += a * w.colour;
+        weights += a;
+    }
+    return glm::dvec4(weights > 0.0 ? colour / weights : glm::dvec3(0.0), opacity);
+}
+
 Lut bakeLut(const TransferFunction& tf, ValueRange window) {
     Lut lut(kLutSize, glm::vec4(0.0f));
     const double lo = window.lo, span = double(window.hi) - double(window.lo);
@@ -116,10 +141,15 @@ TransferFunction inDataUnits(const TransferFunction& tf, ValueRange window) {
 }
 
 TfExtent extentOf(const TransferFunction& tf) {
-    if (tf.colours.empty() && tf.opacities.empty()) return {};
+    if (tf.colours.empty() && tf.opacities.empty() && tf.widgets2d.empty()) return {};
     TfExtent e{INFINITY, -INFINITY};
-    for (const auto& p : tf.colours) e.lo = std::min(e.lo, p.value), e.hi = std::max(e.hi, p.value);
-    for (const auto& p : tf.opacities) e.lo = std::min(e.lo, p.value), e.hi = std::max(e.hi, p.value);
+    const auto add = [&](double v) { e.lo = std::min(e.lo, v), e.hi = std::max(e.hi, v); };
+    for (const auto& p : tf.colours) add(p.value);
+    for (const auto& p : tf.opacities) add(p.value);
+    for (const auto& w : tf.widgets2d) {
+        if (w.shape == WidgetShape::Rectangle) add(w.valueLo), add(w.valueHi);
+        else add(w.apex - w.halfWidth), add(w.apex + w.halfWidth);
+    }
     return e;
 }
 
@@ -127,6 +157,7 @@ TransferFunction shifted(const TransferFunction& tf, double offset) {
     TransferFunction out = tf;
     for (auto& p : out.colours) p.value += offset;
     for (auto& p : out.opacities) p.value += offset;
+    for (auto& w : out.widgets2d) w.valueLo += offset, w.valueHi += offset, w.apex += offset;
     return out;
 }
 
@@ -142,6 +173,10 @@ TransferFunction rescaled(const TransferFunction& tf, double lo, double hi) {
     const auto map = [&](double v) { return v == from.hi ? hi : v == from.lo ? lo : lo + (v - from.lo) * scale; };
     for (auto& p : out.colours) p.value = map(p.value);
     for (auto& p : out.opacities) p.value = map(p.value);
+    for (auto& w : out.widgets2d) {
+        w.valueLo = map(w.valueLo), w.valueHi = map(w.valueHi);
+        w.apex = lo + (w.apex - from.lo) * scale, w.halfWidth *= scale;
+    }
     return out;
 }
 

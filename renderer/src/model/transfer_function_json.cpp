@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace renderer {
 
@@ -81,6 +82,59 @@ void readGradientOpacity(const nlohmann::json& j, const TfReader& in, TransferFu
     }
 }
 
+// A pair [lo, hi] of finite numbers, lo <= hi (and lo >= 0 when `magnitudes`).
+std::pair<double, double> readRange(const nlohmann::json& j, const TfReader& in, const std::string& field,
+                                    const char* key, bool magnitudes) {
+    const std::string name = field + "." + key;
+    if (!j.contains(key)) in.fail(name, "missing");
+    const nlohmann::json& v = j[key];
+    const char* expected = magnitudes ? ", expected [low, high] magnitudes, 0 <= low <= high"
+                                      : ", expected [low, high] values, low <= high";
+    if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number())
+        in.fail(name, v.dump().substr(0, 80) + expected);
+    const double lo = v[0].get<double>(), hi = v[1].get<double>();
+    if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo <= hi) || (magnitudes && lo < 0.0))
+        in.fail(name, v.dump().substr(0, 80) + expected);
+    return {lo, hi};
+}
+
+// Optional, version 2: "widgets2d": [{shape, ..., rgb[3], opacity}], the 2D transfer function (Widget2D):
+// a rectangle gives "value" and "magnitude" ranges, a triangle "apex", "halfWidth" (> 0) and
+// "magnitudeTop" (> 0). Values in data units whatever "units" says; magnitudes per world unit.
+void readWidgets2d(const nlohmann::json& j, const TfReader& in, TransferFunction& tf, long long version) {
+    if (!j.contains("widgets2d")) return;
+    if (version < 2) in.fail("widgets2d", "needs a version 2 file (\"version\": 2)");
+    const nlohmann::json& widgets = j["widgets2d"];
+    if (!widgets.is_array()) in.fail("widgets2d", widgets.dump().substr(0, 80) + ", expected an array of widgets");
+    for (size_t i = 0; i < widgets.size(); ++i) {
+        const std::string field = "widgets2d[" + std::to_string(i) + "]";
+        const nlohmann::json& w = widgets[i];
+        if (!w.is_object()) in.fail(field, w.dump().substr(0, 80) + ", expected an object");
+        Widget2D widget;
+        const nlohmann::json shape = w.contains("shape") ? w["shape"] : nlohmann::json();
+        if (shape == "rectangle") {
+            widget.shape = WidgetShape::Rectangle;
+            std::tie(widget.valueLo, widget.valueHi) = readRange(w, in, field, "value", false);
+            std::tie(widget.magnitudeLo, widget.magnitudeHi) = readRange(w, in, field, "magnitude", true);
+        } else if (shape == "triangle") {
+            widget.shape = WidgetShape::Triangle;
+            widget.apex = in.number(w, field, "apex", false);
+            widget.halfWidth = in.number(w, field, "halfWidth", false);
+            if (!(widget.halfWidth > 0.0))
+                in.fail(field + ".halfWidth", std::to_string(widget.halfWidth) + ", expected a width > 0");
+            widget.magnitudeTop = in.number(w, field, "magnitudeTop", false);
+            if (!(widget.magnitudeTop > 0.0))
+                in.fail(field + ".magnitudeTop", std::to_string(widget.magnitudeTop) + ", expected a magnitude > 0");
+        } else {
+            in.fail(field + ".shape", (shape.is_null() ? std::string("missing") : shape.dump().substr(0, 80)) +
+                                          ", expected \"rectangle\" or \"triangle\"");
+        }
+        widget.colour = in.rgb(w, field, "rgb");
+        widget.opacity = in.number(w, field, "opacity", true);
+        tf.widgets2d.push_back(widget);
+    }
+}
+
 // Version 1: {"points": [{value, colour[3], opacity}]}, values 0..1 of the window.
 void readVersion1(const nlohmann::json& j, const TfReader& in, TransferFunction& tf) {
     tf.windowFractions = true;
@@ -129,6 +183,22 @@ nlohmann::json toJson(const TransferFunction& tf) {
     // Only when set: a TF without it writes the text it always did.
     for (const auto& p : tf.gradientOpacity)
         j["gradientOpacity"].push_back({{"magnitude", p.magnitude}, {"opacity", p.opacity}});
+    for (const auto& w : tf.widgets2d) {
+        nlohmann::json o;
+        if (w.shape == WidgetShape::Rectangle) {
+            o["shape"] = "rectangle";
+            o["value"] = {w.valueLo, w.valueHi};
+            o["magnitude"] = {w.magnitudeLo, w.magnitudeHi};
+        } else {
+            o["shape"] = "triangle";
+            o["apex"] = w.apex;
+            o["halfWidth"] = w.halfWidth;
+            o["magnitudeTop"] = w.magnitudeTop;
+        }
+        o["rgb"] = {w.colour.r, w.colour.g, w.colour.b};
+        o["opacity"] = w.opacity;
+        j["widgets2d"].push_back(o);
+    }
     return j;
 }
 
@@ -155,6 +225,7 @@ TransferFunction transferFunctionFromJson(const nlohmann::json& j, const std::st
     if (version == 1) readVersion1(j, in, tf);
     else readVersion2(j, in, tf);
     readGradientOpacity(j, in, tf);
+    readWidgets2d(j, in, tf, version);
     sortPoints(tf);
     return tf;
 }

@@ -97,9 +97,8 @@ public:
                                                             m_sigma, m_settings.cutoffSigmas, m_kernelPeak);
             if (!along) continue;
             RayKernel& k = *along;
-            const uint16_t cls = m_scene.classes[i];
             k.extinction = voxelExtinction(m_scene, m_settings, i);
-            k.colour = glm::dvec3(m_scene.lut[cls]);
+            k.colour = m_scene.colourOf(i);
             // Shaded: the kernel's colour lit along this very ray (the Phong of shading.h with the
             // voxel's gradient, as both renderers decode it); per-splat shading approximates the ray's
             // direction by the splat centre's, per-fragment by the pixel centre's.
@@ -322,6 +321,11 @@ std::string groundTruthKey(const SplatScene& scene, const ImagePlane& plane, con
     if (!scene.gradientFactors.empty()) {   // gradient opacity (keys without it stand)
         f.value(uint8_t(3));
         f.bytes(scene.gradientFactors.data(), scene.gradientFactors.size() * sizeof(float));
+        f.bytes(scene.gradients.data(), scene.gradients.size() * sizeof(uint32_t));
+    }
+    if (!scene.tf2d.empty()) {   // the 2D TF (keys without it stand)
+        f.value(uint8_t(4));
+        f.bytes(scene.tf2d.data(), scene.tf2d.size() * sizeof(glm::vec4));
         f.bytes(scene.gradients.data(), scene.gradients.size() * sizeof(uint32_t));
     }
     if (settings.shading != SplatSettings::Shading::None) {   // one truth for both shading modes

@@ -109,11 +109,10 @@ NearSums nearLayerSums(const SplatScene& scene, const ImagePlane& plane, const S
     for (uint32_t voxel : kernels.voxels) {
         const auto k = kernelAlongRay(eye, dir, scene.positionOf(voxel), sigma, settings.cutoffSigmas, peak);
         if (!k) continue;
-        const uint16_t cls = scene.classes[voxel];
         const double tau = voxelExtinction(scene, settings, voxel) *
                            integrate(*k, start, std::numeric_limits<double>::infinity());
         (test.front(plane.toCamera(scene.positionOf(voxel))) ? sums.front : sums.back) +=
-            glm::dvec4(glm::dvec3(scene.lut[cls]) * tau, tau);
+            glm::dvec4(scene.colourOf(voxel) * tau, tau);
     }
     return sums;
 }

@@ -187,7 +187,6 @@ static Image renderReferenceOrThrow(const SplatScene& scene, const ImagePlane& p
         auto& c = perThread.local();
         for (size_t k = r.begin(); k != r.end(); ++k) {
             const uint32_t voxel = order[k];
-            const uint16_t cls = scene.classes[voxel];
             if (!(scene.opacityOf(voxel) > 0.0f)) {
                 splats[k].geometry.culled = true;
                 ++c.culledTransparent;
@@ -201,7 +200,7 @@ static Image renderReferenceOrThrow(const SplatScene& scene, const ImagePlane& p
             }
             splats[k].geometry =
                 splatGeometry(scene, plane, settings, voxel, voxelExtinction(scene, settings, voxel), m, &c);
-            splats[k].colour = glm::dvec3(scene.lut[cls]);
+            splats[k].colour = scene.colourOf(voxel);
             splats[k].mode = int(m);
             if (settings.shading != SplatSettings::Shading::None) {
                 splats[k].gradientCamera = plane.viewFromObject * decodeGradient(scene.gradients[voxel]).gradient();

@@ -8,6 +8,7 @@
 #include "renderer/model/window.h"
 #include "ui/file_browser.h"
 #include "ui/gradient_opacity_curve.h"
+#include "ui/tf2d_editor.h"
 #include "ui/regime_tour.h"
 #include "ui/save_notice.h"
 #include "ui/split_view.h"
@@ -78,6 +79,7 @@ struct EditorState {
     bool tfLogOpacity = false;                       // the curve's opacity axis in decades (tf_editor.h)
     bool tfGalleryOpen = false;                      // the panel's Gallery open: the editor draws thumbnails
     GradientCurveEdit tfGradient;                    // the gradient opacity curve's selected point
+    Tf2dEdit tf2d;                                   // the 2D section's selected widget and drag
     TfHistory tfHistory;                             // undo / redo, a step per gesture
     std::optional<renderer::TransferFunction> tfGestureStart;   // the TF before the gesture under way
     std::array<float, 3> background{0.055f, 0.060f, 0.075f}; // linear RGB behind the volume

@@ -64,6 +64,10 @@ struct TransferFunctionView {
     renderer::ValueRange percentile;                // p1..p99
     renderer::ValueRange visible;                   // the values of the voxels drawn now (visibleValueRange)
     GradientCurveView gradients{};                  // the gradient opacity curve's axis and histogram
+    // The 2D section's histogram (valueGradientHistogram) and the values it spans; its axes are `window`
+    // and gradients.maxMagnitude.
+    const std::vector<uint32_t>* histogram2d = nullptr;
+    renderer::ValueRange histogram2dWindow{};
     // False while a volume loads or the scene is re-classified: a TF in window fractions waits for the
     // window it will be shown with before it is fixed in data units.
     bool windowSettled = true;

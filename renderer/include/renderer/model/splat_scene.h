@@ -61,6 +61,25 @@ struct AxisLists {
 // voxel's packed gradient already holds, it costs no memory a voxel and a TF edit bakes 256 floats.
 using GradientFactors = std::vector<float>;
 
+// The 2D transfer function baked for one scene: RGBA per cell of (value, gradient magnitude), cell
+// tf2dCell(class, magnitude byte): kTf2dValueBins over the window (16 consecutive classes each) by
+// kTf2dGradientBins over the magnitude byte (4 consecutive bytes each). 16384 cells, so a cell index fits
+// the 14 bits tiled splatting's records keep for a colour index (tile_record.comp) and a TF edit bakes
+// and uploads 256 KiB. Entry (k, j) is evaluate2d at the middle of its classes' values and of its bytes'
+// magnitudes on the byte's square-root axis.
+constexpr int kTf2dValueBins = 256;
+constexpr int kTf2dGradientBins = 64;
+constexpr int kTf2dCells = kTf2dValueBins * kTf2dGradientBins;
+constexpr int kTf2dClassShift = 4;      // kLutSize / kTf2dValueBins == 1 << 4
+constexpr int kTf2dByteShift = 2;       // kGradientBins / kTf2dGradientBins == 1 << 2
+static_assert(kLutSize >> kTf2dClassShift == kTf2dValueBins && kGradientBins >> kTf2dByteShift == kTf2dGradientBins);
+inline int tf2dCell(uint16_t cls, int magnitudeByte) {
+    return (cls >> kTf2dClassShift) * kTf2dGradientBins + (magnitudeByte >> kTf2dByteShift);
+}
+using Tf2dTable = std::vector<glm::vec4>;
+// The table of tf's widgets over `window` and magnitudes up to gradientMax (kTf2dCells entries).
+Tf2dTable bakeTf2d(const TransferFunction& tf, ValueRange window, double gradientMax);
+
 struct SplatScene {
     std::string name;                    // the volume's name, for messages
     glm::ivec3 dims{0};
@@ -88,13 +107,24 @@ struct SplatScene {
     // opacity (4 MiB): a class none of whose voxels gets a factor above 0 is then hidden (its LUT
     // opacity 0, culled by bucket), and visibleVoxels stays exact.
     std::vector<uint32_t> classGradientVoxels;
+    // The 2D TF (bakeTf2d): empty unless the TF has widgets and the scene gradients, as gradientFactors.
+    // When set it gives each voxel's colour and opacity; the LUT's opacity then only says whether any
+    // voxel of the class is visible (its largest cell opacity), for the culling by bucket.
+    Tf2dTable tf2d;
 
     size_t visibleCount() const { return visibleVoxels; }
-    // A voxel's opacity: its class's LUT opacity times its gradient factor, in float as the GL computes it
-    // (splat_footprint.glsl). The oracle, the near layer and the truth all read it; 0 culls the voxel.
+    // A voxel's opacity: its 2D TF cell's, or its class's LUT opacity times its gradient factor, in float
+    // as the GL computes it (splat_footprint.glsl). The oracle, the near layer and the truth all read it;
+    // 0 culls the voxel.
     float opacityOf(uint32_t voxel) const {
+        if (!tf2d.empty()) return tf2d[size_t(tf2dCell(classes[voxel], magnitudeBin(gradients[voxel])))].a;
         const float a = lut[classes[voxel]].a;
         return gradientFactors.empty() ? a : a * gradientFactors[size_t(magnitudeBin(gradients[voxel]))];
+    }
+    // A voxel's unshaded colour: its 2D TF cell's, or its class's LUT colour.
+    glm::dvec3 colourOf(uint32_t voxel) const {
+        if (!tf2d.empty()) return glm::dvec3(tf2d[size_t(tf2dCell(classes[voxel], magnitudeBin(gradients[voxel])))]);
+        return glm::dvec3(lut[classes[voxel]]);
     }
     glm::dvec3 positionOf(uint32_t index) const;
     // Linear voxel index of in-slice position `pos` of `slice` along `axis`.
@@ -109,14 +139,17 @@ SplatScene buildSplatScene(const Volume& volume, const TransferFunction& tf, Val
 void addGradients(SplatScene& scene, const GradientField& field);
 // Packed already (the editor's worker); none (no texels) leaves the scene without gradients.
 void addGradients(SplatScene& scene, PackedGradients packed);
-// A TF edit: re-bakes the LUT and the gradient factors and recounts visible voxels; the lists stay.
+// A TF edit: re-bakes the LUT, the gradient factors or the 2D table and recounts visible voxels; the lists stay.
 void setTransferFunction(SplatScene& scene, const TransferFunction& tf);
 // What a TF edit changes and a renderer uploads (SplatRenderer::setLut).
 struct TfTables {
     Lut lut;
     GradientFactors gradientFactors;
+    Tf2dTable tf2d;
 };
-inline TfTables tfTables(const SplatScene& scene) { return {scene.lut, scene.gradientFactors}; }
+inline TfTables tfTables(const SplatScene& scene) { return {scene.lut, scene.gradientFactors, scene.tf2d}; }
+// Voxels per 2D TF cell (kTf2dCells, tf2dCell's order): the 2D section's histogram. Empty without gradients.
+std::vector<uint32_t> valueGradientHistogram(const SplatScene& scene);
 // The data values of the voxels the LUT draws (opacity > 0): from the lowest such class's lower edge to
 // the highest's upper edge, over the scene's window. {0, 0} when none is drawn.
 ValueRange visibleValueRange(const SplatScene& scene);

@@ -35,6 +35,23 @@ struct GradientOpacityPoint {
     bool operator==(const GradientOpacityPoint&) const = default;
 };
 
+// A widget of the 2D transfer function (value x gradient magnitude; Kniss et al. 2001): a shape in that
+// plane with a weight in [0,1] at each point, and the colour and opacity it gives there (evaluate2d).
+enum class WidgetShape { Rectangle, Triangle };
+struct Widget2D {
+    WidgetShape shape = WidgetShape::Rectangle;
+    // Rectangle: weight 1 on value [valueLo, valueHi] x magnitude [magnitudeLo, magnitudeHi], edges
+    // included, 0 outside. Triangle (the boundary widget): apex at (apex, magnitude 0), widening with
+    // magnitude to half-width halfWidth at magnitudeTop; weight 1 on its centre line (value = apex),
+    // falling linearly to 0 at its sides, 0 above magnitudeTop. Values in data units (always: a TF in
+    // window fractions keeps its widgets in data units), magnitudes in data units per world unit.
+    double valueLo = 0.0, valueHi = 0.0, magnitudeLo = 0.0, magnitudeHi = 0.0;   // rectangle
+    double apex = 0.0, halfWidth = 0.0, magnitudeTop = 0.0;                      // triangle
+    glm::dvec3 colour{1.0};    // linear RGB in [0,1]
+    double opacity = 1.0;      // in [0,1], as OpacityPoint::opacity, at weight 1
+    bool operator==(const Widget2D&) const = default;
+};
+
 struct TransferFunction {
     std::string name;
     std::vector<ColourPoint> colours;      // sorted by value; piecewise linear between them
@@ -47,6 +64,10 @@ struct TransferFunction {
     // meets (0 = window.lo). inDataUnits() fixes them over one window; the editor does so when it takes
     // the TF, so a later window change no longer moves it.
     bool windowFractions = false;
+    // The 2D transfer function: with any widget, each voxel's colour and opacity come from its value and
+    // gradient magnitude (evaluate2d) instead of the curves and the gradient opacity above, which stay
+    // (and decide again once the last widget is removed). Applies once the scene has gradients.
+    std::vector<Widget2D> widgets2d;
     bool operator==(const TransferFunction&) const = default;
 };
 
@@ -68,6 +89,13 @@ using Lut = std::vector<glm::vec4>;     // kLutSize entries: rgb colour, a = opa
 glm::dvec4 evaluate(const TransferFunction& tf, double value);
 // The gradient opacity factor at `magnitude` (data units per world unit): 1 without gradient points.
 double evaluateGradientOpacity(const TransferFunction& tf, double magnitude);
+// A widget's weight at (value, magnitude), in [0,1] (Widget2D).
+double widgetWeight(const Widget2D& w, double value, double magnitude);
+// The 2D TF at (value data units, magnitude): opacity the largest weight x opacity of the widgets, colour
+// the mean of their colours weighted by weight x opacity (black where none reaches). The largest, not a
+// sum: overlapping widgets do not add up to more than either asks, and the order does not matter.
+glm::dvec4 evaluate2d(const TransferFunction& tf, double value, double magnitude);
+
 // The LUT spans `window`, the scene's classification range (classOf): entry i is the TF at the data
 // value in the middle of class i. Why the window and not the TF's extent: a voxel's class then does not
 // depend on the TF, so a TF edit re-bakes these 4096 entries and nothing else (the editor's drag stays
@@ -84,15 +112,15 @@ uint16_t classOf(float value, float lo, float hi);
 // The TF with window fractions turned into data units over `window` (unchanged if already in data units
 // or the window is empty). Fraction 0 gives window.lo and 1 window.hi exactly.
 TransferFunction inDataUnits(const TransferFunction& tf, ValueRange window);
-// The lowest and highest position of any colour or opacity point ({0, 0} with none).
+// The lowest and highest position of any colour or opacity point or widget value ({0, 0} with none).
 struct TfExtent {
     double lo = 0.0, hi = 0.0;
 };
 TfExtent extentOf(const TransferFunction& tf);
-// Every point moved by `offset` (the TF's units).
+// Every point and widget moved by `offset` along the value axis (the TF's units).
 TransferFunction shifted(const TransferFunction& tf, double offset);
 // The TF's extent mapped linearly onto [lo, hi] (lo < hi): its first point lands on lo, its last on hi,
-// the rest in proportion. A TF whose points all sit at one value is moved to the middle of [lo, hi].
+// the rest (widgets' values and widths too) in proportion. A TF whose points all sit at one value is moved to the middle of [lo, hi].
 // Throws RenderError for a non-finite or empty target.
 TransferFunction rescaled(const TransferFunction& tf, double lo, double hi);
 
