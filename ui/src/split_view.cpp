@@ -2,6 +2,7 @@
 #include "ui/split_view.h"
 
 #include "renderer/errors.h"
+#include "renderer/model/enum_names.h"
 #include "renderer/math/metrics.h"
 
 #include <algorithm>
@@ -22,9 +23,8 @@ const char* splitDifferenceName(SplitDifference d) {
 }
 
 SplitDifference splitDifferenceFromName(const std::string& name) {
-    for (SplitDifference d : {SplitDifference::Off, SplitDifference::AgainstB, SplitDifference::AgainstTruth})
-        if (name == splitDifferenceName(d)) return d;
-    throw renderer::RenderError("unknown difference '" + name + "' (known: off, b, truth)");
+    return renderer::enumFromName(name, {SplitDifference::Off, SplitDifference::AgainstB, SplitDifference::AgainstTruth},
+                                  &splitDifferenceName, "difference");
 }
 
 SplitLayout splitLayout(int width, int height, int imagePanes, bool difference) {
