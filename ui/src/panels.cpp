@@ -596,7 +596,9 @@ bool drawWindowSection(EditorState& state, const WindowView& view) {
     // 2. Histogram: one bar per bin (log or linear counts), the window shaded, hover for the values.
     ImGui::Checkbox("Log scale", &state.histogramLog);
     const renderer::Histogram& h = *view.histogram;
-    const ImVec2 size(std::max(ImGui::GetContentRegionAvail().x, 32.0f), ImGui::GetFontSize() * 6.0f);
+    // Four lines tall: at 1280 x 800 the TF column then fits without a scrollbar even with a save notice
+    // and the 2D TF header, so the curve keeps its width (a scrollbar would move every point sideways).
+    const ImVec2 size(std::max(ImGui::GetContentRegionAvail().x, 32.0f), ImGui::GetFontSize() * 4.0f);
     ImGui::InvisibleButton("##histogram", size);
     const ImVec2 p0 = ImGui::GetItemRectMin(), p1 = ImGui::GetItemRectMax();
     ImDrawList* draw = ImGui::GetWindowDrawList();
