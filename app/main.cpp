@@ -420,7 +420,10 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
                 passes += (passes.empty() ? "" : ", ") + std::string(gpuPassName(GpuPass(i))) + " " + formatMs(passMs);
         std::printf("  GPU %s ms in the last frame: %s\n", formatMs(gl.stats().gpuMs).c_str(),
                     passes.empty() ? "no pass ran" : passes.c_str());
+        const int readBacks = gl.stats().readBacks;
         image = gl.readback();
+        std::printf("  %d buffer read-back%s inside the last frame%s\n", readBacks, readBacks == 1 ? "" : "s",
+                    gl.stats().redone ? "; its lists, sized from the frames before, were too short: drawn again" : "");
         if (s.settings.heatmap) heatmap = gl.readbackHeatmap();
         if (ra.counters) {   // one more frame with the GPU's counters on (they wait for the frame)
             SplatSettings counted = s.settings;

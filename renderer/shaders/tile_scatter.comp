@@ -15,6 +15,7 @@ layout(std430, binding = 10) writeonly buffer Entries { vec4 entries[]; };
 uniform ivec2 uTiles;
 uniform int uRanks;
 uniform vec2 uViewport;
+uniform uint uListCapacity;   // entries the lists' buffer holds
 void scatter(uint i) {
     int r = int(RECORD_VEC4S * i);
     vec4 box = texelFetch(splatTexels, r), conic = texelFetch(splatTexels, r + 1);
@@ -37,7 +38,10 @@ void scatter(uint i) {
 #ifdef OCCLUSION   // as the count pass
             if (tileOpaque(t)) continue;
 #endif
-            uint e = ENTRY_TEXELS * (texelFetch(stateTexels, 4 + t).r + atomicAdd(bins[t * uRanks + rank], 1u));
+            uint slot = texelFetch(stateTexels, 4 + t).r + atomicAdd(bins[t * uRanks + rank], 1u);
+            // Only a GPU's lists, sized from earlier frames, can be too short; that frame is drawn again.
+            if (slot >= uListCapacity) continue;
+            uint e = ENTRY_TEXELS * slot;
             entries[e] = vec4(box.xy, conic.xy);
             entries[e + 1u].xyz = vec3(conic.zw, bits);
 #ifdef SPLAT_SHADING

@@ -128,6 +128,7 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
         state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     const int pointSlices = r.stats().pointSlices, quadSlices = r.stats().quadSlices;
+    const int readBacks = r.stats().readBacks;   // the last timed frame's waits inside it
     r.collectTimers();   // the last timed frame's GPU time per pass (finished by its glFinish)
     for (int i = 0; i < kGpuPasses; ++i)
         if (const double ms = r.stats().passMs[size_t(i)]; ms > 0.0) {
@@ -144,6 +145,7 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
     state.counters["recon"] = double(c.drawnPerMode[0]);
     state.counters["lowpass"] = double(c.drawnPerMode[1]);
     state.counters["ewa"] = double(c.drawnPerMode[2]);
+    state.counters["read_backs"] = readBacks;
     state.counters["point_slices"] = pointSlices;   // rasterised: slices drawn as points, as quads
     state.counters["quad_slices"] = quadSlices;
     state.counters["bytes_per_voxel"] = double(r.sceneBytes()) / double(scene.classes.size());
@@ -343,6 +345,18 @@ int main(int argc, char** argv) {
                                          [=](SplatRenderer& r) { r.setCompositePerPixel(perPixel); });
                         });
                 }
+        // Tiled frames that read nothing back while they run (deferred: the lists sized from the frames
+        // before) against reading each part's list sizes (checked); the driver picks one.
+        for (auto comp : {Compositing::SheetFrontToBack, Compositing::SheetBackToFront, Compositing::XRay})
+            for (bool deferred : {true, false}) {
+                SplatSettings v = driverDefaults();
+                v.compositing = comp;
+                v.primitive = SplatSettings::Primitive::Tiles;
+                add(n + "/ewa/" + compositingName(comp) + "/lists-" + (deferred ? "deferred" : "checked"),
+                    [=](benchmark::State& st) {
+                        renderFrames(st, d, v, Camera{}, false, [=](SplatRenderer& r) { r.setDeferredListChecks(deferred); });
+                    });
+            }
         // What each culling step and the primitive choice gain, full EWA.
         SplatSettings s = driverDefaults();
         s.primitive = SplatSettings::Primitive::Quads;

@@ -30,7 +30,7 @@ SplatSettings tiled(Compositing mode) {
 
 // The frame `r` just rendered with `s` (heatmap and counters on) against the CPU oracle's: image,
 // heatmap and counters.
-void expectFrameMatchesCpu(const SplatRenderer& r, const SplatScene& scene, const ImagePlane& plane,
+void expectFrameMatchesCpu(SplatRenderer& r, const SplatScene& scene, const ImagePlane& plane,
                            const SplatSettings& s, const std::string& name) {
     SplatCounters cpuCounters;
     Image cpuHeat;
@@ -271,14 +271,18 @@ TEST_F(GlTest, TiledSplattingKeepsEveryEntryOfCrowdedTilesWithinTheDriversLoopLi
             for (auto primitive : {SplatSettings::Primitive::Tiles, SplatSettings::Primitive::Auto}) {
                 SplatSettings s = tiled(mode);
                 s.primitive = primitive;
+                // llvmpipe's profile refuses in render(); a GPU's, which reads nothing back inside a
+                // frame, where the image is first used (the frame drawn again the checked way).
+                Image image;
                 try {
                     r.render(plane, s);
+                    image = r.readback();
                 } catch (const RenderError& e) {
                     EXPECT_EQ(primitive, SplatSettings::Primitive::Tiles) << e.what();
                     EXPECT_NE(std::string(e.what()).find("loop iterations"), std::string::npos) << e.what();
                     continue;
                 }
-                EXPECT_IMAGES_CLOSE(r.readback(), cpu, kGlVsCpu, name);
+                EXPECT_IMAGES_CLOSE(image, cpu, kGlVsCpu, name);
             }
         }
     }

@@ -25,6 +25,7 @@ TEST(DriverProfile, LlvmpipeCullsHiddenSplatsAndTakesNarrowRunsShortChunksAndACo
     EXPECT_EQ(p.runLanes, 8);
     EXPECT_EQ(p.listChunkSlices, 16u);
     EXPECT_FALSE(p.compositePerPixel);
+    EXPECT_FALSE(p.deferredListChecks) << "llvmpipe sizes each part's lists from a read-back";
 }
 
 TEST(DriverProfile, AGpuKeepsHiddenSplatsAndTakesFullWarpsAndLongChunks) {
@@ -37,6 +38,7 @@ TEST(DriverProfile, AGpuKeepsHiddenSplatsAndTakesFullWarpsAndLongChunks) {
         EXPECT_EQ(p.runLanes, 64) << name;
         EXPECT_EQ(p.listChunkSlices, 64u) << name;
         EXPECT_FALSE(p.compositePerPixel) << name << ": the pixel layout awaits a GPU's measurement";
+        EXPECT_TRUE(p.deferredListChecks) << name << ": a GPU reads nothing back inside a frame";
     }
     // A name that merely mentions llvmpipe later is not Mesa's software rasteriser.
     EXPECT_FALSE(driverProfile("NVIDIA (not llvmpipe)").software);

@@ -10,7 +10,8 @@ DriverProfile driverProfile(std::string_view glRenderer) {
     if (const char* forced = std::getenv("SPLATLAB_DRIVER_PROFILE"); forced && *forced)
         software = std::string(forced) == "llvmpipe";
     if (!software) return DriverProfile{};
-    return DriverProfile{.software = true, .runLanes = 8, .listChunkSlices = 16, .occlusionCulling = true};
+    return DriverProfile{.software = true, .runLanes = 8, .listChunkSlices = 16, .occlusionCulling = true,
+                         .deferredListChecks = false};
 }
 
 } // namespace renderer

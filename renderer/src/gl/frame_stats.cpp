@@ -54,7 +54,7 @@ void SplatRenderer::Gl::readCounters(FrameStats& stats) {
     glGetQueryObjectui64v(fragmentQuery, GL_QUERY_RESULT, &fragments);
     stats.fragments = fragments;
     std::array<GLuint, kCounterSlots> c{};
-    glGetNamedBufferSubData(counterBuffer, 0, sizeof(c), c.data());
+    readBuffer(counterBuffer, 0, sizeof(c), c.data());
     SplatCounters& out = stats.counters;
     out = {};
     out.visible = c[kVisible];

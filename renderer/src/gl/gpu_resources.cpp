@@ -45,6 +45,11 @@ SplatRenderer::Gl::~Gl() {
     const GLuint tileBuffers[] = {tileSplats, tileBins, tileState, tileList,
                                   tileBusy, chunkStartMap, savedCounters};
     glDeleteBuffers(7, tileBuffers);
+    for (StatusSlot& slot : statusSlots) {
+        glDeleteBuffers(1, &slot.buffer);
+        if (slot.fence) glDeleteSync(slot.fence);
+    }
+    glDeleteBuffers(1, &scatterArgs);
     glDeleteTextures(1, &tileListTexture);
     glDeleteTextures(1, &tileSplatTexture);
     glDeleteTextures(1, &opaqueTexture);

@@ -8,7 +8,7 @@ namespace renderer {
 bool SplatRenderer::Gl::anyTileOpaque() {
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     GLuint flag = 0;
-    glGetNamedBufferSubData(opaqueTiles, GLintptr(size_t(tiles.x) * size_t(tiles.y) * 4), 4, &flag);
+    readBuffer(opaqueTiles, GLintptr(size_t(tiles.x) * size_t(tiles.y) * 4), 4, &flag);
     return flag != 0;
 }
 

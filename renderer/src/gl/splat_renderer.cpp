@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <exception>
+#include <utility>
 
 namespace renderer {
 
@@ -51,6 +52,7 @@ void SplatRenderer::render(const ImagePlane& plane, const SplatSettings& setting
         ~FrameScope() { g.framePx = glm::ivec2(0); }
     } scope{*m_gl};
     m_gl->framePx = glm::ivec2(plane.width, plane.height);
+    m_gl->lastRequest.emplace(plane, settings);
     std::string refused;
     try {
         refused = drawFrame(plane, settings, false);
@@ -71,6 +73,11 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     //    primitive (frame_plan.cpp). Throws on what it cannot draw, before anything is issued.
     FramePlan f = g.planFrame(plane, settings, rasterise);
     g.interrupted = false;
+    // What finished deferred frames left (no wait); the frame before is superseded by this one.
+    g.pollStatus();
+    g.statusLatest = -1;
+    g.readBacks = 0;
+    m_stats.redone = false;
     // 2. Start the timers and the fragment query. What throws below is held until they end: a query left
     //    active would break the next frame (NVIDIA keeps a deleted active query running).
     collectTimers();
@@ -117,6 +124,8 @@ std::string SplatRenderer::drawFrame(const ImagePlane& plane, const SplatSetting
     g.uploadedSinceFrame = 0;
     m_stats.hasCounters = settings.counters;
     if (settings.counters) g.readCounters(m_stats);   // for tests, benchmarks and the stats panel's opt-in
+    m_stats.readBacks = g.readBacks;
+    if (settings.counters) settleFrame();   // the counters waited for the frame: its figures too
     m_stats.firstUsePrograms = g.firstUses;
     m_stats.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
     return {};
@@ -159,15 +168,40 @@ Image readTexture(GLuint texture, int w, int h, const char* what, const std::str
 
 } // namespace
 
-Image SplatRenderer::readback() const {
+void SplatRenderer::settleFrame() {
+    Gl& g = *m_gl;
+    if (g.statusLatest < 0) return;
+    Gl::StatusSlot& slot = g.statusSlots[size_t(g.statusLatest)];
+    g.statusLatest = -1;
+    if (!g.takeStatus(slot, &m_stats) || !g.lastRequest) return;
+    // Its lists were too short (or a run was cut short): the same frame again, the checked way, once,
+    // to the end (an interrupt would leave no image at all).
+    struct Restore {
+        Gl& g;
+        std::function<bool()> interrupt;
+        ~Restore() {
+            g.checkedFrame = false;
+            g.interrupt = std::move(interrupt);
+        }
+    } restore{g, std::exchange(g.interrupt, {})};
+    g.checkedFrame = true;
+    const auto [plane, settings] = *g.lastRequest;
+    render(plane, settings);
+    m_stats.redone = true;
+}
+
+Image SplatRenderer::readback() {
+    settleFrame();
     return readTexture(m_gl->image, m_gl->width, m_gl->height, "read-back image", m_gl->sceneName);
 }
 
-Image SplatRenderer::readbackHeatmap() const {
+Image SplatRenderer::readbackHeatmap() {
+    settleFrame();
     return readTexture(m_gl->heat, m_gl->width, m_gl->height, "read-back heatmap", m_gl->sceneName);
 }
 
 unsigned SplatRenderer::displayTexture(const float background[3], bool heatmap) {
+    settleFrame();
     Gl& g = *m_gl;
     if (!g.image) return 0;
     glBindFramebuffer(GL_FRAMEBUFFER, g.displayFbo);
@@ -194,6 +228,7 @@ void SplatRenderer::setMemoryLimit(uint64_t bytes) { m_gl->memoryLimit = bytes; 
 void SplatRenderer::setTexelBufferLimit(uint64_t texels) { m_gl->texelLimit = texels; }
 void SplatRenderer::setListChunkSlices(uint32_t slices) { m_gl->listChunkSlicesSet = slices; }
 void SplatRenderer::setCompositePerPixel(bool perPixel) { m_gl->driver.compositePerPixel = perPixel; }
+void SplatRenderer::setDeferredListChecks(bool deferred) { m_gl->driver.deferredListChecks = deferred; }
 void SplatRenderer::setInterrupt(std::function<bool()> interrupted) { m_gl->interrupt = std::move(interrupted); }
 
 } // namespace renderer

@@ -74,6 +74,9 @@ static_assert(kTf2dFirstEntry * 16 % 256 == 0, "a buffer texture's offset: a mul
 inline int recordVec4s(int bits) { return bits & kFragmentShading ? 4 : 3; }
 inline int entryTexels(int bits) { return bits & (kSplatShading | kFragmentShading) ? 3 : 2; }
 
+// The most workgroups the record pass deals one run to when llvmpipe's loop limit cuts a run short.
+constexpr GLuint kMaxRunSegments = 4096;
+
 // How a slice is drawn rasterised; kNothing: no active bucket.
 enum SliceDraw : uint8_t { kNothing, kPoints, kQuads };
 
@@ -164,6 +167,31 @@ struct SplatRenderer::Gl {
     // and the counters before a part that did not fit (it goes again smaller).
     GLuint chunkStartMap = 0, savedCounters = 0;
     size_t chunkStartMapBytes = 0, savedCounterBytes = 0;
+    // The GPU profile's tiled frames read nothing back while they run (DriverProfile::deferredListChecks,
+    // frame_status.cpp): the lists hold listCapacity entries, from earlier frames' high-water mark, and
+    // the record pass deals runs to recordSegments workgroups; each frame leaves its figures in one of two
+    // status buffers, read once its fence says it has finished. The scatter dispatches itself
+    // (scatterArgs, written by tile_bases.comp).
+    struct StatusSlot {
+        GLuint buffer = 0;
+        GLsync fence = nullptr;
+        bool pending = false;      // a deferred frame's figures not read yet
+        uint64_t capacity = 0;     // the list entries that frame had room for
+        GLuint segments = 1;       // the workgroups it dealt each run to
+    };
+    std::array<StatusSlot, 2> statusSlots;
+    int statusNext = 0, statusLatest = -1;   // the slot the next frame takes; the last deferred frame's
+    GLuint scatterArgs = 0;
+    uint64_t listCapacity = 0;   // 0: no frame measured yet
+    GLuint recordSegments = 1;
+    bool checkedFrame = false;   // draw the next frame the checked way (a deferred frame redone)
+    std::optional<std::pair<ImagePlane, SplatSettings>> lastRequest;   // render()'s, to draw it again
+    int readBacks = 0;           // buffer reads issued by the frame being drawn (FrameStats::readBacks)
+    // Every read of a buffer inside a frame goes through here, so the GPU profile's count can be tested.
+    void readBuffer(GLuint buffer, GLintptr offset, GLsizeiptr bytes, void* data) {
+        ++readBacks;
+        glGetNamedBufferSubData(buffer, offset, bytes, data);
+    }
     glm::ivec2 tiles{0};
     int width = 0, height = 0;
     // Per ring slot, a timed frame's laps: GL_TIMESTAMP queries where it starts, where each pass starts
@@ -278,6 +306,15 @@ struct SplatRenderer::Gl {
     void drawNearLayer(const FramePlan& f);
     // The last frame's near-layer counts (SplatCounters::nearLayer, droppedNear); waits for the frame.
     void readNearCounters(SplatCounters& out) const;
+    //    frame_status.cpp: the status slot a deferred tiled frame writes (cleared, bound), and, after
+    //    its passes, its fence. What finished frames left is read without waiting (pollStatus), or,
+    //    for the frame being consumed, waiting (takeStatus): true when its image is wrong (lists too
+    //    short, a run cut short, a tile over the loop limit), and capacity and segments grow for the
+    //    next frames either way.
+    StatusSlot& beginStatus();
+    void endStatus(StatusSlot& slot, uint64_t capacity, GLuint segments, bool deferred);
+    void pollStatus();
+    bool takeStatus(StatusSlot& slot, FrameStats* stats);
     // 5. frame_stats.cpp: ends the frame's timers and fragment query.
     void endTiming(const FramePlan& f);
     // 6. frame_stats.cpp: waits for the frame and reads the counters into stats.counters and .fragments.

@@ -18,8 +18,6 @@ constexpr uint64_t kTileListBudgetTexels = uint64_t(1) << 24;
 // 65535, Gl::loopLimit), the composite's loops beyond the busiest tile's entries and the ranks' stay
 // under this; a chunk whose busiest tile needs more goes in parts.
 constexpr uint64_t kCompositeLoopSlack = 64;
-// The most workgroups the record pass deals one run to when that limit cuts a run short.
-constexpr GLuint kMaxRunSegments = 4096;
 
 // Whether the tile composite may take the Gaussian down a column by recurrence (COLUMN_RECURRENCE): every
 // footprint holds the 1-px low-pass (its conic's entries are at most 1) and the cutoff is at most 3 sigmas.
@@ -71,7 +69,14 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
         chunkSplats = std::max(chunkSplats, window);
     }
     bool anyOpaque = false;   // occlusion: whether the map has an opaque tile yet
-    GLuint segments = 1;      // workgroups a run is dealt to in the record pass (more where a loop limit cut one)
+    // A GPU reads nothing back inside the frame (DriverProfile::deferredListChecks): no part is checked
+    // and none goes again; the lists take the capacity earlier frames measured, and the frame's figures
+    // are read once it has finished (frame_status.cpp). A frame whose chunks may submit more records than
+    // one buffer texture shows the scatter goes the checked way, in parts, from the start.
+    const bool recordsFit = chunkSplats * uint64_t(recordVec4s(variant)) <= std::min(g.texelCap(), kTileListBudgetTexels);
+    const bool deferred = g.driver.deferredListChecks && !g.checkedFrame && recordsFit;
+    // Workgroups a run is dealt to in the record pass (more where a loop limit cut one).
+    GLuint segments = deferred ? g.recordSegments : 1;
     const uint32_t partSlices = earlyTermination ? uint32_t(refresh) : 1;
     auto advance = [&](uint32_t& k0) {
         k0 += chunk;
@@ -85,6 +90,15 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
     Gl::bindTexels(g.tileSplatTexture, GL_RGBA32F, g.tileSplats,
                    GLsizeiptr(std::min<uint64_t>(g.tileSplatBytes / 16, g.texelCap()) * 16), 6);
     Gl::bindTexels(g.tileStateTexture, GL_R32UI, g.tileState, GLsizeiptr(g.tileStateBytes), 5);
+    StatusSlot& status = g.beginStatus();
+    // Deferred: the lists' room in entries, from the most a part took in earlier frames (first: four tiles
+    // a splat), within what one buffer texture holds.
+    uint64_t capacity = 0;
+    if (deferred) {
+        const uint64_t first = std::min<uint64_t>(4 * std::max<uint64_t>(chunkSplats, 1), kTileListBudgetTexels / texels);
+        capacity = std::clamp<uint64_t>(g.listCapacity ? g.listCapacity : first, 1, g.texelCap() / texels);
+        Gl::ensureBuffer(g.tileList, g.tileListBytes, capacity * texels * 16, "tile lists");
+    }
     // 2. The passes' programs, their uniforms for this frame, and the bindings every part shares.
     const GLuint offsets = g.tileProgram(Gl::kTileOffsets, 0);
     const GLuint bases = g.tileProgram(Gl::kTileBases, 0);
@@ -105,6 +119,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
     glUniform1i(glGetUniformLocation(offsets, "uTileCount"), tileCount);
     g.useProgram(bases);
     glUniform1i(glGetUniformLocation(bases, "uTileCount"), tileCount);
+    glUniform1i(glGetUniformLocation(bases, "uBatches"), g.driver.compositePerPixel);
     g.useProgram(scatter);
     glUniform2i(glGetUniformLocation(scatter, "uTiles"), grid.x, grid.y);
     glUniform2f(glGetUniformLocation(scatter, "uViewport"), float(plane.width), float(plane.height));
@@ -151,7 +166,7 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
                 continue;
             }
             const GLuint cullMap = split && occlusion ? g.chunkStartMap : g.opaqueTiles;
-            if (settings.counters) {   // a part that does not fit goes again: it must not count twice
+            if (settings.counters && !deferred) {   // a part that does not fit goes again: it must not count twice
                 Gl::ensureBuffer(g.savedCounters, g.savedCounterBytes, kCounterSlots * 4, "saved counters");
                 glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
                 glCopyNamedBufferSubData(g.counterBuffer, g.savedCounters, 0, 0, kCounterSlots * 4);
@@ -181,15 +196,21 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
             glDispatchCompute(GLuint((tileCount + 63) / 64), 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             g.useProgram(bases);
+            // The composite's loops: the busiest tile's entries and each rank (twice); a pixel per
+            // invocation also loops over the batches of 64 entries (at most one more a rank).
+            const uint64_t loopExtra = (g.driver.compositePerPixel ? 3 : 2) * uint64_t(ranks) + kCompositeLoopSlack;
+            glUniform1ui(glGetUniformLocation(bases, "uLoopExtra"), GLuint(loopExtra));
             glDispatchCompute(1, 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
                             GL_TEXTURE_FETCH_BARRIER_BIT);
             // 3c. Read back what the part needs; a run cut short, lists too long or a tile too busy: again,
-            //     dealt wider or in fewer slices (or refused where one slice is too much).
+            //     dealt wider or in fewer slices (or refused where one slice is too much). Deferred: none
+            //     of that; the lists hold `capacity` entries.
             // Splats, entries (they size the lists' buffer), the busiest tile's entries and whether a
             // record invocation was cut short: the one wait of a part (a few bytes).
             GLuint counts[4] = {0, 0, 0, 0};
-            glGetNamedBufferSubData(g.tileState, 0, sizeof(counts), counts);
+            if (deferred) counts[1] = GLuint(capacity);
+            else g.readBuffer(g.tileState, 0, sizeof(counts), counts);
             if (counts[3]) {   // llvmpipe's loop limit stopped a run part way: deal the runs wider
                 if (settings.counters)
                     glCopyNamedBufferSubData(g.savedCounters, g.counterBuffer, 0, 0, kCounterSlots * 4);
@@ -205,12 +226,9 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
             // Texels of the lists, or of the records where they take more.
             const uint64_t needed = std::max(uint64_t(counts[1]) * texels, uint64_t(counts[0]) * recordVec4s(variant));
             const uint64_t limit = std::min(g.texelCap(), kTileListBudgetTexels);
-            // The composite's loops: the busiest tile's entries and each rank (twice); a pixel per
-            // invocation also loops over the batches of 64 entries (at most one more a rank).
-            const uint64_t batches = g.driver.compositePerPixel ? uint64_t(counts[2]) / 64 + ranks : 0;
-            const uint64_t loops = uint64_t(counts[2]) + batches + 2 * uint64_t(ranks) + kCompositeLoopSlack;
-            const bool overTexels = needed > (ranks > partSlices ? limit : g.texelCap());
-            const bool overLoops = g.loopLimit && loops > g.loopLimit;
+            const uint64_t loops = uint64_t(counts[2]) + (g.driver.compositePerPixel ? counts[2] / 64 : 0) + loopExtra;
+            const bool overTexels = !deferred && needed > (ranks > partSlices ? limit : g.texelCap());
+            const bool overLoops = !deferred && g.loopLimit && loops > g.loopLimit;
             if (overTexels || overLoops) {
                 const std::string slicesPut =
                     ranks == 1 ? std::string("one slice's ") : std::to_string(ranks) + " slices' ";
@@ -242,15 +260,20 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
                 j1 = j0 + partSlices * uint32_t(std::max<uint64_t>(1, share / partSlices));
                 continue;
             }
-            stats.tileEntries += counts[1];
-            Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * texels * 16, "tile lists");
+            if (!deferred) {
+                stats.tileEntries += counts[1];
+                Gl::ensureBuffer(g.tileList, g.tileListBytes, std::max<size_t>(counts[1], 1) * texels * 16, "tile lists");
+            }
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.tileList);
 
-            // 3d. Scatter: each splat into its tiles' lists (tile_scatter.comp).
+            // 3d. Scatter: each splat into its tiles' lists (tile_scatter.comp), a grid the bases pass sized.
             g.lap(GpuPass::Scatter);
             g.useProgram(scatter);
             glUniform1i(glGetUniformLocation(scatter, "uRanks"), GLint(ranks));
-            glDispatchCompute(std::clamp<GLuint>((counts[0] + 63) / 64, 1, 65535), 1, 1);
+            glUniform1ui(glGetUniformLocation(scatter, "uListCapacity"), counts[1]);
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, g.scatterArgs);
+            glDispatchComputeIndirect(0);
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, g.tileBusy);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
 
             // 3e. Composite: a workgroup per busy tile (tile_composite.comp).
@@ -269,8 +292,11 @@ std::string SplatRenderer::Gl::drawTiled(const FramePlan& f, FrameStats& stats) 
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
             next();
         }
-        if (occlusion && !anyOpaque) anyOpaque = g.anyTileOpaque();
+        // Deferred, the chunks double without asking whether a tile is opaque yet (culling itself runs on
+        // the GPU either way); with counters they follow the CPU oracle's chunks, which ask.
+        if (occlusion && !anyOpaque && (!deferred || settings.counters)) anyOpaque = g.anyTileOpaque();
     }
+    g.endStatus(status, capacity, segments, deferred);
     // 4. X-ray's resolve; the slices drawn.
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |

@@ -30,6 +30,12 @@ struct DriverProfile {
     // measured with until `scripts/gpu-bench`'s composite-pixels and composite-columns rows say
     // otherwise (docs/speed.md, "On a GPU").
     bool compositePerPixel = false;
+    // Whether a tiled frame reads nothing back while it runs. llvmpipe reads each part's list sizes (a
+    // few bytes: its "GPU" is the CPU, so the read costs no idle time) and sizes the lists exactly. A GPU
+    // drains its queue at each read, so its lists take a capacity from earlier frames' high-water mark,
+    // the scatter drops what does not fit, and the figures are read once the frame has finished
+    // (frame_status.cpp): a frame whose lists were too short is drawn again, once, the checked way.
+    bool deferredListChecks = true;
 };
 
 // The profile of the driver named by GL_RENDERER. SPLATLAB_DRIVER_PROFILE=llvmpipe or gpu forces one

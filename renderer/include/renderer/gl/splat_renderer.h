@@ -49,10 +49,19 @@ struct FrameStats {
     SplatCounters counters;
     uint64_t fragments = 0;      // with counters: samples passed in the frame (GL_SAMPLES_PASSED; sheet
                                  // and resolve passes included, discarded and depth-failed ones not)
-    uint64_t tileEntries = 0;    // tiled splatting: (splat, tile) pairs the composite pass walked
+    uint64_t tileEntries = 0;    // tiled splatting: (splat, tile) pairs the composite pass walked (in a
+                                 // GPU's profile known once the frame is read back or displayed, or
+                                 // at once with counters)
     int tileListSplits = 0;      // tiled splatting: times a chunk (or a part) went again in fewer slices:
                                  // its lists did not fit (the texel buffer, or 256 MiB), or its busiest
                                  // tile took more entries than the driver's loop limit lets one walk
+    int readBacks = 0;           // buffer reads that waited for the frame's own passes (a GPU drains its
+                                 // queue at each): per part of a tiled frame on llvmpipe, none in a
+                                 // GPU's profile (DriverProfile::deferredListChecks) without counters
+                                 // or occlusion culling
+    bool redone = false;         // a GPU's profile: the frame's lists, sized from earlier frames, were
+                                 // too short, so it was drawn again the checked way before its image
+                                 // was read or displayed
     FilterMode adaptiveAs = FilterMode::Adaptive;   // an adaptive frame whose view put every patch in one
                                                     // filter (uniformAdaptiveFilter): that filter drew it
 };
@@ -85,11 +94,13 @@ public:
     void setLut(const TfTables& tables);
     // Renders into the internal RGBA32F target (resized to plane.width x plane.height).
     void render(const ImagePlane& plane, const SplatSettings& settings);
-    // The last frame as premultiplied float RGBA, row 0 at the top (X-ray already resolved).
-    Image readback() const;
+    // The last frame as premultiplied float RGBA, row 0 at the top (X-ray already resolved). In a GPU's
+    // profile this is where a frame whose lists were too short is drawn again (FrameStats::redone), so
+    // it may throw what render() throws in llvmpipe's (a tile too crowded for `--primitive tiles`).
+    Image readback();
     // The last frame's filter-mode heatmap (rendered when SplatSettings::heatmap was on; see
     // renderReference for its meaning).
-    Image readbackHeatmap() const;
+    Image readbackHeatmap();
     // The per-patch filter for this view (computed on the GPU; layout of patchModes() on the CPU).
     std::vector<uint8_t> patchModes(const ImagePlane& plane, const SplatSettings& settings);
     // The last frame (or its filter-mode heatmap, when that was rendered) composited over `background`
@@ -116,6 +127,9 @@ public:
     // The tile composite's layout: a pixel per invocation (a GPU's, true) or a column of 8 (llvmpipe's);
     // the driver's profile chooses it (renderer/gl/driver_profile.h). To compare the two on one driver.
     void setCompositePerPixel(bool perPixel);
+    // Whether tiled frames read nothing back while they run (a GPU's profile, true) or read each part's
+    // list sizes (llvmpipe's); renderer/gl/driver_profile.h chooses. To compare the two on one driver.
+    void setDeferredListChecks(bool deferred);
     // Asked between chunks of slices (tiled) and between slices (rasterised) while a frame is issued: once it
     // returns true the frame stops there, and render() throws Cancelled (the image is incomplete). An editor
     // drops a frame that a newer edit superseded this way. Empty: frames always finish.
@@ -125,6 +139,9 @@ private:
     // One attempt at render(): the reason when only drawing it told that it cannot be drawn (one
     // slice's tile lists do not fit), else empty. `rasterise`: auto's sheets and X-ray without tiles.
     std::string drawFrame(const ImagePlane& plane, const SplatSettings& settings, bool rasterise);
+    // Before the last frame's image is used: in a GPU's profile, its figures read (a wait the image's use
+    // makes anyway) and, where its lists were too short, the frame drawn again the checked way.
+    void settleFrame();
 
     struct Gl;
     std::unique_ptr<Gl> m_gl;
