@@ -57,7 +57,7 @@ std::string settingFileName(const FilterMeasurement& m) {
 }
 
 ReportSection measureScan(SplatRenderer& gl, const ReportArgs& a, const fs::path& volumePath, glm::ivec2 size,
-                          Camera camera, const fs::path& cacheDir, const fs::path& out,
+                          Camera camera, const std::string& up, const fs::path& cacheDir, const fs::path& out,
                           const std::string& tag) {
     // 1. The scan classified by its TF and framed at --size; the default settings, unlit.
     const std::string tfSpec = a.tf.empty() ? presetFor(volumePath) : a.tf;
@@ -65,15 +65,19 @@ ReportSection measureScan(SplatRenderer& gl, const ReportArgs& a, const fs::path
     const SplatScene scene = buildSplatScene(volume, transferFunctionFromSpec(tfSpec), windowFor(volume, {}));
     ReportSection s;
     s.current.occlusionCulling = driverProfile(glRendererName()).occlusionCulling;
+    camera.up = axisFromName(up);
     camera = framedCamera(camera, scene, s.current, size.x, size.y);
     const ImagePlane view = makeImagePlane(camera, scene.centre, scene.radius, size.x, size.y, scene.axes);
     const ImagePlane crop = centreCrop(view, kComparisonCropPx);
     s.name = volumePath.filename().string();
     s.cropWidth = crop.width;
     s.cropHeight = crop.height;
+    s.brief = std::to_string(volume.dims.x) + "x" + std::to_string(volume.dims.y) + "x" +
+              std::to_string(volume.dims.z) + ", TF " + tfSpec + ", " + std::to_string(size.x) + "x" +
+              std::to_string(size.y) + " px";
     s.view = std::to_string(volume.dims.x) + " x " + std::to_string(volume.dims.y) + " x " +
              std::to_string(volume.dims.z) + " voxels at " + std::to_string(size.x) + " x " +
-             std::to_string(size.y) + " px, TF " + tfSpec + ", camera " + a.camera +
+             std::to_string(size.y) + " px, TF " + tfSpec + ", camera " + a.camera + ", up " + up +
              " framed, kernel scale 0.7, density 1, unlit; error over "
              "the centre " +
              std::to_string(crop.width) + " x " + std::to_string(crop.height) + " px";
@@ -106,7 +110,7 @@ ReportSection measureScan(SplatRenderer& gl, const ReportArgs& a, const fs::path
 CLI::App* addReportCommand(CLI::App& app, ReportArgs& a) {
     auto* cmd =
         app.add_subcommand("report", "Speed against error: time every filter x compositing mode on each "
-                                     "volume and compare it with the ground truth; write DIR/index.html and DIR/speed.md");
+                                     "volume and compare it with the ground truth; write DIR/index.html, DIR/speed.md and DIR/summary.md");
     cmd->add_option("volume", a.volumes, std::string("Volumes: ") + supportedVolumeTypes())->required();
     cmd->add_option("--out", a.out, "Folder for index.html and its thumbnails (created)")->required();
     cmd->add_option("--repeats", a.repeats, "Timed frames per setting (median, p10, p90)")
@@ -115,6 +119,10 @@ CLI::App* addReportCommand(CLI::App& app, ReportArgs& a) {
     cmd->add_option("--size", a.size, "View size WxH (errors are over its centre 96 x 96 px)")
         ->capture_default_str();
     cmd->add_option("--camera", a.camera, "azimuth,elevation,distance,fov; then framed")
+        ->capture_default_str();
+    cmd->add_option("--up", a.up,
+                    "Axis of each file's world frame shown upwards (x, y, z, -x, -y, -z): one for every volume, "
+                    "or one per volume, comma-separated (bonsai y, headsq -z)")
         ->capture_default_str();
     cmd->add_option("--tf", a.tf,
                     "Transfer function: a preset name or a JSON file (default: the preset named like "
@@ -128,6 +136,16 @@ int runReport(const ReportArgs& a) {
     // Every input checked before the first measurement: the volumes exist, the folder takes files.
     const glm::ivec2 size = parseSize(a.size, "--size");
     const Camera camera = parseCamera(a.camera);
+    std::vector<std::string> ups;   // each checked here, before anything is measured
+    for (size_t at = 0; at <= a.up.size();) {
+        const size_t comma = std::min(a.up.find(',', at), a.up.size());
+        ups.push_back(a.up.substr(at, comma - at));
+        axisFromName(ups.back());
+        at = comma + 1;
+    }
+    if (ups.size() != 1 && ups.size() != a.volumes.size())
+        throw CLI::ValidationError("--up", "one axis for every volume or one per volume (" +
+                                               std::to_string(a.volumes.size()) + "), not " + std::to_string(ups.size()));
     for (const std::string& v : a.volumes) // a file, a folder of slices, a slice pattern or scene:NAME
         if (!demoSceneOfPath(v) && v.find('%') == std::string::npos && !fs::exists(v))
             throw LoadError(v, "", "no such file (a volume file was expected)");
@@ -139,6 +157,7 @@ int runReport(const ReportArgs& a) {
                         "cannot create the report folder" + (ec ? " (" + ec.message() + ")" : std::string()));
     checkFileReplaceable(out / "index.html");
     checkFileReplaceable(out / "speed.md");
+    checkFileReplaceable(out / "summary.md");
     const fs::path cacheDir = a.cache.empty() ? defaultGroundTruthCacheDir() : fs::path(a.cache);
     auto context = HeadlessGl::create();
     ReportPage page;
@@ -148,10 +167,12 @@ int runReport(const ReportArgs& a) {
     SplatRenderer gl;
     for (size_t i = 0; i < a.volumes.size(); ++i)
         page.sections.push_back(
-            measureScan(gl, a, a.volumes[i], size, camera, cacheDir, out, "scan" + std::to_string(i + 1)));
+            measureScan(gl, a, a.volumes[i], size, camera, ups[ups.size() == 1 ? 0 : i], cacheDir, out,
+                        "scan" + std::to_string(i + 1)));
     page.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     writeFileAtomically(out / "index.html", reportHtml(page));
     writeFileAtomically(out / "speed.md", reportMarkdown(page));   // the tables for docs/speed.md
+    writeFileAtomically(out / "summary.md", reportSummaryMarkdown(page));   // the README's table
     std::printf("%s: written in %.1f s on %s\n", (out / "index.html").string().c_str(), page.seconds,
                 page.glRenderer.c_str());
     return 0;

@@ -13,6 +13,7 @@ struct ReportArgs {
     int repeats = 5;              // timed frames per setting
     std::string size = "256x256"; // the view measured; errors are over its centre crop
     std::string camera = "30,20,2.5,30";
+    std::string up = "z";   // the axis shown upwards: one for every volume, or one per volume (y,z,-z)
     std::string tf;    // empty: the preset named like the volume (bonsai, headsq), else ct-skin-bone
     std::string cache; // ground-truth cache (empty: the default, ground_truth.h)
 };

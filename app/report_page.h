@@ -11,6 +11,7 @@
 struct ReportSection {
     std::string name; // the scan's file name
     std::string view; // size, TF and camera, in words
+    std::string brief; // voxels and TF, for the summary table
     std::vector<renderer::FilterMeasurement> points;
     renderer::SplatSettings current;     // the settings the others vary from (ringed)
     std::string viewImage, truthImage;   // thumbnails beside index.html
@@ -33,3 +34,6 @@ std::string reportHtml(const ReportPage& page);
 // A table per scan: each setting's median frame time with its p10-p90, PSNR and whether it is on the
 // Pareto front, under a line naming GL_RENDERER, the machine and the repeats.
 std::string reportMarkdown(const ReportPage& page);
+// One table for the README: a row per scan with each filter's median frame time and PSNR, sheets front
+// to back, and the settings on the Pareto front.
+std::string reportSummaryMarkdown(const ReportPage& page);

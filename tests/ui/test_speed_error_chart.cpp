@@ -10,6 +10,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <fstream>
 #include <regex>
 
@@ -120,7 +122,7 @@ TEST(Cli, ReportWritesAPageWhoseChartShowsTheMeasuredFigures) {
     std::filesystem::remove_all(dir / "page");
     const CliRun r =
         splatlab("report \"" + testing_support::headsq() + "\" --out \"" + (dir / "page").string() +
-                 "\" --cache \"" + (dir / "cache").string() + "\" --repeats 2 --size 24x20");
+                 "\" --cache \"" + (dir / "cache").string() + "\" --repeats 2 --size 24x20 --up -z");
     ASSERT_EQ(r.status, 0) << r.output;
     // The figures printed, a line per setting:
     // "headsq.nhdr | ewa, xray | 1.234 ms (p10 .., p90 ..) | 30.123 dB".
@@ -183,6 +185,34 @@ TEST(Cli, ReportWritesAPageWhoseChartShowsTheMeasuredFigures) {
         EXPECT_EQ((*it)[5].matched, bool(pareto[rows])) << rows;
     }
     EXPECT_EQ(rows, printed.size()) << md;
+    // The README's summary (summary.md): headsq's row holds each filter's printed figures in the compositing
+    // in force (the defaults': sheets front to back), to the summary's two decimals.
+    std::ifstream summaryIn(dir / "page" / "summary.md");
+    const std::string summary((std::istreambuf_iterator<char>(summaryIn)), std::istreambuf_iterator<char>());
+    std::smatch cells;
+    ASSERT_TRUE(std::regex_search(
+        summary, cells,
+        std::regex(R"(\| headsq\.nhdr \| 64x64x93, TF headsq, 24x20 px \|(( [0-9.]+ ms, [0-9.inf-]+ dB \|){4}) ([^|]*) \|)")))
+        << summary;
+    const std::string filterCells = cells[1];
+    const std::regex cell(R"(([0-9.]+) ms, ([0-9.inf-]+) dB)");
+    size_t filterIndex = 0;
+    for (auto it = std::sregex_iterator(filterCells.begin(), filterCells.end(), cell); it != std::sregex_iterator();
+         ++it, ++filterIndex) {
+        const renderer::FilterMode filter = std::array{renderer::FilterMode::Ewa, renderer::FilterMode::Adaptive,
+                                                       renderer::FilterMode::Reconstruction,
+                                                       renderer::FilterMode::LowPass}[filterIndex];
+        const auto at = std::find_if(charted.begin(), charted.end(), [&](const renderer::FilterMeasurement& m) {
+            return m.filter == filter && m.compositing == renderer::Compositing::SheetFrontToBack;
+        });
+        ASSERT_NE(at, charted.end());
+        EXPECT_NEAR(std::stod((*it)[1]), at->frameMs, 5.5e-3) << filterIndex;
+        EXPECT_NEAR(std::stod((*it)[2]), at->psnrDb, 5.5e-3) << filterIndex;
+    }
+    EXPECT_EQ(filterIndex, 4u);
+    size_t onFront = 0;
+    for (bool p : pareto) onFront += p;
+    EXPECT_EQ(size_t(std::count(cells[3].first, cells[3].second, ';')) + 1, onFront) << "the front's settings listed";
     // The axes of the SVG, and the points placed on them as the figures say.
     const std::regex axes(
         R"re(data-left="([^"]+)" data-right="([^"]+)" data-top="([^"]+)" data-bottom="([^"]+)" data-ms-lo="([^"]+)" data-ms-hi="([^"]+)" data-db-lo="([^"]+)" data-db-hi="([^"]+)")re");
@@ -213,6 +243,10 @@ TEST(Cli, ReportRefusesABadVolumeOrFolderWithOneClearLine) {
          "--repeats"},
         {"report \"" + testing_support::headsq() + "\" --out \"" + (dir / "x").string() + "\" --size 40",
          "expected WxH"},
+        {"report \"" + testing_support::headsq() + "\" --out \"" + (dir / "x").string() + "\" --up y,z",
+         "one axis for every volume or one per volume (1), not 2"},
+        {"report \"" + testing_support::headsq() + "\" --out \"" + (dir / "x").string() + "\" --up w",
+         "up axis 'w': expected x, y, z, -x, -y or -z"},
     };
     for (const auto& [args, message] : cases) {
         const CliRun r = splatlab(args);
