@@ -158,7 +158,7 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
     if (s.filter == renderer::FilterMode::Adaptive) {
         changes.settingsChanged |= sliderDouble("c_min", s.cMin, 0.05, 1.0, "%.2f");
         numberHint("Reconstruction only where a kernel spans more than 1 px / c_min (paper: 0.3)");
-        changes.settingsChanged |= sliderDouble("c_max", s.cMax, 0.0, 8.0, "%.2f");
+        changes.settingsChanged |= sliderDouble("c_max", s.cMax, 0.0, 8.0, s.cMax <= 0.0 ? "auto" : "%.2f");
         numberHint("Low-pass only where a kernel spans less than 1 px / c_max (0: the paper's 2 (1 + tan^2(fovY/2) (1 + (W/H)^2)), from the image corner)");
         changes.settingsChanged |= numberField(
             "Patch size", s.patchSize, [&] { return ImGui::SliderInt("Patch size", &s.patchSize, 1, 32); });
