@@ -3,6 +3,7 @@
 // (3) integrate with steps of length h, each step's optical depth and emission in closed form; halve h
 // until the result settles.
 #include "renderer/oracle/ground_truth.h"
+#include "renderer/oracle/ground_truth_cache.h"
 
 #include "renderer/errors.h"
 #include "renderer/math/shading.h"
@@ -363,12 +364,16 @@ Image renderGroundTruth(const SplatScene& scene, const ImagePlane& plane, const 
 Image cachedGroundTruth(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                         const GroundTruthOptions& options, const std::filesystem::path& cacheDir,
                         const Progress& progress, GroundTruthStats* stats) {
+    const uint64_t budget = groundTruthCacheBudgetBytes();   // a bad $SPLATLAB_CACHE_MAX_MB fails first
     const auto file = cacheDir / (groundTruthKey(scene, plane, settings, options) + ".exr");
     if (std::filesystem::exists(file)) {
         try {
             Image img = readImage(file);
             if (img.width == plane.width && img.height == plane.height) {
                 if (stats) *stats = GroundTruthStats{.fromCache = true, .cacheNote = {}};
+                // Used now: pruning removes the entries used longest ago first.
+                std::error_code touched;
+                std::filesystem::last_write_time(file, std::filesystem::file_time_type::clock::now(), touched);
                 return img;
             }
         } catch (const LoadError&) {
@@ -384,6 +389,7 @@ Image cachedGroundTruth(const SplatScene& scene, const ImagePlane& plane, const 
     Image img = renderGroundTruth(scene, plane, settings, options, progress, stats);
     try {
         writeImage(img, file);   // atomically: a reader never sees half a file
+        pruneGroundTruthCache(cacheDir, budget, file);
     } catch (const LoadError& e) {
         if (stats) stats->cacheNote = e.what();
     }

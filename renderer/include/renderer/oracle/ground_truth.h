@@ -67,7 +67,8 @@ std::string groundTruthKey(const SplatScene& scene, const ImagePlane& plane, con
 std::filesystem::path defaultGroundTruthCacheDir();
 // The cached reference (an EXR under the key) or a new one, written to the cache atomically. A new one
 // that cannot be written (a read-only or full disk, an entry that is a folder) is still returned, with
-// the reason in stats->cacheNote: the next run pays the time again, this one keeps its figure.
+// the reason in stats->cacheNote: the next run pays the time again, this one keeps its figure. After a
+// write the cache is pruned to its budget, the entries used longest ago first (ground_truth_cache.h).
 Image cachedGroundTruth(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                         const GroundTruthOptions& options, const std::filesystem::path& cacheDir,
                         const Progress& progress = {}, GroundTruthStats* stats = nullptr);
