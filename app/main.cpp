@@ -5,6 +5,7 @@
 #include "console_progress.h"
 #include "editor.h"
 #include "info_command.h"
+#include "orbit_measure.h"
 #include "phantom_command.h"
 #include "report_command.h"
 
@@ -20,6 +21,7 @@
 #include "renderer/oracle/near_layer.h"
 #include "renderer/oracle/reference_renderer.h"
 #include "renderer/gl/splat_renderer.h"
+#include "renderer/io/atomic_file.h"
 #include "renderer/io/volume_io.h"
 #include "renderer/model/window.h"
 #include "ui/session.h"
@@ -254,6 +256,7 @@ void addSceneOptions(CLI::App* cmd, SceneArgs& a) {
 
 struct Scene {
     SplatScene scene;
+    Camera camera;   // the plane's (framed when --fit)
     ImagePlane plane;
     SplatSettings settings;
     std::array<float, 3> background{0.0f, 0.0f, 0.0f};   // behind a PNG: black, or the session's
@@ -278,6 +281,7 @@ void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFla
         addGradients(s.scene, *computeGradients(volume, printProgress));
     }
     if (fit) camera = framedCamera(camera, s.scene, s.settings, size.x, size.y);
+    s.camera = camera;
     s.plane = makeImagePlane(camera, s.scene.centre, s.scene.radius, size.x, size.y, s.scene.axes);
 }
 
@@ -327,6 +331,8 @@ struct RenderArgs {
     int frames = 5;
     bool cpu = false, counters = false;
     std::string heatmap;
+    double orbitStep = std::nan("");   // --orbit: the turn's step in degrees (NaN: no orbit)
+    std::string orbitCsv;
     SplatFlags splat;
 };
 
@@ -374,12 +380,33 @@ std::string formatMs(double ms) {
     return text;
 }
 
+// render --orbit: the turn drawn with GL, its summary printed, the frame after the largest jump to --out.
+int runOrbit(const Scene& s, const SceneArgs& a, const RenderArgs& ra) {
+    auto context = HeadlessGl::create();
+    SplatRenderer gl;
+    gl.setScene(s.scene);
+    const OrbitSummary orbit = measureOrbit(gl, s.scene, s.camera, s.plane.width, s.plane.height, s.settings, ra.orbitStep);
+    if (!ra.orbitCsv.empty()) writeFileAtomically(ra.orbitCsv, orbitCsv(orbit));
+    writeImage(orbit.worstFrame, a.out, s.background.data());
+    std::printf("%s: %s, %s, %s on %s\n", a.out.c_str(), orbitSummaryText(orbit, ra.orbitStep).c_str(),
+                filterModeName(s.settings.filter), compositingName(s.settings.compositing), glRendererName().c_str());
+    return 0;
+}
+
 int runRender(const SceneArgs& a, const RenderArgs& ra) {
     const int frames = ra.frames;
     const bool cpu = ra.cpu;
     if (frames < 1) throw CLI::ValidationError("--frames", "must be >= 1");
     checkImageWritable(a.out);   // before the volume loads and the frames render
+    const bool orbit = !std::isnan(ra.orbitStep) || !ra.orbitCsv.empty();
+    if (orbit) {
+        checkOrbitStep(ra.orbitStep);
+        if (cpu || !ra.heatmap.empty() || ra.counters)
+            throw CLI::ValidationError("--orbit", "turns the view with GL: not with --cpu, --heatmap or --counters");
+        if (!ra.orbitCsv.empty()) checkFileReplaceable(ra.orbitCsv);
+    }
     Scene s = buildScene(a, ra.splat);
+    if (orbit) return runOrbit(s, a, ra);
     s.settings.heatmap = !ra.heatmap.empty();
     if (s.settings.heatmap && std::filesystem::path(ra.heatmap).lexically_normal() ==
                                   std::filesystem::path(a.out).lexically_normal())
@@ -556,6 +583,10 @@ int main(int argc, char** argv) {
     render->add_flag("--counters", ra.counters, "Print splats per filter and per cull (GL: counted on the GPU)");
     render->add_option("--frames", ra.frames, "Timed frames (the median is printed)")->capture_default_str();
     render->add_flag("--cpu", ra.cpu, "Render with the double-precision CPU oracle instead of GL");
+    render->add_option("--orbit", ra.orbitStep, "Turn the camera about the up axis in steps of this many degrees and "
+                                                "print how much each frame differs from the one before (popping); "
+                                                "--out gets the frame after the largest jump");
+    render->add_option("--orbit-csv", ra.orbitCsv, "With --orbit: each frame's azimuth, slice axis and RMSE");
     render->add_option("--session", r.session,
                        "Render a session saved by the editor: its volume, TF, window, camera, settings and background "
                        "(a volume argument replaces its volume; --size, --out, --heatmap, --counters, --frames and "
