@@ -140,13 +140,13 @@ TEST_F(GlTest, RasterisedSheetsCountTheSlicesTheySkipOffTheImage) {
     // voxels are counted offscreen as the oracle counts them (before: not at all).
     Volume v;
     v.dims = {24, 24, 24};
-    v.values.assign(v.voxelCount(), 0.0f);
+    v.values.floats().assign(v.voxelCount(), 0.0f);
     for (int z = 0; z < 24; ++z)
         for (int y = 0; y < 24; ++y)
             for (int x = 0; x < 24; ++x) {
                 const double r = glm::length(glm::dvec3(x, y, z) - glm::dvec3(11.5));
                 const bool corner = x < 5 && y < 5;
-                v.values[(size_t(z) * 24 + size_t(y)) * 24 + size_t(x)] = corner ? 0.8f : r < 6.0 ? 0.6f : 0.0f;
+                v.values.floats()[(size_t(z) * 24 + size_t(y)) * 24 + size_t(x)] = corner ? 0.8f : r < 6.0 ? 0.6f : 0.0f;
             }
     updateRange(v);
     const TransferFunction clearAir = fromSharedPoints("clear-air", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.2, {0.2, 0.4, 1.0}, 0.0},
@@ -446,9 +446,9 @@ TEST_F(GlTest, SurfaceSplatsMatchCpuAndStayFiniteEdgeOn) {
     // profile across z is a tent (0, .25, .5, .75, 1, .75, ...), so visible voxels have a gradient.
     Volume v;
     v.dims = {24, 24, 9};
-    v.values.assign(v.voxelCount(), 0.0f);
+    v.values.floats().assign(v.voxelCount(), 0.0f);
     for (int z = 0; z < 9; ++z)
-        for (int i = 0; i < 24 * 24; ++i) v.values[size_t(z) * 24 * 24 + i] = float(1.0 - std::abs(z - 4) / 4.0);
+        for (int i = 0; i < 24 * 24; ++i) v.values.floats()[size_t(z) * 24 * 24 + i] = float(1.0 - std::abs(z - 4) / 4.0);
     v.range = {0.0f, 1.0f};
     const SplatScene scene = withGradients(v, ramp());
     SplatRenderer r;

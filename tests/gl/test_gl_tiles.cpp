@@ -60,14 +60,14 @@ SceneView wallsAndFill() {
     EXPECT_EQ(order.axis, 2);
     Volume v;
     v.dims = {40, 40, 96};
-    v.values.assign(v.voxelCount(), 0.0f);
+    v.values.floats().assign(v.voxelCount(), 0.0f);
     for (int rank = 0; rank < 96; ++rank) {
         const int z = order.descending ? rank : 95 - rank;   // front to back reverses the traversal
         for (int y = 0; y < 40; ++y)
             for (int x = 0; x < 40; ++x) {
                 const bool wall = (rank >= 36 && rank < 40 && x < 20) || (rank >= 64 && rank < 68 && x >= 20);
                 const float fill = rank >= 40 && rank < 64 ? 0.51f : rank >= 80 ? 0.6f : 0.0f;
-                v.values[(size_t(z) * 40 + size_t(y)) * 40 + size_t(x)] = wall ? 1.0f : fill;
+                v.values.floats()[(size_t(z) * 40 + size_t(y)) * 40 + size_t(x)] = wall ? 1.0f : fill;
             }
     }
     updateRange(v);
@@ -176,9 +176,9 @@ TEST_F(GlTest, TiledSplattingRefreshesAfterSlicesWithoutSplatsLikeTheCpu) {
     // does at the boundary (dropping that carry-over fails here). Every 4: the boundary is rank 4.
     Volume v;
     v.dims = {16, 16, 24};
-    v.values.assign(v.voxelCount(), 0.0f);
+    v.values.floats().assign(v.voxelCount(), 0.0f);
     for (int z : {0, 4, 19, 23})
-        for (int i = 0; i < v.dims.x * v.dims.y; ++i) v.values[size_t(z) * 256 + size_t(i)] = 1.0f;
+        for (int i = 0; i < v.dims.x * v.dims.y; ++i) v.values.floats()[size_t(z) * 256 + size_t(i)] = 1.0f;
     updateRange(v);
     // Zero exactly transparent (the ramp's first class keeps a trace of opacity): empty slices.
     const TransferFunction step = fromSharedPoints("step", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {0.5, {0.2, 0.4, 1.0}, 0.0}, {1.0, {1.0, 0.8, 0.3}, 1.0}});
@@ -289,7 +289,7 @@ TEST_F(GlTest, TiledSplattingKeepsEveryEntryOfCrowdedTilesWithinTheDriversLoopLi
     // Runs of 512 x 512 voxels (a uniform slice is one bucket): the record pass deals them to more
     // workgroups, and every splat is recorded.
     Volume slabs = makeCheckerboard({512, 512, 2}, 1024);   // all 0; the second slice becomes 1
-    std::fill(slabs.values.begin() + std::ptrdiff_t(slabs.index(0, 0, 1)), slabs.values.end(), 1.0f);
+    std::fill(slabs.values.floats().begin() + std::ptrdiff_t(slabs.index(0, 0, 1)), slabs.values.floats().end(), 1.0f);
     updateRange(slabs);
     const SplatScene uniform = buildSplatScene(slabs, faint);
     const ImagePlane plane = makeImagePlane(Camera{.azimuthDeg = 0, .elevationDeg = 80}, uniform.centre,

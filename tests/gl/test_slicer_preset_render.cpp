@@ -32,7 +32,7 @@ TEST_F(GlTest, ASlicerPresetRendersAsTheSameTfTypedByHand) {
     // Shells with CT-like values: air at -1000 up to bone at 1500 HU.
     Volume v = makeSphereShells(20, 6.0, 2.0);
     const ValueRange unit = v.range;
-    for (float& x : v.values)
+    for (float& x : v.values.floats())
         x = -1000.0f + 2500.0f * (x - unit.lo) / (unit.hi - unit.lo);
     updateRange(v);
     const SplatScene importedScene = buildSplatScene(v, imported), typedScene = buildSplatScene(v, byHand);

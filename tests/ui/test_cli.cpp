@@ -607,7 +607,7 @@ TEST(Cli, PhantomWritesAnInt16NrrdThatInfoReadsBack) {
     const CliRun overBudget = runShell("SPLATLAB_MEMORY_BUDGET_MB=1 \"" SPLATLAB_EXE "\" phantom --size 128 --out \"" +
                                   big.string() + "\" 2>&1");
     EXPECT_NE(overBudget.status, 0);
-    EXPECT_THAT(overBudget.output, HasSubstr("size 128 x 128 x 128 needs 8 MiB as 32-bit floats, more than the "
+    EXPECT_THAT(overBudget.output, HasSubstr("size 128 x 128 x 128 voxels need 4 MiB as int16, more than the "
                                              "memory budget of 1 MiB"));
     EXPECT_FALSE(std::filesystem::exists(big));
 }

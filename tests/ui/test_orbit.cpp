@@ -33,11 +33,11 @@ TEST(OrbitPopping, EachStepIsTheRmseAgainstTheFrameBeforeWithItsSliceAxis) {
     // A volume with no symmetry a turn could map onto itself: a ramp along x, a slab at low y, 16 x 12 x 10.
     Volume v;
     v.dims = {16, 12, 10};
-    v.values.resize(v.voxelCount());
+    v.values.floats().resize(v.voxelCount());
     for (int z = 0; z < 10; ++z)
         for (int y = 0; y < 12; ++y)
             for (int x = 0; x < 16; ++x)
-                v.values[v.index(x, y, z)] = float(x * x) / 225.0f * 0.7f + (y < 4 && z > 3 ? 0.3f : 0.0f);
+                v.values.floats()[v.index(x, y, z)] = float(x * x) / 225.0f * 0.7f + (y < 4 && z > 3 ? 0.3f : 0.0f);
     updateRange(v);
     const SplatScene scene =
         buildSplatScene(v, fromSharedPoints("ramp", {{0.0, {0.2, 0.4, 1.0}, 0.0}, {1.0, {1.0, 0.8, 0.3}, 0.8}}));

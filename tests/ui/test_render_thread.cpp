@@ -92,7 +92,7 @@ TEST(RenderThread, AProgressiveRequestGivesEachLevelThenTheFullFrame) {
         for (int y = 0; y < 48; ++y)
             for (int x = 0; x < 48; ++x) {
                 const glm::dvec3 d = glm::dvec3(x, y, z) - 23.5;
-                v.values.push_back(float(std::exp(-glm::dot(d, d) / (2.0 * 9.0 * 9.0))));
+                v.values.floats().push_back(float(std::exp(-glm::dot(d, d) / (2.0 * 9.0 * 9.0))));
             }
     updateRange(v);
     const TransferFunction ramp = builtinPreset("grey-ramp");

@@ -36,7 +36,7 @@ SplatScene uniformBlock(glm::ivec3 dims, glm::dvec3 spacing) {
     Volume v;
     v.dims = dims;
     v.spacing = spacing;
-    v.values.assign(v.voxelCount(), 1.0f);
+    v.values.floats().assign(v.voxelCount(), 1.0f);
     v.range = {0.0f, 1.0f};
     return buildSplatScene(v, flat(0.5));
 }
@@ -199,7 +199,7 @@ TEST(Classifier, PatchesTakeAShortcutOnlyWhenAllCornersAgree) {
     // lie in x-slices, so their corners span depth.
     Volume v;
     v.dims = {2, 2, 1200};
-    v.values.assign(v.voxelCount(), 1.0f);
+    v.values.floats().assign(v.voxelCount(), 1.0f);
     v.range = {0.0f, 1.0f};
     const SplatScene scene = buildSplatScene(v, flat(0.5));
     const ImagePlane plane = makeImagePlane({0, -89.9, 0.3, 30.0}, {0.5, 0.5, 0.0}, 1.0, 256, 256);
@@ -468,7 +468,7 @@ TEST(GroundTruth, AUniformBlocksOpticalDepthIsNominalInTheTruthAndEverySplatFilt
     for (const View& view : {View{16, 64, {Ewa, Adaptive, Reconstruction}}, View{48, 24, {Ewa, Adaptive, LowPass}}}) {
         Volume block = oneVoxel();
         block.dims = glm::ivec3(view.side);
-        block.values.assign(block.voxelCount(), 1.0f);
+        block.values.floats().assign(block.voxelCount(), 1.0f);
         const SplatScene scene = buildSplatScene(block, flat(0.8));
         SplatSettings s;
         s.density = 0.8 / view.side;   // extinction 0.8 x density a unit length: optical depth 0.64 through it
@@ -519,11 +519,11 @@ TEST(GroundTruth, AUniformBlocksOpticalDepthIsNominalInTheTruthAndEverySplatFilt
 TEST(GroundTruth, FootprintsWiderThanTheImageAreDrawnAndMatchTheTruth) {
     Volume ball = oneVoxel();
     ball.dims = {8, 8, 8};
-    ball.values.assign(ball.voxelCount(), 0.0f);
+    ball.values.floats().assign(ball.voxelCount(), 0.0f);
     for (int z = 0; z < 8; ++z)
         for (int y = 0; y < 8; ++y)
             for (int x = 0; x < 8; ++x)
-                if (glm::length(glm::dvec3(x, y, z) - 3.5) <= 3.6) ball.values[size_t((z * 8 + y) * 8 + x)] = 1.0f;
+                if (glm::length(glm::dvec3(x, y, z) - 3.5) <= 3.6) ball.values.floats()[size_t((z * 8 + y) * 8 + x)] = 1.0f;
     const SplatScene scene = buildSplatScene(ball, flat(0.8));
     const Camera narrow{.azimuthDeg = 30, .elevationDeg = 20, .distance = 2.5, .fovYDeg = 1.0};
     const Camera closeOrtho{.azimuthDeg = 30, .elevationDeg = 20, .distance = 0.05, .orthographic = true};
@@ -574,7 +574,7 @@ TEST(GroundTruth, ARaySeeingARowEndOnTakesEveryKernelOfIt) {
     for (const auto& [dims, up, azimuth] : rows) {
         Volume row = oneVoxel();
         row.dims = dims;
-        row.values.assign(row.voxelCount(), 1.0f);
+        row.values.floats().assign(row.voxelCount(), 1.0f);
         for (double turn : {0.0, 180.0})
             EXPECT_NEAR(centreAlpha(row, up, azimuth + turn), expected, 1e-5)
                 << "row along " << dims.x << "x" << dims.y << "x" << dims.z << ", azimuth " << azimuth + turn;

@@ -41,8 +41,8 @@ TEST(AlignedToWorldAxes, KeepsEveryVoxelWhereTheFilesAxesPutItInTheWorld) {
         v.spacing = {0.5, 2.0, 1.25};
         v.origin = {10.0, -3.0, 7.0};
         v.directions = k.axes;
-        v.values.resize(v.voxelCount());
-        std::iota(v.values.begin(), v.values.end(), 0.0f);   // every voxel its own value
+        v.values.floats().resize(v.voxelCount());
+        std::iota(v.values.floats().begin(), v.values.floats().end(), 0.0f);   // every voxel its own value
         updateRange(v);
         const Volume a = alignedToWorldAxes(v);
         EXPECT_LT(glm::length(a.directions[0] - k.left[0]) + glm::length(a.directions[1] - k.left[1]) +
@@ -139,12 +139,12 @@ TEST(AlignedToWorldAxes, ResamplesShearedAxesOntoTheWorldGridExactlyForALinearFi
         v.spacing = {1.5, 2.0, 2.5};
         v.origin = {3.0, -2.0, 1.0};
         v.directions = axes;
-        v.values.resize(v.voxelCount());
+        v.values.floats().resize(v.voxelCount());
         const glm::dmat3 toWorld = axes * glm::dmat3(glm::dvec3(1.5, 0, 0), glm::dvec3(0, 2.0, 0), glm::dvec3(0, 0, 2.5));
         for (int k = 0; k < v.dims.z; ++k)
             for (int j = 0; j < v.dims.y; ++j)
                 for (int i = 0; i < v.dims.x; ++i)
-                    v.values[v.index(i, j, k)] =
+                    v.values.floats()[v.index(i, j, k)] =
                         float(100.0 + glm::dot(gradient, v.origin + toWorld * glm::dvec3(i, j, k)));
         updateRange(v);
         const Volume a = alignedToWorldAxes(v);
@@ -201,7 +201,7 @@ TEST(AlignedToWorldAxes, TheImagePlaneTurnsTheVolumeByTheRotationLeft) {
     for (int z = 0; z < 4; ++z)
         for (int y = 0; y < 5; ++y)
             for (int x = 0; x < 6; ++x)
-                v.values.push_back((x / 2 + y / 2 + z / 2) % 2 ? float(0.2 + 0.12 * x + 0.05 * z) : 0.0f);
+                v.values.floats().push_back((x / 2 + y / 2 + z / 2) % 2 ? float(0.2 + 0.12 * x + 0.05 * z) : 0.0f);
     updateRange(v);
     const TransferFunction tf = builtinPreset("fire");
     auto render = [&](const Volume& volume, const Camera& camera) {

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cstring>
 #include <fstream>
 
@@ -38,9 +39,12 @@ TEST(DemoScenes, ACaseBuiltAloneEqualsItBuiltAmongAll) {
         EXPECT_EQ(alone[0].volume.dims, all.volume.dims) << all.name;
         EXPECT_EQ(alone[0].volume.spacing, all.volume.spacing) << all.name;
         EXPECT_EQ(alone[0].volume.origin, all.volume.origin) << all.name;
-        EXPECT_EQ(0, std::memcmp(alone[0].volume.values.data(), all.volume.values.data(),
-                                 all.volume.values.size() * sizeof(float)))
-            << all.name;   // bytes, so NaNs compare equal
+        const auto bits = [](const VoxelValues& values) {   // bits, so NaNs compare equal
+            std::vector<uint32_t> out(values.size());
+            for (size_t i = 0; i < out.size(); ++i) out[i] = std::bit_cast<uint32_t>(values[i]);
+            return out;
+        };
+        EXPECT_EQ(bits(alone[0].volume.values), bits(all.volume.values)) << all.name;
         EXPECT_EQ(alone[0].camera.distance, all.camera.distance) << all.name;
         EXPECT_EQ(alone[0].tf.opacities.size(), all.tf.opacities.size()) << all.name;
     }

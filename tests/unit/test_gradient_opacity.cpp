@@ -36,11 +36,11 @@ Volume uniformBlock() {
     Volume v;
     v.name = "block";
     v.dims = glm::ivec3(16);
-    v.values.assign(v.voxelCount(), 0.0f);
+    v.values.floats().assign(v.voxelCount(), 0.0f);
     for (int z = 3; z < 13; ++z)
         for (int y = 3; y < 13; ++y)
             for (int x = 3; x < 13; ++x)
-                v.values[v.index(x, y, z)] = 1.0f;
+                v.values.floats()[v.index(x, y, z)] = 1.0f;
     v.range = {0.0f, 1.0f};
     return v;
 }

@@ -22,12 +22,12 @@ Volume linearRamp() {
     v.dims = {9, 7, 5};
     v.spacing = {0.5, 2.0, 1.0};
     v.type = VoxelType::F32;
-    v.values.resize(v.voxelCount());
+    v.values.floats().resize(v.voxelCount());
     for (int z = 0; z < v.dims.z; ++z)
         for (int y = 0; y < v.dims.y; ++y)
             for (int x = 0; x < v.dims.x; ++x) {
                 const glm::dvec3 p = v.positionOf(x, y, z);
-                v.values[v.index(x, y, z)] = float(2 * p.x + 3 * p.y - p.z);
+                v.values.floats()[v.index(x, y, z)] = float(2 * p.x + 3 * p.y - p.z);
             }
     updateRange(v);
     return v;
@@ -96,9 +96,9 @@ TEST(Window, PercentilesAreNearestRankValuesOfTheFiniteVoxels) {
     Volume v;
     v.dims = {102, 1, 1};
     for (int i = 0; i < 100; ++i)
-        v.values.push_back(float(i * 10 - 1000)); // -1000 .. -10, HU-like
-    v.values.push_back(std::numeric_limits<float>::quiet_NaN());
-    v.values.push_back(std::numeric_limits<float>::infinity());
+        v.values.floats().push_back(float(i * 10 - 1000)); // -1000 .. -10, HU-like
+    v.values.floats().push_back(std::numeric_limits<float>::quiet_NaN());
+    v.values.floats().push_back(std::numeric_limits<float>::infinity());
     updateRange(v);
     const ValueRange p = percentileWindow(v, 1.0, 99.0);
     EXPECT_EQ(p.lo, -990.0f); // rank round(0.01 * 99) = 1

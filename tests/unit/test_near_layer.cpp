@@ -117,7 +117,7 @@ TEST(NearLayer, TakesAtMostItsBoundAndCountsTheRest) {
     Volume v;
     v.name = "block";
     v.dims = {21, 21, 21};
-    v.values.assign(v.voxelCount(), 1.0f);
+    v.values.floats().assign(v.voxelCount(), 1.0f);
     updateRange(v);
     const SplatScene scene = buildSplatScene(v, fromSharedPoints("solid", {{0.0, {1, 1, 1}, 0.2}, {1.0, {1, 1, 1}, 0.2}}));
     SplatSettings s;

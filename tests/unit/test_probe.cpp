@@ -15,11 +15,11 @@ Volume ball() {
     Volume v;
     v.name = "ball";
     v.dims = {32, 32, 32};
-    v.values.resize(v.voxelCount());
+    v.values.floats().resize(v.voxelCount());
     for (int z = 0; z < 32; ++z)
         for (int y = 0; y < 32; ++y)
             for (int x = 0; x < 32; ++x)
-                v.values[v.index(x, y, z)] = glm::length(glm::dvec3(x, y, z) - v.centre()) <= 8.0 ? 100.0f : 0.0f;
+                v.values.floats()[v.index(x, y, z)] = glm::length(glm::dvec3(x, y, z) - v.centre()) <= 8.0 ? 100.0f : 0.0f;
     v.range = {0.0f, 100.0f};
     return v;
 }

@@ -159,11 +159,11 @@ TEST(SplatScene, VisibleOutlineHoldsTheVoxelsTheLutShowsAndOnlyTheirBuckets) {
     v.spacing = {0.5, 1.0, 2.0};
     v.origin = {1.0, -2.0, 3.0};
     v.range = {0.0f, 1.0f};
-    v.values.assign(size_t(9 * 10 * 11), 0.0f);
+    v.values.floats().assign(size_t(9 * 10 * 11), 0.0f);
     for (int z = 4; z <= 6; ++z)
         for (int y = 2; y <= 7; ++y)
-            for (int x = 3; x <= 5; ++x) v.values[size_t(x + 9 * (y + 10 * z))] = (x + y + z) % 2 ? 1.0f : 0.7f;
-    v.values[size_t(8 + 9 * (9 + 10 * 10))] = 0.2f;   // a far corner, shown only by the second TF
+            for (int x = 3; x <= 5; ++x) v.values.floats()[size_t(x + 9 * (y + 10 * z))] = (x + y + z) % 2 ? 1.0f : 0.7f;
+    v.values.floats()[size_t(8 + 9 * (9 + 10 * 10))] = 0.2f;   // a far corner, shown only by the second TF
     const TransferFunction above = fromSharedPoints("above", {{0.0, {1, 1, 1}, 0.0}, {0.5, {1, 1, 1}, 0.0}, {0.6, {1, 1, 1}, 1.0},
                                               {1.0, {1, 1, 1}, 1.0}});
     SplatScene scene = buildSplatScene(v, above);
@@ -365,10 +365,10 @@ TEST(SplatScene, ListsStayCompactWhereOneValueDominatesATile) {
     // lists hold only the block's voxels: 2 bytes each, 3 axes.
     Volume v;
     v.dims = {40, 40, 40};
-    v.values.assign(v.voxelCount(), 0.0f);
+    v.values.floats().assign(v.voxelCount(), 0.0f);
     for (int z = 15; z < 25; ++z)
         for (int y = 15; y < 25; ++y)
-            for (int x = 15; x < 25; ++x) v.values[(size_t(z) * 40 + y) * 40 + x] = 1.0f;
+            for (int x = 15; x < 25; ++x) v.values.floats()[(size_t(z) * 40 + y) * 40 + x] = 1.0f;
     v.range = {0.0f, 1.0f};
     const SplatScene s = buildSplatScene(v, builtinPreset("grey-ramp"));
     for (const auto& lists : s.lists) {
@@ -392,11 +392,11 @@ TEST(SplatScene, BucketsOverAnEighthOfATileAreWalkedNotListed) {
     // Only that column is listed, 64 entries on each axis; the stripes are walked.
     Volume v;
     v.dims = {16, 16, 4};
-    v.values.resize(v.voxelCount());
+    v.values.floats().resize(v.voxelCount());
     for (int z = 0; z < 4; ++z)
         for (int y = 0; y < 16; ++y)
             for (int x = 0; x < 16; ++x)
-                v.values[(size_t(z) * 16 + y) * 16 + x] = x == 15 ? float(y + 1.5) / 64.0f : 0.3f * float(x / 4);
+                v.values.floats()[(size_t(z) * 16 + y) * 16 + x] = x == 15 ? float(y + 1.5) / 64.0f : 0.3f * float(x / 4);
     v.range = {0.0f, 1.0f};
     const SplatScene s = buildSplatScene(v, builtinPreset("grey-ramp"));
     for (int axis = 0; axis < 3; ++axis) {
@@ -424,10 +424,10 @@ TEST(SplatScene, EveryRunHoldsItsTilesVoxelsOfItsBucketOnEveryAxisOfAnUnevenVolu
     // runs), the rest are spread over the buckets (listed runs).
     Volume v;
     v.dims = {20, 300, 230};
-    v.values.resize(v.voxelCount());
+    v.values.floats().resize(v.voxelCount());
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> any(0.0f, 1.0f);
-    for (float& value : v.values) value = any(rng) < 0.8f ? 0.5f : any(rng);
+    for (float& value : v.values.floats()) value = any(rng) < 0.8f ? 0.5f : any(rng);
     v.range = {0.0f, 1.0f};
     const SplatScene s = buildSplatScene(v, builtinPreset("grey-ramp"));
     struct Bucket {
@@ -546,8 +546,8 @@ TEST(HalfResolution, AveragesBlocksAtTheirCentreAndKeepsAxesOfOneVoxel) {
     v.spacing = {0.5, 2.0, 3.0};
     v.origin = {1.0, -1.0, 7.0};
     for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 5; ++x) v.values.push_back(float(10 * y + x));
-    v.values[v.index(1, 0, 0)] = std::nanf("");   // skipped in its block's mean
+        for (int x = 0; x < 5; ++x) v.values.floats().push_back(float(10 * y + x));
+    v.values.floats()[v.index(1, 0, 0)] = std::nanf("");   // skipped in its block's mean
     updateRange(v);
     const Volume h = halfResolution(v);
     EXPECT_EQ(h.dims, glm::ivec3(3, 2, 1));
@@ -558,7 +558,7 @@ TEST(HalfResolution, AveragesBlocksAtTheirCentreAndKeepsAxesOfOneVoxel) {
     EXPECT_FLOAT_EQ(h.at(2, 1, 0), (24.0f + 34) / 2);   // the odd last column holds one fine column
     EXPECT_FLOAT_EQ(h.range.lo, h.at(0, 0, 0));
     EXPECT_FLOAT_EQ(h.range.hi, 29.0f);   // (24 + 34) / 2
-    v.values.assign(v.values.size(), std::nanf(""));
+    v.values.floats().assign(v.values.size(), std::nanf(""));
     EXPECT_TRUE(std::isnan(halfResolution(v).at(0, 0, 0)));
     EXPECT_EQ(halfResolution(Volume{}).voxelCount(), 0u);
 }
@@ -574,7 +574,7 @@ TEST(HalfResolution, WithDensityForItRendersTheVolumesExtinction) {
         for (int y = 0; y < 32; ++y)
             for (int x = 0; x < 32; ++x) {
                 const glm::dvec3 d = (glm::dvec3(x, y, z) - 15.5) * v.spacing;
-                v.values.push_back(float(std::exp(-glm::dot(d, d) / (2.0 * 7.0 * 7.0))));
+                v.values.floats().push_back(float(std::exp(-glm::dot(d, d) / (2.0 * 7.0 * 7.0))));
             }
     updateRange(v);
     const Volume h = halfResolution(v);
@@ -612,7 +612,7 @@ TEST(HalfResolution, PickingOneFineValueKeepsASharpTfsThinFeatureWhereTheMeanLos
     v.name = "sheet";
     v.dims = {32, 32, 32};
     for (int z = 0; z < 32; ++z)
-        for (int i = 0; i < 32 * 32; ++i) v.values.push_back(z == 15 ? 1.0f : 0.0f);
+        for (int i = 0; i < 32 * 32; ++i) v.values.floats().push_back(z == 15 ? 1.0f : 0.0f);
     updateRange(v);
     const TransferFunction band = fromSharedPoints("band", {{0.0, {1, 1, 1}, 0.0}, {0.89, {1, 1, 1}, 0.0}, {0.9, {1, 1, 1}, 1.0},
                                          {1.0, {1, 1, 1}, 1.0}});

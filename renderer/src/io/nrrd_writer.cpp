@@ -57,14 +57,15 @@ bool fitsType(float v, VoxelType type) {
 
 // Refuses a value the file's type cannot hold, naming the first such voxel.
 void checkValuesFitTheType(const Volume& volume) {
-    const auto bad = std::find_if(volume.values.begin(), volume.values.end(),
-                                  [&](float v) { return !fitsType(v, volume.type); });
-    if (bad == volume.values.end()) return;
-    const size_t i = size_t(bad - volume.values.begin()), dx = size_t(volume.dims.x),
-                 dy = size_t(volume.dims.y);
+    if (volume.values.type() == volume.type) return;   // held in the file's type: every value fits it
+    size_t i = 0;
+    while (i < volume.values.size() && fitsType(volume.values[i], volume.type)) ++i;
+    if (i == volume.values.size()) return;
+    const float bad = volume.values[i];
+    const size_t dx = size_t(volume.dims.x), dy = size_t(volume.dims.y);
     char text[160];
     std::snprintf(text, sizeof text, "voxel (%zu, %zu, %zu) is %g: not a whole number within %s", i % dx,
-                  i / dx % dy, i / (dx * dy), double(*bad), voxelTypeName(volume.type));
+                  i / dx % dy, i / (dx * dy), double(bad), voxelTypeName(volume.type));
     throw RenderError(volume.name + ": cannot write as " + voxelTypeName(volume.type) + ", " + text);
 }
 

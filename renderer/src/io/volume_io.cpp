@@ -254,6 +254,7 @@ Volume loadRaw(const std::filesystem::path& path, const RawOptions& options, con
                    .byteSkip = options.headerBytes,
                    .exact = true,
                    .endian = options.endian,
+                   .sizeField = "dims",
                    .progress = progress};
     // Compressed when named so or when it starts with the gzip magic bytes 1f 8b.
     std::ifstream probe = openFile(path, path, "");
@@ -319,6 +320,7 @@ Volume loadNrrd(const std::filesystem::path& path, const ProgressCallback& progr
     // 4. Storage: encoding, endianness (multi-byte types only), skips and the data's location.
     DataSource src;
     src.progress = progress;
+    src.sizeField = sizesField.name;
     const NrrdField& encoding = require("encoding", "encoding");
     const std::string enc = lower(encoding.value);
     if (enc == "gzip" || enc == "gz")

@@ -19,6 +19,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
 namespace renderer::io {
 
@@ -107,21 +108,13 @@ glm::ivec3 checkedDims(const fs::path& path, const std::string& field, long long
     if (product > kMaxVoxels)
         fail(path, field, text + " = " + std::to_string(product) + " voxels is more than the " +
                               std::to_string(kMaxVoxels) + " SplatLab renders (e.g. 710^3, 1024 x 1024 x 341)");
-    checkVoxelsFitTheBudget(path, field, text, product);
     return {int(x), int(y), int(z)};
 }
 
 void checkVoxelsFitTheBudget(const fs::path& path, const std::string& field, const std::string& claim,
-                             uint64_t voxels) {
-    const uint64_t bytes = voxels * sizeof(float), budget = volumeMemoryBudget();
-    if (bytes > budget)
-        fail(path, field,
-             claim + " voxels need " + std::to_string((bytes + kMiB - 1) / kMiB) +
-                 " MiB as 32-bit floats, more than the memory budget of " + std::to_string(budget / kMiB) +
-                 " MiB (half of what this process may use; SPLATLAB_MEMORY_BUDGET_MB sets it)");
+                             uint64_t voxels, VoxelType type) {
+    if (const auto why = overMemoryBudget(voxels, type)) fail(path, field, claim + " voxels " + *why);
 }
-
-
 
 glm::dvec3 checkedSpacing(const fs::path& path, const std::string& field, glm::dvec3 spacing) {
     for (int axis = 0; axis < 3; ++axis)
@@ -291,38 +284,38 @@ size_t ByteReader::read(unsigned char* dst, size_t n) {
     return got;
 }
 
-void decodeVoxels(const unsigned char* bytes, size_t count, VoxelType type, Endian endian, float* out) {
-    const bool little = endian == Endian::Little;
-    for (size_t i = 0; i < count; ++i) {
-        const unsigned char* b = bytes + i * voxelTypeBytes(type);
-        switch (type) {
-        case VoxelType::U8:
-            out[i] = float(b[0]);
-            break;
-        case VoxelType::U16:
-            out[i] = float(uint16_t(little ? b[0] | b[1] << 8 : b[1] | b[0] << 8));
-            break;
-        case VoxelType::I16:
-            out[i] = float(int16_t(uint16_t(little ? b[0] | b[1] << 8 : b[1] | b[0] << 8)));
-            break;
-        case VoxelType::F32: {
-            const uint32_t b0 = b[little ? 0 : 3], b1 = b[little ? 1 : 2], b2 = b[little ? 2 : 1],
-                           b3 = b[little ? 3 : 0];
-            out[i] = std::bit_cast<float>(b0 | b1 << 8 | b2 << 16 | b3 << 24);
-            break;
-        }
+namespace {
+// Stored bytes of `count` voxels of out's type, in `endian` order, into out[0..count).
+template <class T> void decodeTyped(const unsigned char* bytes, size_t count, Endian endian, T* out) {
+    if constexpr (sizeof(T) == 1) {
+        std::memcpy(out, bytes, count);
+    } else {
+        using Bits = std::conditional_t<sizeof(T) == 2, uint16_t, uint32_t>;
+        const bool little = endian == Endian::Little;
+        for (size_t i = 0; i < count; ++i) {
+            const unsigned char* b = bytes + i * sizeof(T);
+            Bits bits = 0;
+            for (size_t k = 0; k < sizeof(T); ++k)
+                bits = Bits(bits | Bits(b[little ? k : sizeof(T) - 1 - k]) << (8 * k));
+            out[i] = std::bit_cast<T>(bits);
         }
     }
+}
+} // namespace
+
+void decodeVoxels(const unsigned char* bytes, size_t count, Endian endian, VoxelValues& out, size_t first) {
+    out.visit([&](auto& values) { decodeTyped(bytes, count, endian, values.data() + first); });
 }
 
 void reportProgress(const ProgressCallback& progress, double fraction, const fs::path& report) {
     if (progress && !progress(fraction)) throw Cancelled(report.string() + ": reading cancelled");
 }
 
-std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm::ivec3 dims,
-                              VoxelType type) {
+VoxelValues readVoxels(const fs::path& report, const DataSource& src, glm::ivec3 dims, VoxelType type) {
     const size_t count = size_t(dims.x) * size_t(dims.y) * size_t(dims.z); // checkedDims() bounded it
     const size_t needed = count * voxelTypeBytes(type);
+    checkVoxelsFitTheBudget(report, src.sizeField, std::to_string(dims.x) + " x " + std::to_string(dims.y) + " x " +
+                            std::to_string(dims.z), count, type);
     const bool compressed = src.compression != Compression::None;
     const std::string where = src.file == report ? "file" : "data file '" + src.file.string() + "'";
     // With a byte skip the file must hold the skip and then the data: the total is what is compared.
@@ -387,26 +380,25 @@ std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm
         if (got < want) shortRead(skipped);
     }
     // Compressed data: reserve for up to 64:1 (CT and MRI compress far less), grow beyond that as the
-    // bytes arrive, so a small stream that lies about its size never costs gigabytes.
-    std::vector<float> values;
-    if (compressed)
-        values.reserve(
-            size_t(std::min<uintmax_t>(count, available * 64 / voxelTypeBytes(type) + kChunkBytes)));
-    else
-        values.resize(count);
+    // bytes arrive, so a small stream that lies about its size never costs gigabytes. The voxels keep
+    // the file's type (voxel_values.h).
     const size_t voxelBytes = voxelTypeBytes(type);
-    for (size_t done = 0; done < needed;) {
-        const size_t want = std::min(kChunkBytes, needed - done);
-        const size_t got = reader.read(chunk.data(), want);
-        if (got < want) shortRead(src.byteSkip + done + got);
-        if (values.size() < (done + want) / voxelBytes) values.resize((done + want) / voxelBytes);
-        decodeVoxels(chunk.data(), want / voxelBytes, type, src.endian, values.data() + done / voxelBytes);
-        done += want;
-        reportProgress(src.progress, double(done) / double(needed), report);
-    }
+    VoxelValues out = VoxelValues::zeros(type, compressed ? 0 : count);
+    out.visit([&](auto& values) {
+        if (compressed) values.reserve(size_t(std::min<uintmax_t>(count, available * 64 / voxelBytes + kChunkBytes)));
+        for (size_t done = 0; done < needed;) {
+            const size_t want = std::min(kChunkBytes, needed - done);
+            const size_t got = reader.read(chunk.data(), want);
+            if (got < want) shortRead(src.byteSkip + done + got);
+            if (values.size() < (done + want) / voxelBytes) values.resize((done + want) / voxelBytes);
+            decodeTyped(chunk.data(), want / voxelBytes, src.endian, values.data() + done / voxelBytes);
+            done += want;
+            reportProgress(src.progress, double(done) / double(needed), report);
+        }
+    });
     if (src.exact && compressed && reader.read(chunk.data(), 1) == 1)
         fail(report, "data", streamName + " holds more than the expected " + expected);
-    return values;
+    return out;
 }
 
 std::string readSmallFile(const fs::path& path, size_t maxBytes) {
@@ -440,6 +432,14 @@ uint64_t volumeMemoryBudget() {
             usable = std::min<uint64_t>(usable, uint64_t(limit.rlim_cur));
     }
     return usable / 2;
+}
+
+std::optional<std::string> overMemoryBudget(uint64_t voxels, VoxelType type) {
+    const uint64_t bytes = voxels * voxelTypeBytes(type), budget = volumeMemoryBudget();
+    if (bytes <= budget) return std::nullopt;
+    return "need " + std::to_string((bytes + io::kMiB - 1) / io::kMiB) + " MiB as " + voxelTypeName(type) +
+           ", more than the memory budget of " + std::to_string(budget / io::kMiB) +
+           " MiB (half of what this process may use; SPLATLAB_MEMORY_BUDGET_MB sets it)";
 }
 
 } // namespace renderer

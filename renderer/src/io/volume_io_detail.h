@@ -31,12 +31,12 @@ std::optional<double> parseDouble(std::string_view s);
 std::string number(double v);
 std::string layoutText(glm::ivec3 dims, VoxelType type);
 
-// Three axis sizes, each positive and fitting an int, product within kMaxVoxels and the memory budget;
-// checked before any allocation so lying headers cannot overflow size_t or exhaust memory.
+// Three axis sizes, each positive and fitting an int, product within kMaxVoxels; checked before any
+// allocation so lying headers cannot overflow size_t (readVoxels then checks the memory budget).
 glm::ivec3 checkedDims(const fs::path& path, const std::string& field, long long x, long long y, long long z);
-// Refuses `voxels` (as the header `claim`s them) when their floats exceed volumeMemoryBudget().
+// Refuses `voxels` of `type` (as the header `claim`s them) where they exceed volumeMemoryBudget().
 void checkVoxelsFitTheBudget(const fs::path& path, const std::string& field, const std::string& claim,
-                             uint64_t voxels);
+                             uint64_t voxels, VoxelType type);
 constexpr uint64_t kMiB = uint64_t(1) << 20;
 // Each component finite and within [kMinSpacing, kMaxSpacing].
 constexpr double kMinSpacing = 1e-6, kMaxSpacing = 1e6;
@@ -76,7 +76,8 @@ class ByteReader {
     std::unique_ptr<State> m_state;
 };
 
-void decodeVoxels(const unsigned char* bytes, size_t count, VoxelType type, Endian endian, float* out);
+// Stored bytes of `count` voxels in `endian` order into out[first..first + count), which has the stored type.
+void decodeVoxels(const unsigned char* bytes, size_t count, Endian endian, VoxelValues& out, size_t first);
 
 // Where the voxel bytes are and how they are stored.
 struct DataSource {
@@ -87,14 +88,15 @@ struct DataSource {
     Compression compression = Compression::None;
     bool exact = false; // trailing bytes are an error (raw files) instead of being ignored (NRRD)
     Endian endian = Endian::Little;
+    std::string sizeField = "sizes"; // the header field the sizes came from, named where they are over budget
     ProgressCallback progress; // the fraction of the voxels read, every chunk; false: throw Cancelled
 };
 
 // Tells `progress` (if any) the fraction done; throws Cancelled naming `report` when it says stop.
 void reportProgress(const ProgressCallback& progress, double fraction, const fs::path& report);
 
-// Reads dims/type voxels from `src` into floats. `report` is the file named in errors.
-std::vector<float> readVoxels(const fs::path& report, const DataSource& src, glm::ivec3 dims, VoxelType type);
+// Reads dims/type voxels from `src`, kept in their type. `report` is the file named in errors.
+VoxelValues readVoxels(const fs::path& report, const DataSource& src, glm::ivec3 dims, VoxelType type);
 
 // Reads a whole (small) file into memory, refusing more than `maxBytes`.
 std::string readSmallFile(const fs::path& path, size_t maxBytes);

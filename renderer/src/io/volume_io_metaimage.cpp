@@ -174,6 +174,7 @@ Volume loadMetaImage(const std::filesystem::path& path, const ProgressCallback& 
 
     DataSource src;
     src.progress = progress;
+    src.sizeField = dimSize.key;
     for (const char* key : {"binarydatabyteordermsb", "elementbyteordermsb"})
         if (const MetaField* msb = header.find(key))
             src.endian = boolean(path, *msb) ? Endian::Big : Endian::Little;

@@ -54,6 +54,25 @@ const NiftiType kNiftiTypes[] = {
     {2048, "complex256", std::nullopt}, {2304, "rgba32", std::nullopt},
 };
 
+// The stored values (finite ones within `stored`) times slope plus inter. Whole slopes and intercepts
+// that keep integers within int16 (a CT's 0..4095 with an intercept of -1024) stay 2 bytes a voxel;
+// anything else becomes 32-bit floats.
+VoxelValues scaledValues(const VoxelValues& values, double slope, double inter, ValueRange stored) {
+    const bool whole = values.type() != VoxelType::F32 && slope == std::round(slope) && inter == std::round(inter);
+    const double a = double(stored.lo) * slope + inter, b = double(stored.hi) * slope + inter;
+    constexpr double lowest = std::numeric_limits<int16_t>::min(), highest = std::numeric_limits<int16_t>::max();
+    return values.visit([&](const auto& in) -> VoxelValues {
+        if (whole && std::min(a, b) >= lowest && std::max(a, b) <= highest) {
+            std::vector<int16_t> out(in.size());
+            for (size_t i = 0; i < in.size(); ++i) out[i] = int16_t(std::lround(double(in[i]) * slope + inter));
+            return out;
+        }
+        std::vector<float> out(in.size());
+        for (size_t i = 0; i < in.size(); ++i) out[i] = float(double(in[i]) * slope + inter);
+        return out;
+    });
+}
+
 } // namespace
 
 Volume loadNifti(const std::filesystem::path& path, const ProgressCallback& progress) {
@@ -188,14 +207,15 @@ Volume loadNifti(const std::filesystem::path& path, const ProgressCallback& prog
     DataSource src{.file = path,
                    .byteSkip = size_t(voxOffset),
                    .endian = h.big ? Endian::Big : Endian::Little,
+                   .sizeField = "dim",
                    .progress = progress};
     if (gzip) src.compression = Compression::Zlib;
     volume.values = readVoxels(path, src, volume.dims, volume.type);
     if (slope != 0 && !(slope == 1 && inter == 0)) {
         // Scaled values must stay 32-bit floats: a slope of 3e38 turned voxels into +inf, which then
         // vanished from the image without a word.
-        const auto [lo, hi] = std::minmax_element(volume.values.begin(), volume.values.end());
-        for (const double stored : {double(*lo), double(*hi)}) {
+        updateRange(volume);   // of the stored values
+        for (const double stored : {double(volume.range.lo), double(volume.range.hi)}) {
             const double scaled = stored * slope + inter;
             if (!(std::abs(scaled) <= double(std::numeric_limits<float>::max())))
                 fail(path, "scl_slope",
@@ -203,8 +223,7 @@ Volume loadNifti(const std::filesystem::path& path, const ProgressCallback& prog
                          number(stored) + " to " + number(scaled) +
                          ", expected scaled values within a 32-bit float's range (+-3.4e38)");
         }
-        for (float& v : volume.values)
-            v = float(double(v) * slope + inter);
+        volume.values = scaledValues(volume.values, slope, inter, volume.range);
     }
     updateRange(volume);
     return volume;

@@ -108,7 +108,7 @@ struct StackBuilder {
     fs::path report;
     Volume volume;
     bool started = false;
-    std::vector<std::vector<float>> slices;
+    std::vector<std::vector<unsigned char>> slices;   // as stored, in this machine's byte order
     uintmax_t fileBytes = 0;    // size of every slice file opened so far
     uintmax_t claimedBytes = 0; // pixel bytes of every slice read so far
 
@@ -145,7 +145,7 @@ struct StackBuilder {
         const size_t count = size_t(volume.dims.x) * size_t(volume.dims.y);
         checkVoxelsFitTheBudget(report, "slices", std::to_string(slices.size() + 1) + " slices of " +
                                                       std::to_string(volume.dims.x) + " x " + std::to_string(volume.dims.y),
-                                (slices.size() + 1) * count);
+                                (slices.size() + 1) * count, volume.type);
         claimedBytes += count * voxelTypeBytes(volume.type);
         if (claimedBytes > fileBytes * kMaxImageExpansion + (uintmax_t(1) << 20))
             fail(report, "width/height",
@@ -153,22 +153,23 @@ struct StackBuilder {
                      " pixels: " + std::to_string(claimedBytes) +
                      " bytes of pixels so far cannot come from " + std::to_string(fileBytes) +
                      " bytes of image files");
-        // Read in the stored type (OIIO would normalise integers to 0..1 if asked for float), then
-        // convert: the values stay in the data's own units.
-        std::vector<unsigned char> stored(count * voxelTypeBytes(volume.type));
+        // Read in the stored type (OIIO would normalise integers to 0..1 if asked for float), which
+        // the volume keeps: the values stay in the data's own units.
+        std::vector<unsigned char>& stored = slices.emplace_back(count * voxelTypeBytes(volume.type));
         if (!in.read_image(in.current_subimage(), 0, 0, 1, spec.format, stored.data()))
             fail(report, "pixels", where + ": " + in.geterror());
-        std::vector<float>& pixels = slices.emplace_back(count);
-        decodeVoxels(stored.data(), count, volume.type,
-                     std::endian::native == std::endian::little ? Endian::Little : Endian::Big,
-                     pixels.data());
     }
 
     Volume finish() {
         volume.dims.z = int(slices.size());
-        volume.values.reserve(volume.voxelCount());
-        for (const auto& s : slices)
-            volume.values.insert(volume.values.end(), s.begin(), s.end());
+        // Each slice is freed once copied; the slices and the volume are both held only at the start.
+        volume.values = VoxelValues::zeros(volume.type, volume.voxelCount());
+        const size_t plane = size_t(volume.dims.x) * size_t(volume.dims.y);
+        for (size_t k = 0; k < slices.size(); ++k) {
+            decodeVoxels(slices[k].data(), plane, std::endian::native == std::endian::little ? Endian::Little : Endian::Big,
+                         volume.values, k * plane);
+            std::vector<unsigned char>().swap(slices[k]);
+        }
         updateRange(volume);
         return std::move(volume);
     }

@@ -82,7 +82,7 @@ class SlcCursor {
 
 // One RLE slice: a byte n | 0x80 copies the next n bytes, a byte n < 0x80 repeats the next byte n
 // times, 0 ends the slice. Exactly `out.size()` voxels must come out.
-void decodeSlcSlice(const fs::path& path, int z, std::string_view in, float* out, size_t plane) {
+void decodeSlcSlice(const fs::path& path, int z, std::string_view in, uint8_t* out, size_t plane) {
     size_t i = 0, o = 0;
     const std::string field = "slice " + std::to_string(z);
     while (i < in.size()) {
@@ -97,10 +97,10 @@ void decodeSlcSlice(const fs::path& path, int z, std::string_view in, float* out
                 fail(path, field,
                      "a literal run of " + std::to_string(run) + " bytes passes the end of the slice data");
             for (size_t k = 0; k < run; ++k)
-                out[o++] = float(static_cast<unsigned char>(in[i++]));
+                out[o++] = static_cast<uint8_t>(in[i++]);
         } else {
             if (i >= in.size()) fail(path, field, "a repeat run has no value byte");
-            const float v = float(static_cast<unsigned char>(in[i++]));
+            const uint8_t v = static_cast<uint8_t>(in[i++]);
             for (size_t k = 0; k < run; ++k)
                 out[o++] = v;
         }
@@ -126,6 +126,8 @@ Volume loadSlc(const std::filesystem::path& path, const ProgressCallback& progre
     volume.name = volumeName(path);
     volume.type = VoxelType::U8;
     volume.dims = checkedDims(path, "xsize/ysize/zsize", x, y, z);
+    checkVoxelsFitTheBudget(path, "xsize/ysize/zsize", layoutText(volume.dims, volume.type), volume.voxelCount(),
+                            volume.type);
     if (bits != 8)
         fail(path, "bits_per_voxel", std::to_string(bits) + ", expected 8 (the only depth SLC defines)");
     glm::dvec3 spacing;
@@ -153,14 +155,14 @@ Volume loadSlc(const std::filesystem::path& path, const ProgressCallback& progre
         fail(path, "data",
              std::to_string(in.left()) + " bytes after the icon cannot hold " +
                  layoutText(volume.dims, volume.type) + (compression ? " run-length encoded" : ""));
-    volume.values.resize(volume.voxelCount());
+    std::vector<uint8_t> values(volume.voxelCount());
     for (int slice = 0; slice < volume.dims.z; ++slice) {
         const std::string field = "slice " + std::to_string(slice);
         const long long size = in.integer(field + " size");
         if (size < 0) fail(path, field + " size", std::to_string(size) + ", expected a byte count");
         in.marker(field + " size");
         const std::string_view data = in.take(size_t(size), field);
-        float* out = volume.values.data() + plane * size_t(slice);
+        uint8_t* out = values.data() + plane * size_t(slice);
         if (compression) {
             decodeSlcSlice(path, slice, data, out, plane);
         } else {
@@ -168,10 +170,11 @@ Volume loadSlc(const std::filesystem::path& path, const ProgressCallback& progre
                 fail(path, field + " size",
                      std::to_string(size) + ", expected " + std::to_string(plane) + " (uncompressed)");
             for (size_t i = 0; i < plane; ++i)
-                out[i] = float(static_cast<unsigned char>(data[i]));
+                out[i] = static_cast<uint8_t>(data[i]);
         }
         reportProgress(progress, double(slice + 1) / double(volume.dims.z), path);
     }
+    volume.values = std::move(values);
     updateRange(volume);
     return volume;
 }
@@ -190,7 +193,8 @@ Volume loadDat(const std::filesystem::path& path, const ProgressCallback& progre
     volume.type = VoxelType::U16;
     volume.dims = checkedDims(path, "dims", u16(0), u16(1), u16(2));
     // 2. uint16 voxels, exactly filling the rest of the file.
-    DataSource src{.file = path, .offset = 6, .exact = true, .endian = Endian::Little, .progress = progress};
+    DataSource src{.file = path, .offset = 6, .exact = true, .endian = Endian::Little,
+                   .sizeField = "dims", .progress = progress};
     volume.values = readVoxels(path, src, volume.dims, volume.type);
     updateRange(volume);
     return volume;

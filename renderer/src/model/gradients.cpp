@@ -11,21 +11,24 @@
 namespace renderer {
 namespace {
 
-// One component along `axis` at (x, y, z): central inside, one-sided on the faces.
-double derivative(const Volume& v, int x, int y, int z, int axis) {
+// One component along `axis` at (x, y, z): central inside, one-sided on the faces. `values` are v's, as
+// stored (VoxelValues::visit), so the inner loop reads them without a dispatch a voxel.
+template <class Values>
+double derivative(const Volume& v, const Values& values, int x, int y, int z, int axis) {
     const glm::ivec3 p(x, y, z);
     const int n = v.dims[axis];
     if (n < 2) return 0.0;
     glm::ivec3 lo = p, hi = p;
     lo[axis] = std::max(p[axis] - 1, 0);
     hi[axis] = std::min(p[axis] + 1, n - 1);
-    const double d = double(v.at(hi.x, hi.y, hi.z)) - double(v.at(lo.x, lo.y, lo.z));
+    const double d = double(values[v.index(hi.x, hi.y, hi.z)]) - double(values[v.index(lo.x, lo.y, lo.z)]);
     if (!std::isfinite(d)) return 0.0;
     return d / (double(hi[axis] - lo[axis]) * v.spacing[axis]);
 }
 
-glm::dvec3 gradientAt(const Volume& v, int x, int y, int z) {
-    return {derivative(v, x, y, z, 0), derivative(v, x, y, z, 1), derivative(v, x, y, z, 2)};
+template <class Values>
+glm::dvec3 gradientAt(const Volume& v, const Values& values, int x, int y, int z) {
+    return {derivative(v, values, x, y, z, 0), derivative(v, values, x, y, z, 1), derivative(v, values, x, y, z, 2)};
 }
 
 // Runs body(z) for every slice in batches, reporting progress between batches (on this thread).
@@ -46,7 +49,9 @@ bool forSlices(int depth, double from, double to, const ProgressCallback& progre
 
 } // namespace
 
-std::optional<GradientField> computeGradients(const Volume& volume, const ProgressCallback& progress) {
+namespace {
+template <class Values>
+std::optional<GradientField> gradientsOf(const Volume& volume, const Values& values, const ProgressCallback& progress) {
     GradientField field;
     field.dims = volume.dims;
     if (volume.voxelCount() == 0 || volume.values.size() != volume.voxelCount()) return field;
@@ -59,7 +64,7 @@ std::optional<GradientField> computeGradients(const Volume& volume, const Progre
             double& m = largest.local();
             for (int y = 0; y < d.y; ++y)
                 for (int x = 0; x < d.x; ++x) {
-                    const glm::dvec3 g = glm::abs(gradientAt(volume, x, y, z));
+                    const glm::dvec3 g = glm::abs(gradientAt(volume, values, x, y, z));
                     m = std::max(m, std::max(g.x, std::max(g.y, g.z)));
                 }
         }))
@@ -72,7 +77,7 @@ std::optional<GradientField> computeGradients(const Volume& volume, const Progre
     if (!forSlices(d.z, 0.5, 1.0, progress, [&](int z) {
             for (int y = 0; y < d.y; ++y)
                 for (int x = 0; x < d.x; ++x) {
-                    const glm::dvec3 g = gradientAt(volume, x, y, z);
+                    const glm::dvec3 g = gradientAt(volume, values, x, y, z);
                     const size_t i = volume.index(x, y, z) * 3;
                     for (int c = 0; c < 3; ++c)
                         field.xyz[i + size_t(c)] = int16_t(std::lround(g[c] * k));
@@ -80,6 +85,12 @@ std::optional<GradientField> computeGradients(const Volume& volume, const Progre
         }))
         return std::nullopt;
     return field;
+}
+
+} // namespace
+
+std::optional<GradientField> computeGradients(const Volume& volume, const ProgressCallback& progress) {
+    return volume.values.visit([&](const auto& values) { return gradientsOf(volume, values, progress); });
 }
 
 GradientStats gradientMagnitudeStats(const GradientField& field) {

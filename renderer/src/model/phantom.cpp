@@ -17,7 +17,6 @@
 namespace renderer {
 namespace {
 
-constexpr uint64_t kMiB = uint64_t(1) << 20;
 
 // == Anatomy, mm from the middle of the cube; x left-right, y front-back, z up.
 
@@ -184,12 +183,8 @@ void checkOptions(const PhantomOptions& o) {
     if (voxels > double(kMaxVoxels))
         throw RenderError("phantom: size " + sizeText(o.dims) + " is more than the " +
                           std::to_string(kMaxVoxels) + " voxels a volume may have");
-    const uint64_t bytes = uint64_t(voxels) * sizeof(float), budget = volumeMemoryBudget();
-    if (bytes > budget)
-        throw RenderError(
-            "phantom: size " + sizeText(o.dims) + " needs " + std::to_string((bytes + kMiB - 1) / kMiB) +
-            " MiB as 32-bit floats, more than the memory budget of " + std::to_string(budget / kMiB) +
-            " MiB (half of what this process may use; SPLATLAB_MEMORY_BUDGET_MB sets it)");
+    if (const auto why = overMemoryBudget(uint64_t(voxels), VoxelType::I16))
+        throw RenderError("phantom: size " + sizeText(o.dims) + " voxels " + *why);
 }
 
 } // namespace
@@ -203,7 +198,7 @@ Volume makePhantom(const PhantomOptions& options) {
     volume.dims = options.dims;
     volume.spacing = kPhantomFieldMm / glm::dvec3(options.dims);
     volume.origin = -0.5 * volume.spacing * glm::dvec3(options.dims - 1); // (0,0,0) mid-cube
-    volume.values.resize(volume.voxelCount());
+    std::vector<int16_t> hu16(volume.voxelCount());   // whole HU, as a CT stores them
 
     // 2. Tissue plus noise, a slice per task. Tissues stay within [-1000, 1400] HU and the noise within
     // 5.9 sigma <= 5900 HU, so rounding to a whole HU always fits int16.
@@ -220,10 +215,11 @@ Volume makePhantom(const PhantomOptions& options) {
                     std::round(anatomy.tissueHu(volume.positionOf(x, y, z)) + options.noiseHu * n);
                 assert(hu >= -32768.0 && hu <= 32767.0 &&
                        "tissue and noise bounds keep every voxel within int16");
-                volume.values[i] = float(hu);
+                hu16[i] = int16_t(hu);
             }
         }
     });
+    volume.values = std::move(hu16);
 
     // 3. The range, as every loader leaves it.
     updateRange(volume);

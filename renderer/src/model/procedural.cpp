@@ -24,7 +24,7 @@ Volume makeVolume(const char* name, glm::ivec3 dims) {
     Volume volume;
     volume.name = name;
     volume.dims = dims;
-    volume.values.resize(volume.voxelCount());
+    volume.values.floats().resize(volume.voxelCount());
     return volume;
 }
 
@@ -36,7 +36,7 @@ Volume makeCheckerboard(glm::ivec3 dims, int cell) {
     for (int z = 0; z < dims.z; ++z)
         for (int y = 0; y < dims.y; ++y)
             for (int x = 0; x < dims.x; ++x)
-                volume.values[volume.index(x, y, z)] = float((x / cell + y / cell + z / cell) & 1);
+                volume.values.floats()[volume.index(x, y, z)] = float((x / cell + y / cell + z / cell) & 1);
     updateRange(volume);
     return volume;
 }
@@ -53,7 +53,7 @@ Volume makeSphereShells(int n, double period, double thickness) {
                 const double dist = std::sqrt((x - c) * (x - c) + (y - c) * (y - c) + (z - c) * (z - c));
                 const double toShell = std::abs(dist - std::round(dist / period) * period);
                 // 1 inside the shell, 0 outside, a linear ramp one voxel wide centred on its surface.
-                volume.values[volume.index(x, y, z)] =
+                volume.values.floats()[volume.index(x, y, z)] =
                     float(std::clamp(0.5 + (0.5 * thickness - toShell), 0.0, 1.0));
             }
     updateRange(volume);
@@ -73,7 +73,7 @@ Volume makeMarschnerLobb(int n) {
                     std::cos(2.0 * kPi * kFm * std::cos(kPi * std::sqrt(px * px + py * py) / 2.0));
                 const double rho =
                     (1.0 - std::sin(kPi * pz / 2.0) + kAlpha * (1.0 + rhoR)) / (2.0 * (1.0 + kAlpha));
-                volume.values[volume.index(x, y, z)] = float(rho);
+                volume.values.floats()[volume.index(x, y, z)] = float(rho);
             }
     updateRange(volume);
     return volume;

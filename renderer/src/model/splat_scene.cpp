@@ -176,10 +176,12 @@ SplatScene buildSplatSceneOrThrow(const Volume& volume, const TransferFunction& 
     s.window = (window.hi > window.lo) ? window : volume.range;
     s.classes.resize(volume.voxelCount());
     tbb::combinable<std::vector<uint32_t>> histograms([] { return std::vector<uint32_t>(kLutSize, 0); });
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, s.classes.size()), [&](const tbb::blocked_range<size_t>& r) {
-        std::vector<uint32_t>& histogram = histograms.local();
-        for (size_t i = r.begin(); i < r.end(); ++i)
-            ++histogram[s.classes[i] = classOf(volume.values[i], s.window.lo, s.window.hi)];
+    volume.values.visit([&](const auto& values) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, s.classes.size()), [&](const tbb::blocked_range<size_t>& r) {
+            std::vector<uint32_t>& histogram = histograms.local();
+            for (size_t i = r.begin(); i < r.end(); ++i)
+                ++histogram[s.classes[i] = classOf(float(values[i]), s.window.lo, s.window.hi)];
+        });
     });
     s.classVoxels.assign(kLutSize, 0);
     histograms.combine_each([&](const std::vector<uint32_t>& h) {

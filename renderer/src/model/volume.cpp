@@ -1,4 +1,4 @@
-// Volume helpers that need no file format: type names and sizes, the value range and the histogram,
+// Volume helpers that need no file format: the value range and the histogram,
 // axis alignment and the half-resolution preview.
 // Readers live in volume_io.cpp, synthetic volumes in procedural.cpp.
 #include "renderer/model/volume.h"
@@ -14,44 +14,28 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <type_traits>
 
 namespace renderer {
 
-const char* voxelTypeName(VoxelType t) {
-    switch (t) {
-    case VoxelType::U8: return "uint8";
-    case VoxelType::U16: return "uint16";
-    case VoxelType::I16: return "int16";
-    case VoxelType::F32: return "float32";
-    }
-    return "unknown";
-}
-
-size_t voxelTypeBytes(VoxelType t) {
-    switch (t) {
-    case VoxelType::U8: return 1;
-    case VoxelType::U16: return 2;
-    case VoxelType::I16: return 2;
-    case VoxelType::F32: return 4;
-    }
-    return 0;
-}
-
 void updateRange(Volume& volume) {
-    bool any = false;
-    ValueRange range;
-    for (float v : volume.values) {
-        if (!std::isfinite(v)) continue;
-        if (!any) {
-            range = {v, v};
-            any = true;
-        } else {
-            range.lo = std::min(range.lo, v);
-            range.hi = std::max(range.hi, v);
-        }
-    }
     // An empty or all-NaN volume gets {0, 0} so callers never see an inverted or infinite range.
-    volume.range = any ? range : ValueRange{};
+    volume.range = volume.values.visit([](const auto& values) {
+        bool any = false;
+        ValueRange range;
+        for (const auto stored : values) {
+            const float v = float(stored);
+            if (!std::isfinite(v)) continue;
+            if (!any) {
+                range = {v, v};
+                any = true;
+            } else {
+                range.lo = std::min(range.lo, v);
+                range.hi = std::max(range.hi, v);
+            }
+        }
+        return any ? range : ValueRange{};
+    });
 }
 
 Histogram computeHistogram(const Volume& volume, int bins) {
@@ -62,13 +46,16 @@ Histogram computeHistogram(const Volume& volume, int bins) {
     const double lo = h.range.lo, hi = h.range.hi;
     // A constant volume has zero width; every value then counts in bin 0 rather than dividing by zero.
     const double scale = hi > lo ? double(bins) / (hi - lo) : 0.0;
-    for (float v : volume.values) {
-        // Values outside the range (a stale range, NaN, Inf) are not counted: no bin covers them.
+    volume.values.visit([&](const auto& values) {
+        for (const auto stored : values) {
+            const float v = float(stored);
+            // Values outside the range (a stale range, NaN, Inf) are not counted: no bin covers them.
         if (!std::isfinite(v) || v < lo || v > hi) continue;
         // v == hi would land one past the end; it belongs to the last (closed) bin.
-        const int bin = std::min(int((v - lo) * scale), bins - 1);
-        ++h.counts[size_t(bin)];
-    }
+            const int bin = std::min(int((v - lo) * scale), bins - 1);
+            ++h.counts[size_t(bin)];
+        }
+    });
     return h;
 }
 
@@ -120,17 +107,20 @@ Volume reordered(const Volume& volume, const AxisMap& map, const glm::dmat3& dir
             out.origin += volume.directions[axis] * volume.spacing[axis] * double(volume.dims[axis] - 1);
         }
     }
-    out.values.resize(volume.values.size());
-    for (int z = 0; z < volume.dims.z; ++z)
-        for (int y = 0; y < volume.dims.y; ++y)
-            for (int x = 0; x < volume.dims.x; ++x) {
-                const glm::ivec3 from{x, y, z};
-                glm::ivec3 at{0};
-                for (int axis = 0; axis < 3; ++axis)
-                    at[map.world[size_t(axis)]] =
-                        map.sign[size_t(axis)] > 0 ? from[axis] : start[axis] - from[axis];
-                out.values[out.index(at.x, at.y, at.z)] = volume.values[volume.index(x, y, z)];
-            }
+    out.values = volume.values.visit([&](const auto& in) {   // in the file's type
+        std::remove_cvref_t<decltype(in)> moved(in.size());
+        for (int z = 0; z < volume.dims.z; ++z)
+            for (int y = 0; y < volume.dims.y; ++y)
+                for (int x = 0; x < volume.dims.x; ++x) {
+                    const glm::ivec3 from{x, y, z};
+                    glm::ivec3 at{0};
+                    for (int axis = 0; axis < 3; ++axis)
+                        at[map.world[size_t(axis)]] =
+                            map.sign[size_t(axis)] > 0 ? from[axis] : start[axis] - from[axis];
+                    moved[out.index(at.x, at.y, at.z)] = in[volume.index(x, y, z)];
+                }
+        return VoxelValues(std::move(moved));
+    });
     return out;
 }
 
@@ -232,7 +222,8 @@ Volume resampledOntoWorldAxes(const Volume& volume) {
     const glm::dvec3 last(glm::max(volume.dims - 1, 0));
     // Trilinear in the file's index space; where the grid reaches past the scan, the data's minimum (air).
     const float outside = volume.range.lo;
-    out.values.assign(out.voxelCount(), outside);
+    std::vector<float>& values = out.values.floats();   // trilinear mixes: floats whatever the file's type
+    values.assign(out.voxelCount(), outside);
     tbb::parallel_for(0, out.dims.z, [&](int z) {
         for (int y = 0; y < out.dims.y; ++y)
             for (int x = 0; x < out.dims.x; ++x) {
@@ -250,7 +241,7 @@ Volume resampledOntoWorldAxes(const Volume& volume) {
                     const double w = (c & 1 ? t.x : 1.0 - t.x) * (c & 2 ? t.y : 1.0 - t.y) * (c & 4 ? t.z : 1.0 - t.z);
                     if (w != 0.0) sum += w * double(volume.at(at.x, at.y, at.z));   // 0 x NaN would be NaN
                 }
-                out.values[out.index(x, y, z)] = float(sum);
+                values[out.index(x, y, z)] = float(sum);
             }
     });
     updateRange(out);
@@ -266,7 +257,8 @@ Volume halfResolution(const Volume& volume, Downsample how) {
     coarse.origin = volume.origin + 0.5 * volume.spacing * glm::dvec3(step - 1);
     coarse.directions = volume.directions;
     coarse.type = volume.type;
-    coarse.values.resize(coarse.voxelCount());
+    std::vector<float>& values = coarse.values.floats();   // a mean of integers is not one
+    values.resize(coarse.voxelCount());
     for (int z = 0; z < coarse.dims.z; ++z)
         for (int y = 0; y < coarse.dims.y; ++y)
             for (int x = 0; x < coarse.dims.x; ++x) {
@@ -285,7 +277,7 @@ Volume halfResolution(const Volume& volume, Downsample how) {
                     h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
                     value = finite[size_t((h ^ (h >> 31)) % uint64_t(n))];
                 }
-                coarse.values[coarse.index(x, y, z)] = value;
+                values[coarse.index(x, y, z)] = value;
             }
     updateRange(coarse);
     return coarse;

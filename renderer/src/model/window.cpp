@@ -6,7 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 namespace renderer {
 
@@ -31,19 +35,43 @@ ValueRange percentileWindow(const Volume& volume, double loPercent, double hiPer
     if (!(loPercent >= 0 && hiPercent <= 100 && loPercent <= hiPercent))
         throw RenderError("percentileWindow: percentiles " + std::to_string(loPercent) + ".." +
                           std::to_string(hiPercent) + ", expected 0 <= lo <= hi <= 100");
-    std::vector<float> finite;
-    finite.reserve(volume.values.size());
-    for (float v : volume.values)
-        if (std::isfinite(v)) finite.push_back(v);
-    if (finite.empty()) return {};
     // Nearest rank: percentile p is the element at round(p / 100 * (n - 1)) of the sorted values.
-    const auto rank = [&](double p) { return size_t(std::llround(p / 100.0 * double(finite.size() - 1))); };
-    const size_t lo = rank(loPercent), hi = rank(hiPercent);
-    std::nth_element(finite.begin(), finite.begin() + std::ptrdiff_t(lo), finite.end());
-    const float loValue = finite[lo];
-    // Everything past `lo` is >= it, so the second selection only needs that part.
-    std::nth_element(finite.begin() + std::ptrdiff_t(lo), finite.begin() + std::ptrdiff_t(hi), finite.end());
-    return {loValue, finite[hi]};
+    const auto rank = [&](size_t n, double p) { return size_t(std::llround(p / 100.0 * double(n - 1))); };
+    return volume.values.visit([&](const auto& values) -> ValueRange {
+        using Stored = typename std::remove_cvref_t<decltype(values)>::value_type;
+        if constexpr (std::is_integral_v<Stored>) {
+            // Integers take at most 65536 values: count them rather than copy the volume to sort it.
+            constexpr int64_t lowest = std::numeric_limits<Stored>::min();
+            std::vector<uint64_t> counts(size_t(std::numeric_limits<Stored>::max() - lowest + 1), 0);
+            for (const Stored v : values) ++counts[size_t(int64_t(v) - lowest)];
+            if (values.empty()) return {};
+            const size_t lo = rank(values.size(), loPercent), hi = rank(values.size(), hiPercent);
+            ValueRange window;
+            uint64_t below = 0;   // values in the bins before this one: the rank of its first element
+            for (size_t bin = 0; bin < counts.size(); ++bin) {
+                const uint64_t next = below + counts[bin];
+                if (below <= lo && lo < next) window.lo = float(int64_t(bin) + lowest);
+                if (below <= hi && hi < next) {
+                    window.hi = float(int64_t(bin) + lowest);
+                    break;
+                }
+                below = next;
+            }
+            return window;
+        } else {
+            std::vector<float> finite;
+            finite.reserve(values.size());
+            for (const float v : values)
+                if (std::isfinite(v)) finite.push_back(v);
+            if (finite.empty()) return {};
+            const size_t lo = rank(finite.size(), loPercent), hi = rank(finite.size(), hiPercent);
+            std::nth_element(finite.begin(), finite.begin() + std::ptrdiff_t(lo), finite.end());
+            const float loValue = finite[lo];
+            // Everything past `lo` is >= it, so the second selection only needs that part.
+            std::nth_element(finite.begin() + std::ptrdiff_t(lo), finite.begin() + std::ptrdiff_t(hi), finite.end());
+            return {loValue, finite[hi]};
+        }
+    });
 }
 
 ValueRange windowFor(const Volume& volume, const WindowSettings& settings) {

@@ -61,9 +61,12 @@ const char* supportedVolumeTypes();
 // The same as a list for file browsers: the lower-case file extensions loadVolume() reads, with the dot.
 const std::vector<std::string>& volumeFileExtensions();
 
-// Bytes one volume's voxels may take as 32-bit floats: SPLATLAB_MEMORY_BUDGET_MB when set, else half of
+// Bytes one volume's voxels may take in their type: SPLATLAB_MEMORY_BUDGET_MB when set, else half of
 // what this process may use (physical memory, or a lower `ulimit -v` / `-d`). Every loader refuses a
 // header that claims more before it allocates or decompresses anything.
 uint64_t volumeMemoryBudget();
+// Why `voxels` of `type` do not fit volumeMemoryBudget() ("need 600 MiB as uint8, more than the memory
+// budget of 512 MiB (...)"), or std::nullopt where they fit.
+std::optional<std::string> overMemoryBudget(uint64_t voxels, VoxelType type);
 
 } // namespace renderer

@@ -2,6 +2,7 @@
 // It owns no GL objects and knows no file format (volume_io.h reads files into it).
 #pragma once
 #include "renderer/math/glm_config.h"
+#include "renderer/model/voxel_values.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -20,11 +21,6 @@ namespace renderer {
 // place in its slice in 16 bits, hence 65535 voxels along an axis.
 constexpr size_t kMaxVoxels = size_t(INT32_MAX) / 6;
 constexpr int kMaxAxisVoxels = 65535;
-
-enum class VoxelType { U8, U16, I16, F32 };
-
-const char* voxelTypeName(VoxelType t);       // "uint8", "uint16", "int16", "float32"
-size_t voxelTypeBytes(VoxelType t);
 
 struct ValueRange {
     float lo = 0.0f;
@@ -54,8 +50,8 @@ struct Volume {
     // image plane applies (SplatScene::axes), and resamples sheared ones onto the world's.
     glm::dmat3 directions{1.0};
     bool resampled = false;           // sheared axes resampled onto the world's (alignedToWorldAxes)
-    VoxelType type = VoxelType::F32;  // the type the values had on disk
-    std::vector<float> values;        // x fastest, then y, then z; in the data's own units
+    VoxelType type = VoxelType::F32;  // the type the values had on disk (values.type() unless rescaled)
+    VoxelValues values;               // x fastest, then y, then z; in the data's own units
     ValueRange range;                 // min and max of the finite values (see updateRange)
 
     size_t voxelCount() const { return size_t(dims.x) * size_t(dims.y) * size_t(dims.z); }
