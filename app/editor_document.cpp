@@ -19,8 +19,7 @@ std::shared_ptr<const renderer::SplatScene> copyForRender(const renderer::SplatS
     uint64_t bytes = scene.classes.size() * 2 + scene.gradients.size() * 4 + scene.classVoxels.size() * 4 +
                      scene.classGradientVoxels.size() * 4;
     for (const renderer::AxisLists& lists : scene.lists)
-        bytes += lists.entries.size() * sizeof(lists.entries[0]) +
-                 lists.runs.size() * sizeof(renderer::SliceRun) + lists.sliceRuns.size() * 4;
+        bytes += lists.runs.size() * sizeof(renderer::SliceRun) + lists.sliceRuns.size() * 4;   // entries are shared
     return renderer::namingAllocation(renderer::volumeSubject(scene.name),
                                       "copy of its splat lists for the renderer", bytes, "",
                                       [&] { return std::make_shared<const renderer::SplatScene>(scene); });

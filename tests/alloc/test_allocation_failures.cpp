@@ -83,7 +83,8 @@ TEST(RenderThreadOutOfMemory, AViewWhosePixelsDoNotFitIsNamedAndTheNextViewDraws
 }
 
 // A new volume whose lists cannot be copied for the GPU: the error names it and what was copied, and the
-// view still shows the previous volume, pixel for pixel.
+// view still shows the previous volume, pixel for pixel. The copies are of the runs, 16 bytes a
+// run (the entries are the scene's own, shared), hence a threshold of 64 KiB.
 TEST(RenderThreadOutOfMemory, AVolumeThatDoesNotFitIsNamedAndThePreviousOneStillDraws) {
     std::unique_ptr<RenderThread> thread;
     try {
@@ -98,7 +99,7 @@ TEST(RenderThreadOutOfMemory, AVolumeThatDoesNotFitIsNamedAndThePreviousOneStill
     const std::optional<RenderedView> before = thread->takeView();
     ASSERT_TRUE(before);
     {
-        const FailingAllocations failing(512 * kKiB);
+        const FailingAllocations failing(64 * kKiB);
         thread->setScenes(large, {});
         thread->waitForView(thread->requestView(fullView(small, 96, 80)));
     }
@@ -122,7 +123,7 @@ TEST(RenderThreadOutOfMemory, SetScenesNowThrowsTheNamedErrorToTheCaller) {
         if (skipWithoutGl(e.what())) GTEST_SKIP() << "no headless GL context: " << e.what();
     }
     const auto large = std::make_shared<const SplatScene>(classify(lobb(96, "large")));
-    const FailingAllocations failing(512 * kKiB);
+    const FailingAllocations failing(64 * kKiB);
     try {
         thread->setScenesNow(large, {});
         ADD_FAILURE() << "setScenesNow returned although the lists did not fit";

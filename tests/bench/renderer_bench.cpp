@@ -76,23 +76,27 @@ std::map<std::string, SplatScene>& scenes() {
     return cache;
 }
 
-// The density that gives the half-resolution scene the full one's extinction (densityFor), by dataset.
-std::map<std::string, double>& halfDensityScales() {
+// The density that gives a coarser level's scene the full one's extinction (densityFor), by dataset+level.
+std::map<std::string, double>& levelDensityScales() {
     static std::map<std::string, double> scales;
     return scales;
 }
 
-// The dataset's scene; with gradients (for shading) when the settings need them. half: the editor's
-// preview while the view moves, the volume at half resolution classified over the full volume's window.
-const SplatScene& sceneOf(const Dataset& d, bool gradients = false, bool half = false) {
+// The dataset's scene; with gradients (for shading) when the settings need them. level k > 0: the volume
+// halved k times (level 1 is the preview while the view moves), each coarse voxel the mean of its fine
+// ones, or with `pickOne` one of them, as the editor's levels of detail take them (Downsample),
+// classified over the full volume's window.
+const SplatScene& sceneOf(const Dataset& d, bool gradients = false, int level = 0, bool pickOne = false) {
     auto& cache = scenes();
-    const std::string key = std::string(d.name) + (gradients ? "+gradients" : "") + (half ? "+half" : "");
+    const std::string key = std::string(d.name) + (gradients ? "+gradients" : "") + "+level" + std::to_string(level) +
+                            (pickOne ? "+pick" : "");
     if (!cache.count(key)) {
         const Volume full = d.phantomSize > 0 ? makePhantom({.dims = glm::ivec3(d.phantomSize)}) : loadVolume(d.path);
-        const Volume volume = half ? halfResolution(full) : full;
+        Volume volume = full;
+        for (int k = 0; k < level; ++k) volume = halfResolution(volume, pickOne ? Downsample::PickOne : Downsample::Mean);
         SplatScene scene = buildSplatScene(volume, transferFunctionFromSpec(d.preset), d.window.value_or(full.range));
         if (gradients) addGradients(scene, *computeGradients(volume));
-        if (half) halfDensityScales()[d.name] = densityFor(volume, full, 1.0);
+        levelDensityScales()[d.name + std::to_string(level)] = densityFor(volume, full, 1.0);
         cache.emplace(key, std::move(scene));
     }
     return cache.at(key);
@@ -100,20 +104,22 @@ const SplatScene& sceneOf(const Dataset& d, bool gradients = false, bool half = 
 
 // Times whole frames (render + glFinish) of one configuration; one more frame with GPU counters on
 // reports what was drawn per filter.
-// half: the preview's scene, seen from the full scene's camera, with its RMSE against the full frame.
+// level k > 0: the volume halved k times, seen from the full scene's camera, with its RMSE against the
+// full frame and its error against the full scene's ground truth.
 // tune: a change to the renderer itself (one of its setters for comparisons), before the warm-up.
-void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Camera camera = {}, bool half = false,
-                  const std::function<void(SplatRenderer&)>& tune = {}) {
+void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Camera camera = {}, int level = 0,
+                  const std::function<void(SplatRenderer&)>& tune = {}, bool pickOne = false) {
     const SplatScene& full = sceneOf(d, needsGradients(s));
-    const SplatScene& scene = half ? sceneOf(d, needsGradients(s), true) : full;
+    const SplatScene& scene = sceneOf(d, needsGradients(s), level, pickOne);
     const ImagePlane plane = makeImagePlane(camera, full.centre, full.radius, gWidth, gHeight);
     std::optional<Image> fullImage;
-    if (half) {
+    const SplatSettings fullSettings = s;   // the truth is the full volume's, at its density
+    if (level > 0) {
         SplatRenderer f;
         f.setScene(full);
         f.render(plane, s);
         fullImage = f.readback();
-        s.density *= halfDensityScales().at(d.name);
+        s.density *= levelDensityScales().at(d.name + std::to_string(level));
     }
     SplatRenderer r;
     if (tune) tune(r);
@@ -156,10 +162,10 @@ void renderFrames(benchmark::State& state, const Dataset& d, SplatSettings s, Ca
     state.counters["tile_entries"] = double(r.stats().tileEntries);
     // The error beside the speed, as the editor's Measure takes it: the view's centre crop against its
     // ground truth (cached on disk by view and kernels: the first run computes each view's once).
-    if (gErrors && !half && hasGroundTruth(s)) {
+    if (gErrors && hasGroundTruth(s)) {
         s.counters = false;
         const ImagePlane crop = centreCrop(plane, kComparisonCropPx);
-        const Image truth = cachedGroundTruth(full, crop, s, {}, defaultGroundTruthCacheDir());
+        const Image truth = cachedGroundTruth(full, crop, fullSettings, {}, defaultGroundTruthCacheDir());
         const ImageError e = cropError(r, crop, truth, s);
         state.counters["psnr_db"] = e.psnrDb;
         state.counters["rmse"] = e.rmse;
@@ -341,7 +347,7 @@ int main(int argc, char** argv) {
                     v.primitive = SplatSettings::Primitive::Tiles;
                     add(n + "/" + view + "ewa/" + compositingName(comp) + "/composite-" + (perPixel ? "pixels" : "columns"),
                         [=](benchmark::State& st) {
-                            renderFrames(st, d, v, Camera{.distance = distance}, false,
+                            renderFrames(st, d, v, Camera{.distance = distance}, 0,
                                          [=](SplatRenderer& r) { r.setCompositePerPixel(perPixel); });
                         });
                 }
@@ -354,7 +360,7 @@ int main(int argc, char** argv) {
                 v.primitive = SplatSettings::Primitive::Tiles;
                 add(n + "/ewa/" + compositingName(comp) + "/lists-" + (deferred ? "deferred" : "checked"),
                     [=](benchmark::State& st) {
-                        renderFrames(st, d, v, Camera{}, false, [=](SplatRenderer& r) { r.setDeferredListChecks(deferred); });
+                        renderFrames(st, d, v, Camera{}, 0, [=](SplatRenderer& r) { r.setDeferredListChecks(deferred); });
                     });
             }
         // What each culling step and the primitive choice gain, full EWA.
@@ -399,7 +405,17 @@ int main(int argc, char** argv) {
         s = driverDefaults();
         s.compositing = Compositing::SheetFrontToBack;
         add(n + "/ewa/sheet-front-to-back/half-resolution",
-            [=](benchmark::State& st) { renderFrames(st, d, s, {}, true); });
+            [=](benchmark::State& st) { renderFrames(st, d, s, {}, 1); });
+        // Levels of detail far away, where footprints shrink under a pixel: the whole volume halved
+        // once and twice against full resolution, each against the full volume's ground truth (what a
+        // level chosen per patch could gain at most, at what error).
+        for (double distance : {6.0, 8.0, 10.0}) {
+            for (int level = 0; level <= 2; ++level)
+                add(n + "/levels/far" + std::to_string(int(distance)) + "/level" + std::to_string(level),
+                    [=](benchmark::State& st) { renderFrames(st, d, s, Camera{.distance = distance}, level); });
+            add(n + "/levels/far" + std::to_string(int(distance)) + "/level1-pick-one",
+                [=](benchmark::State& st) { renderFrames(st, d, s, Camera{.distance = distance}, 1, {}, true); });
+        }
         // Close up, each slice takes points where its footprints fit, against quads for every slice.
         s = driverDefaults();
         s.primitive = SplatSettings::Primitive::Quads;

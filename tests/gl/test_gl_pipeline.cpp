@@ -222,7 +222,7 @@ TEST_F(GlTest, TfEditUploadsOnlyTheLutAndSelectsBuckets) {
     // its runs start).
     auto listBytes = [&](int axis) {
         const AxisLists& l = scene.lists[size_t(axis)];
-        return uint64_t((l.entries.size() + 1) / 2 * 4 + l.runs.size() * 16 + l.sliceRuns.size() * 4);
+        return uint64_t((l.entries().size() + 1) / 2 * 4 + l.runs.size() * 16 + l.sliceRuns.size() * 4);
     };
     // The first frame puts its axis's lists on the GPU; the next frames upload uniforms only.
     const uint64_t setUp = r.stats().uploadBytes;

@@ -372,7 +372,7 @@ TEST(SplatScene, ListsStayCompactWhereOneValueDominatesATile) {
     v.range = {0.0f, 1.0f};
     const SplatScene s = buildSplatScene(v, builtinPreset("grey-ramp"));
     for (const auto& lists : s.lists) {
-        EXPECT_EQ(lists.entries.size(), 1000u);
+        EXPECT_EQ(lists.entries().size(), 1000u);
         size_t dense = 0;
         for (const auto& r : lists.runs) {
             dense += r.dense;
@@ -401,7 +401,7 @@ TEST(SplatScene, BucketsOverAnEighthOfATileAreWalkedNotListed) {
     const SplatScene s = buildSplatScene(v, builtinPreset("grey-ramp"));
     for (int axis = 0; axis < 3; ++axis) {
         const AxisLists& lists = s.lists[size_t(axis)];
-        EXPECT_EQ(lists.entries.size(), 64u) << axis;
+        EXPECT_EQ(lists.entries().size(), 64u) << axis;
         const uint32_t tile = uint32_t(v.dims[(axis + 1) % 3] * v.dims[(axis + 2) % 3]);
         size_t walked = 0;
         for (const SliceRun& r : lists.runs) {
@@ -467,7 +467,7 @@ TEST(SplatScene, EveryRunHoldsItsTilesVoxelsOfItsBucketOnEveryAxisOfAnUnevenVolu
                         ASSERT_EQ(run.count, tileSize);
                     } else {
                         ASSERT_EQ(run.count, b.voxels);
-                        ASSERT_TRUE(std::equal(b.positions.begin(), b.positions.end(), lists.entries.begin() + run.first));
+                        ASSERT_TRUE(std::equal(b.positions.begin(), b.positions.end(), lists.entries().begin() + run.first));
                     }
                 }
             }

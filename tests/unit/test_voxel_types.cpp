@@ -125,7 +125,7 @@ TEST(VoxelTypes, RangeHistogramClassesAndGradientsMatchTheFloats) {
         EXPECT_EQ(computeHistogram(v, 64).counts, computeHistogram(f, 64).counts);
         const SplatScene a = buildSplatScene(v, tf), b = buildSplatScene(f, tf);
         EXPECT_EQ(a.classes, b.classes);
-        EXPECT_EQ(a.lists[2].entries, b.lists[2].entries);
+        EXPECT_EQ(a.lists[2].entries(), b.lists[2].entries());
         const auto ga = computeGradients(v), gb = computeGradients(f);
         ASSERT_TRUE(ga && gb);
         EXPECT_EQ(ga->scale, gb->scale);

@@ -48,8 +48,7 @@ void checkAllocation(const char* what, const std::string& name, uint64_t needed,
 AxisBuffers hostAxis(const AxisLists& lists) {
     AxisBuffers a;
     const size_t n = lists.runs.size();
-    a.hostEntries = lists.entries;
-    a.hostEntries.resize(std::max<size_t>((lists.entries.size() + 1) / 2, 1) * 2, 0);
+    a.hostEntries = lists.sharedEntries;
     a.hostRuns.assign(std::max<size_t>(n, 1), glm::uvec4(0));
     a.buckets.resize(n);
     a.voxels.resize(n);
@@ -85,10 +84,11 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     std::array<AxisBuffers, 3> axes;   // host side only until the check passes
     uint64_t listBytes = 0;
     size_t mostRuns = 1;
-    // The host copies of the three axes' lists, kept to upload an axis when the view turns to it.
+    // The host copies of the three axes' runs, kept to upload an axis when the view turns to it (the
+    // entries, most of the lists, are the scene's own, shared).
     uint64_t hostBytes = 0;
     for (const AxisLists& lists : scene.lists)
-        hostBytes += lists.entries.size() * 2 + lists.sliceRuns.size() * 4 +
+        hostBytes += lists.sliceRuns.size() * 4 +
                      lists.runs.size() * (sizeof(glm::uvec4) + 2 + 4 + 2 * sizeof(glm::u16vec2));
     namingAllocation(volumeSubject(scene.name), "copies of the slice lists for the GPU", hostBytes, "", [&] {
         for (int axis = 0; axis < 3; ++axis) axes[size_t(axis)] = hostAxis(scene.lists[size_t(axis)]);
@@ -238,13 +238,18 @@ uint64_t SplatRenderer::Gl::makeResident(int axis) {
     residentAxis = -1;
     AxisBuffers& a = axes[size_t(axis)];
     const std::optional<uint64_t> freeBytes = freeGpuMemoryBytes();
-    auto upload = [&](GLuint& buffer, size_t bytes, const void* data) {
+    // `bytes` of storage, the first `dataBytes` of it from `data` (the entries' last word may be half used).
+    auto uploadPart = [&](GLuint& buffer, size_t bytes, const void* data, size_t dataBytes) {
         glCreateBuffers(1, &buffer);
-        glNamedBufferStorage(buffer, GLsizeiptr(bytes), data, 0);
+        glNamedBufferStorage(buffer, GLsizeiptr(bytes), dataBytes == bytes ? data : nullptr,
+                             dataBytes == bytes ? 0 : GL_DYNAMIC_STORAGE_BIT);
         checkAllocation("slice lists", sceneName, sceneBytes, freeBytes);
+        if (dataBytes != bytes && dataBytes > 0) glNamedBufferSubData(buffer, 0, GLsizeiptr(dataBytes), data);
     };
+    auto upload = [&](GLuint& buffer, size_t bytes, const void* data) { uploadPart(buffer, bytes, data, bytes); };
     try {
-        upload(a.entries, a.hostEntries.size() * 2, a.hostEntries.data());
+        const size_t entryDataBytes = a.hostEntries ? a.hostEntries->size() * 2 : 0;
+        uploadPart(a.entries, a.entryBytes(), entryDataBytes ? a.hostEntries->data() : nullptr, entryDataBytes);
         upload(a.runs, a.hostRuns.size() * sizeof(glm::uvec4), a.hostRuns.data());
         upload(a.sliceRunsBuffer, a.sliceRuns.size() * 4, a.sliceRuns.data());
     } catch (...) {

@@ -41,11 +41,15 @@ struct AxisBuffers {
     std::vector<uint16_t> buckets;     // per run
     std::vector<uint32_t> voxels;      // per run: voxels of its bucket
     std::vector<glm::u16vec2> lo, hi;  // per run: in-slice bounds of its voxels
-    std::vector<uint16_t> hostEntries; // the entries in whole words (never empty: zero-sized stores are errors)
+    // The scene's entries, shared rather than copied (AxisLists::sharedEntries); may be null or empty.
+    std::shared_ptr<const std::vector<uint16_t>> hostEntries;
     std::vector<glm::uvec4> hostRuns;  // the runs as the GPU reads them (at least one)
 
+    // The entries' buffer: whole 32-bit words (the shaders read pairs), never empty (zero-sized stores
+    // are errors).
+    uint64_t entryBytes() const { return std::max<uint64_t>((hostEntries ? hostEntries->size() + 1 : 1) / 2, 1) * 4; }
     uint64_t gpuBytes() const {
-        return hostEntries.size() * 2 + hostRuns.size() * sizeof(glm::uvec4) + sliceRuns.size() * 4;
+        return entryBytes() + hostRuns.size() * sizeof(glm::uvec4) + sliceRuns.size() * 4;
     }
     void release() {
         const GLuint b[] = {entries, runs, sliceRunsBuffer};

@@ -56,7 +56,13 @@ void gatherSliceClasses(const SplatScene& s, int axis, uint32_t s0, uint32_t n, 
 
 // One slice's runs and entries, from its classes in position order (rowLength positions a row): per
 // tile, count the buckets, mark the dense ones, list the others' voxels.
-void buildSliceLists(const uint16_t* classes, uint32_t sliceSize, uint32_t rowLength, uint32_t slice, AxisLists& out) {
+// One slice's runs and entries while an axis is built.
+struct SliceLists {
+    std::vector<uint16_t> entries;
+    std::vector<SliceRun> runs;
+};
+
+void buildSliceLists(const uint16_t* classes, uint32_t sliceSize, uint32_t rowLength, uint32_t slice, SliceLists& out) {
     for (uint32_t tileBase = 0; tileBase < sliceSize; tileBase += kTileVoxels) {
         const uint32_t tileSize = std::min(kTileVoxels, sliceSize - tileBase);
         std::array<uint32_t, kBuckets> count{};
@@ -113,7 +119,7 @@ AxisLists buildAxisLists(const SplatScene& s, int axis) {
     // classes at once (up to 16 slices, at most 8 MB): across x, each row then gives 16 slices 32 bytes
     // of one cache line, where a slice alone would read a line for each of its voxels.
     const uint32_t block = std::clamp<uint32_t>((uint32_t(1) << 22) / std::max<uint32_t>(sliceSize, 1), 1, 16);
-    std::vector<AxisLists> perSlice(slices);
+    std::vector<SliceLists> perSlice(slices);
     tbb::parallel_for(uint32_t(0), (slices + block - 1) / block, [&](uint32_t b) {
         const uint32_t s0 = b * block, n = std::min(block, slices - s0);
         // Slices across z lie in memory in position order already.
@@ -125,16 +131,19 @@ AxisLists buildAxisLists(const SplatScene& s, int axis) {
                             perSlice[slice]);
     });
     AxisLists lists;
+    std::vector<uint16_t> entries;
     lists.sliceRuns.push_back(0);
     for (uint32_t slice = 0; slice < slices; ++slice) {
-        const uint32_t shift = uint32_t(lists.entries.size());
+        const uint32_t shift = uint32_t(entries.size());
         for (SliceRun r : perSlice[slice].runs) {
             if (!r.dense) r.first += shift;
             lists.runs.push_back(r);
         }
-        lists.entries.insert(lists.entries.end(), perSlice[slice].entries.begin(), perSlice[slice].entries.end());
+        entries.insert(entries.end(), perSlice[slice].entries.begin(), perSlice[slice].entries.end());
+        std::vector<uint16_t>().swap(perSlice[slice].entries);   // the slice's share is now in `entries`
         lists.sliceRuns.push_back(uint32_t(lists.runs.size()));
     }
+    lists.sharedEntries = std::make_shared<const std::vector<uint16_t>>(std::move(entries));
     return lists;
 }
 
@@ -376,7 +385,7 @@ std::vector<uint32_t> drawOrder(const SplatScene& scene, Traversal trav, bool re
             const SliceRun& run = lists.runs[r];
             if (!active[run.bucket]) continue;
             for (uint32_t i = 0; i < run.count; ++i) {
-                const uint32_t pos = run.tileBase + (run.dense ? i : lists.entries[run.first + i]);
+                const uint32_t pos = run.tileBase + (run.dense ? i : lists.entries()[run.first + i]);
                 const uint32_t voxel = scene.voxelAt(trav.axis, slice, pos);
                 if (run.dense && (scene.classes[voxel] >> kBucketShift) != run.bucket) continue;
                 order.push_back(voxel);

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,7 +37,7 @@ constexpr uint32_t kDenseShare = 8;
 // tile) lists nothing and is drawn by walking the whole tile, keeping the bucket's voxels. Dense runs
 // keep the lists small where a few values dominate (air in a CT scan), which bounds GPU bytes per voxel.
 struct SliceRun {
-    uint32_t first = 0;      // sparse: first entry in AxisLists::entries
+    uint32_t first = 0;      // sparse: first entry in AxisLists::entries()
     uint32_t count = 0;      // sparse: entries; dense: positions in the tile
     uint32_t voxels = 0;     // voxels of the bucket (== count when sparse)
     uint32_t slice = 0;      // coordinate along the axis
@@ -51,7 +52,14 @@ struct SliceRun {
 // In-slice position of voxel v in a slice along `axis`: v[a1] + v[a2] * dims[a1], a1 = (axis+1)%3,
 // a2 = (axis+2)%3 (the same in-plane axes as the classifier's patches).
 struct AxisLists {
-    std::vector<uint16_t> entries;
+    // Read-only once built, and shared: copies of the scene (the editor's render thread) and a renderer
+    // keeping the axes it does not draw share these, where each held a copy (a quarter of a large
+    // volume's render memory).
+    std::shared_ptr<const std::vector<uint16_t>> sharedEntries;
+    const std::vector<uint16_t>& entries() const {
+        static const std::vector<uint16_t> none;
+        return sharedEntries ? *sharedEntries : none;
+    }
     std::vector<SliceRun> runs;          // sorted by (slice, tile, bucket)
     std::vector<uint32_t> sliceRuns;     // runs of slice s: [sliceRuns[s], sliceRuns[s + 1])
 };
