@@ -33,10 +33,11 @@ Volume makeVolume(const char* name, glm::ivec3 dims) {
 Volume makeCheckerboard(glm::ivec3 dims, int cell) {
     if (cell < 1) throw RenderError("checkerboard: cell is " + std::to_string(cell) + ", expected >= 1");
     Volume volume = makeVolume("checkerboard", dims);
+    std::vector<float>& values = volume.values.floats();
     for (int z = 0; z < dims.z; ++z)
         for (int y = 0; y < dims.y; ++y)
             for (int x = 0; x < dims.x; ++x)
-                volume.values.floats()[volume.index(x, y, z)] = float((x / cell + y / cell + z / cell) & 1);
+                values[volume.index(x, y, z)] = float((x / cell + y / cell + z / cell) & 1);
     updateRange(volume);
     return volume;
 }
@@ -46,6 +47,7 @@ Volume makeSphereShells(int n, double period, double thickness) {
         throw RenderError("sphere-shells: period must be positive and thickness non-negative, got period " +
                           std::to_string(period) + ", thickness " + std::to_string(thickness));
     Volume volume = makeVolume("sphere-shells", glm::ivec3(n));
+    std::vector<float>& values = volume.values.floats();
     const double c = 0.5 * (n - 1);   // centre in voxel coordinates
     for (int z = 0; z < n; ++z)
         for (int y = 0; y < n; ++y)
@@ -53,7 +55,7 @@ Volume makeSphereShells(int n, double period, double thickness) {
                 const double dist = std::sqrt((x - c) * (x - c) + (y - c) * (y - c) + (z - c) * (z - c));
                 const double toShell = std::abs(dist - std::round(dist / period) * period);
                 // 1 inside the shell, 0 outside, a linear ramp one voxel wide centred on its surface.
-                volume.values.floats()[volume.index(x, y, z)] =
+                values[volume.index(x, y, z)] =
                     float(std::clamp(0.5 + (0.5 * thickness - toShell), 0.0, 1.0));
             }
     updateRange(volume);
@@ -63,6 +65,7 @@ Volume makeSphereShells(int n, double period, double thickness) {
 Volume makeMarschnerLobb(int n) {
     if (n < 2) throw RenderError("marschner-lobb: n is " + std::to_string(n) + ", expected >= 2");
     Volume volume = makeVolume("marschner-lobb", glm::ivec3(n));
+    std::vector<float>& values = volume.values.floats();
     constexpr double kFm = 6.0, kAlpha = 0.25, kPi = std::numbers::pi;
     const auto coord = [n](int i) { return -1.0 + 2.0 * i / (n - 1); };   // voxel index -> [-1, 1]
     for (int z = 0; z < n; ++z)
@@ -73,7 +76,7 @@ Volume makeMarschnerLobb(int n) {
                     std::cos(2.0 * kPi * kFm * std::cos(kPi * std::sqrt(px * px + py * py) / 2.0));
                 const double rho =
                     (1.0 - std::sin(kPi * pz / 2.0) + kAlpha * (1.0 + rhoR)) / (2.0 * (1.0 + kAlpha));
-                volume.values.floats()[volume.index(x, y, z)] = float(rho);
+                values[volume.index(x, y, z)] = float(rho);
             }
     updateRange(volume);
     return volume;

@@ -29,10 +29,11 @@ Volume zebra(int n, int period) {
     v.name = "zebra";
     v.dims = {n, n, n};
     v.type = VoxelType::F32;
-    v.values.floats().resize(v.voxelCount());
+    std::vector<float>& values = v.values.floats();
+    values.resize(v.voxelCount());
     for (int z = 0; z < n; ++z)
         for (int y = 0; y < n; ++y)
-            for (int x = 0; x < n; ++x) v.values.floats()[v.index(x, y, z)] = float((x / period) % 2);
+            for (int x = 0; x < n; ++x) values[v.index(x, y, z)] = float((x / period) % 2);
     updateRange(v);
     return v;
 }
@@ -43,12 +44,13 @@ Volume ninePattern(const char* name, bool ball) {
     v.name = name;
     v.dims = {9, 9, 9};
     v.type = VoxelType::F32;
-    v.values.floats().resize(v.voxelCount());
+    std::vector<float>& values = v.values.floats();
+    values.resize(v.voxelCount());
     for (int z = 0; z < 9; ++z)
         for (int y = 0; y < 9; ++y)
             for (int x = 0; x < 9; ++x) {
                 const double d = std::sqrt(double((x - 4) * (x - 4) + (y - 4) * (y - 4) + (z - 4) * (z - 4)));
-                v.values.floats()[v.index(x, y, z)] =
+                values[v.index(x, y, z)] =
                     ball ? float(d <= 4.0) : float(std::clamp(1.0 - d / 7.0 + 0.02 * (x - 4), 0.0, 1.0));
             }
     updateRange(v);
@@ -132,8 +134,9 @@ std::vector<HardCase> hardCases(int scale, const std::string& only) {
     add("nan-inf-values", "every 7th voxel NaN, every 11th +Inf",
         [&] {
             Volume v = makeMarschnerLobb(10 * s);
-            for (size_t i = 0; i < v.values.size(); i += 7) v.values.floats()[i] = std::numeric_limits<float>::quiet_NaN();
-            for (size_t i = 3; i < v.values.size(); i += 11) v.values.floats()[i] = std::numeric_limits<float>::infinity();
+            std::vector<float>& values = v.values.floats();
+            for (size_t i = 0; i < values.size(); i += 7) values[i] = std::numeric_limits<float>::quiet_NaN();
+            for (size_t i = 3; i < values.size(); i += 11) values[i] = std::numeric_limits<float>::infinity();
             updateRange(v);
             return v;
         },
