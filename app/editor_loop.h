@@ -101,6 +101,9 @@ class EditorLoop {
     // == The view (editor_viewport.cpp)
     // What the render thread is asked to draw for the view as it stands.
     ViewRequest viewRequest() const;
+    // The level a far view needs (ViewRequest::finestLevel): the coarsest preview level whose kernels take
+    // the low-pass filter (renderer/model/detail_levels.h), with hysteresis against the last request's.
+    int farViewLevel(const ViewRequest& request);
     // Settings > Files > Save image (and --save-image): the view as the viewport shows it, at its size,
     // rendered in full on the render thread; finishSaveView writes it once there (wait: at once).
     void startSaveView(const std::filesystem::path& path);
@@ -201,6 +204,10 @@ class EditorLoop {
     int m_renderWidth = 0, m_renderHeight = 0;
     std::optional<RenderedView> m_shown;    // what the viewport shows (its pixels dropped once uploaded)
     uint64_t m_viewRequest = 0;             // the last view asked for
+    int m_farLevel = 0;                     // its finestLevel
+    // Each preview level's optical mass change against the full scene, of scene version m_levelMassOf.
+    std::vector<double> m_levelMassChange;
+    uint64_t m_levelMassOf = ~uint64_t(0);
     struct PendingSave {
         std::filesystem::path path;
         double heatmapOpacity = 0.0;   // the heatmap over the image, as the viewport blends it

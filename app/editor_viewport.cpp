@@ -5,6 +5,7 @@
 
 #include "heatmap_blend.h"
 #include "renderer/io/image.h"
+#include "renderer/model/detail_levels.h"
 #include "renderer/oracle/demo_scenes.h"
 
 #include <epoxy/gl.h>
@@ -187,12 +188,38 @@ ViewRequest EditorLoop::viewRequest() const {
     return request;
 }
 
+int EditorLoop::farViewLevel(const ViewRequest& request) {
+    if (!m_state.preview.farLevels || !m_doc.preview || m_doc.preview->levels.empty()) return 0;
+    // A zoom that wobbles about a threshold keeps its level: 10 % each way.
+    constexpr double kHysteresis = 0.1;
+    const renderer::SplatScene& full = m_doc.scene;
+    int level = renderer::coarsestLowPassLevel(full.dims, full.origin, full.spacing, request.plane, request.full,
+                                               int(m_doc.preview->levels.size()), m_farLevel, kHysteresis);
+    if (level == 0) return 0;
+    // The optical mass test, once a scene version. One fine value a coarse voxel (Downsample::PickOne) keeps
+    // the mass in expectation; the test still refuses a level that lost a feature. Counted by class, so
+    // not for a TF with gradient opacity or a 2D TF (a pass over every voxel on the UI thread).
+    if (m_levelMassOf != m_sceneVersion) {
+        m_levelMassChange.clear();
+        if (full.tf2d.empty() && full.gradientFactors.empty())
+            for (const Level& l : m_doc.preview->levels)
+                m_levelMassChange.push_back(renderer::opticalMassChange(full, l.scene));
+        m_levelMassOf = m_sceneVersion;
+    }
+    while (level > 0 && size_t(level) <= m_levelMassChange.size() &&
+           m_levelMassChange[size_t(level - 1)] > renderer::kMaxMassChange)
+        --level;
+    return level;
+}
+
 void EditorLoop::renderIfPending() {
     if (!m_hasScene || !m_renderPending || m_renderWidth <= 0) return;
     // Continuous rendering asks for the next frame once the last finished: back to back, none superseded.
     if (m_state.perf.renderContinuously && !m_scripted && m_render->busy()) return;
     m_renderPending = false;
-    m_viewRequest = m_render->requestView(viewRequest());
+    ViewRequest request = viewRequest();
+    request.finestLevel = m_farLevel = farViewLevel(request);
+    m_viewRequest = m_render->requestView(std::move(request));
     if (m_probe) m_probe->requested(m_viewRequest);
     if (m_scripted) { // deterministic frames: this frame shows this request's image
         m_render->waitForView(m_viewRequest);
@@ -209,9 +236,11 @@ void EditorLoop::showRenderedView() {
     showSplitPanes(*view);
     view->rgba = {}, view->heatmapRgba = {};
     if (m_probe) m_probe->imageShown(view->request, view->level, InteractiveProbe::Clock::now());
-    m_state.preview.shown = view->level > 0;
+    m_state.preview.shown = view->level > view->finestLevel;
     m_state.preview.shownLevel = view->level;
-    if (view->level == 0) { // the Performance and Filters panels' figures are of full frames
+    m_state.preview.farLevel = view->finestLevel;
+    if (view->level == view->finestLevel) { // the Performance and Filters panels' figures are of the view's
+                                            // finished frames (full, or a far view's level)
         const auto now = std::chrono::steady_clock::now();
         const double intervalMs = m_state.perf.renderContinuously && m_lastFullFrame
                                       ? std::chrono::duration<double, std::milli>(now - *m_lastFullFrame).count()

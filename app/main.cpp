@@ -4,6 +4,7 @@
 #include "cli_parse.h"
 #include "console_progress.h"
 #include "editor.h"
+#include "far_view_level.h"
 #include "info_command.h"
 #include "orbit_measure.h"
 #include "phantom_command.h"
@@ -264,8 +265,9 @@ struct Scene {
 
 // The volume classified by `tf` over `window`, its gradients when the settings or the TF need them, and
 // the view.
+// detailLevels > 0: a far view from a coarser level, at most that many halvings (render --detail-levels).
 void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFlags& raw, const TransferFunction& tf,
-                 const WindowSettings& window, Camera camera, glm::ivec2 size, bool fit = false) {
+                 const WindowSettings& window, Camera camera, glm::ivec2 size, bool fit = false, int detailLevels = 0) {
     const Volume volume = loadVolumeOrScene(volumePath, rawOptions(raw));
     if (volume.resampled)
         std::fprintf(stderr,
@@ -283,11 +285,12 @@ void finishScene(Scene& s, const std::filesystem::path& volumePath, const RawFla
     if (fit) camera = framedCamera(camera, s.scene, s.settings, size.x, size.y);
     s.camera = camera;
     s.plane = makeImagePlane(camera, s.scene.centre, s.scene.radius, size.x, size.y, s.scene.axes);
+    if (detailLevels > 0) drawFarViewFromLevel(s.scene, s.settings, volume, s.plane, detailLevels);
 }
 
 // `render --session FILE`: the view the editor saved (volume, TF, window, camera, every setting,
 // background), at --size; a volume argument replaces the session's volume.
-Scene buildSessionScene(const SceneArgs& a) {
+Scene buildSessionScene(const SceneArgs& a, int detailLevels) {
     ui::EditorState state;
     std::filesystem::path volume = ui::loadSession(a.session, state);
     if (!a.volume.empty()) volume = a.volume;
@@ -295,7 +298,7 @@ Scene buildSessionScene(const SceneArgs& a) {
     Scene s;
     s.settings = state.settings;
     s.background = state.background;
-    finishScene(s, volume, a.raw, state.tf, state.window, state.camera, parseSize(a.size, "--size"));
+    finishScene(s, volume, a.raw, state.tf, state.window, state.camera, parseSize(a.size, "--size"), false, detailLevels);
     return s;
 }
 
@@ -308,8 +311,8 @@ TransferFunction tfFromSpecNoting(const std::string& spec) {
     return tf;
 }
 
-Scene buildScene(const SceneArgs& a, const SplatFlags& splat) {
-    if (!a.session.empty()) return buildSessionScene(a);
+Scene buildScene(const SceneArgs& a, const SplatFlags& splat, int detailLevels = 0) {
+    if (!a.session.empty()) return buildSessionScene(a, detailLevels);
     if (a.volume.empty()) throw CLI::ValidationError("volume", "a volume file is required (or --session FILE)");
     const glm::ivec2 size = parseSize(a.size, "--size");
     Camera camera = parseCamera(a.camera);
@@ -318,7 +321,7 @@ Scene buildScene(const SceneArgs& a, const SplatFlags& splat) {
     Scene s;
     applyLookFlags(a.look, s.settings);
     applySplatFlags(splat, s.settings);
-    finishScene(s, a.volume, a.raw, tfFromSpecNoting(a.tf), parseWindow(a.look.window), camera, size, a.fit);
+    finishScene(s, a.volume, a.raw, tfFromSpecNoting(a.tf), parseWindow(a.look.window), camera, size, a.fit, detailLevels);
     return s;
 }
 
@@ -328,7 +331,7 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 // What only `render` sets: its outputs and how it runs.
 struct RenderArgs {
-    int frames = 5;
+    int frames = 5, detailLevels = 0;
     bool cpu = false, counters = false;
     std::string heatmap;
     double orbitStep = std::nan("");   // --orbit: the turn's step in degrees (NaN: no orbit)
@@ -405,7 +408,8 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
             throw CLI::ValidationError("--orbit", "turns the view with GL: not with --cpu, --heatmap or --counters");
         if (!ra.orbitCsv.empty()) checkFileReplaceable(ra.orbitCsv);
     }
-    Scene s = buildScene(a, ra.splat);
+    if (ra.detailLevels < 0 || ra.detailLevels > 3) throw CLI::ValidationError("--detail-levels", "must be 0 to 3 halvings");
+    Scene s = buildScene(a, ra.splat, ra.detailLevels);
     if (orbit) return runOrbit(s, a, ra);
     s.settings.heatmap = !ra.heatmap.empty();
     if (s.settings.heatmap && std::filesystem::path(ra.heatmap).lexically_normal() ==
@@ -582,6 +586,9 @@ int main(int argc, char** argv) {
                                                 "low-pass, blue EWA, weighted by opacity)");
     render->add_flag("--counters", ra.counters, "Print splats per filter and per cull (GL: counted on the GPU)");
     render->add_option("--frames", ra.frames, "Timed frames (the median is printed)")->capture_default_str();
+    render->add_option("--detail-levels", ra.detailLevels, "Far views: draw the volume halved up to this many times "
+                       "where the level's kernels stay under the low-pass threshold and keep the optical mass "
+                       "(0: full resolution)")->capture_default_str();
     render->add_flag("--cpu", ra.cpu, "Render with the double-precision CPU oracle instead of GL");
     render->add_option("--orbit", ra.orbitStep, "Turn the camera about the up axis in steps of this many degrees and "
                                                 "print how much each frame differs from the one before (popping); "

@@ -291,18 +291,19 @@ bool RenderThread::superseded(uint64_t id, Clock::time_point started, double bud
 
 std::vector<int> RenderThread::levelsToDraw(const ViewRequest& request, int levels) const {
     using Levels = ViewRequest::Levels;
-    if (levels == 0 || request.levels == Levels::FullOnly) return {0};
-    if (request.levels == Levels::FinestOnly) return {1};
+    if (request.levels == Levels::FinestOnly && levels > 0) return {1};
+    const int finest = std::clamp(request.finestLevel, 0, levels);
+    if (finest == levels || request.levels == Levels::FullOnly) return {finest};
     // A level's time: its last, or (not drawn since the scene came) the full frame's over 8 per halving.
     auto estimate = [&](int k) {
         return m_levelMs[size_t(k)] > 0.0 ? m_levelMs[size_t(k)]
                : m_levelMs[0] > 0.0       ? m_levelMs[0] / std::pow(8.0, k)
                                           : HUGE_VAL;
     };
-    // The first image: the full frame if it fits the budget, else the finest level that fits (none known:
-    // the coarsest).
+    // The first image: the view's finest level (the full frame, but for a far view) if it fits the budget,
+    // else the finest level that fits (none known: the coarsest).
     int first = levels;
-    for (int k = 0; k <= levels; ++k)
+    for (int k = finest; k <= levels; ++k)
         if (estimate(k) <= request.budgetMs) {
             first = k;
             break;
@@ -311,9 +312,9 @@ std::vector<int> RenderThread::levelsToDraw(const ViewRequest& request, int leve
     // frame's time: every frame has a fixed cost (clearing and compositing the image, reading it back), so
     // a level near the full frame's time only delays it.
     std::vector<int> order{first};
-    for (int k = first - 1; k >= 1; --k)
-        if (estimate(k) <= 0.25 * estimate(0)) order.push_back(k);
-    if (first > 0) order.push_back(0);
+    for (int k = first - 1; k > finest; --k)
+        if (estimate(k) <= 0.25 * estimate(finest)) order.push_back(k);
+    if (first > finest) order.push_back(finest);
     return order;
 }
 
@@ -342,6 +343,7 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
     RenderedView view;
     view.request = id;
     view.level = level;
+    view.finestLevel = std::clamp(request.finestLevel, 0, int(r.levels.size()));
     view.last = last;
     view.width = request.plane.width, view.height = request.plane.height;
     view.plane = request.plane;

@@ -52,6 +52,9 @@ struct ViewRequest {
     bool keepFirstPane = false;  // RenderedView::firstPane: the first pane's float image (|A - truth|)
     std::string truthKey;        // what the first pane's ground truth is of (split_truth.h), handed back
     enum class Levels { Progressive, FullOnly, FinestOnly } levels = Levels::Progressive;
+    // A far view's level (EditorLoop::farViewLevel): the finest a Progressive or FullOnly request draws,
+    // its image then the view's last; 0: the full frame.
+    int finestLevel = 0;
     double budgetMs = 150.0; // a first image within this, from the finest level whose last time fits
 };
 
@@ -59,6 +62,7 @@ struct ViewRequest {
 struct RenderedView {
     uint64_t request = 0;
     int level = 0;                    // 0: the full frame; k: the level at 1/2^k per axis
+    int finestLevel = 0;              // the finest level the request draws (ViewRequest::finestLevel)
     bool last = true;                 // no finer image of this request follows
     int width = 0, height = 0;
     std::vector<uint8_t> rgba;        // over the background, 8 bits a channel, row 0 at the top

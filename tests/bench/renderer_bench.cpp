@@ -8,6 +8,7 @@
 #include "renderer/math/camera.h"
 #include "renderer/oracle/filter_comparison.h"
 #include "renderer/gl/gl_context.h"
+#include "renderer/model/detail_levels.h"
 #include "renderer/model/gradients.h"
 #include "renderer/model/phantom.h"
 #include "renderer/oracle/ground_truth.h"
@@ -241,6 +242,21 @@ void axisTurn(benchmark::State& state, const Dataset& d, bool across) {
     state.counters["upload_MiB"] = double(uploaded) / double(state.iterations()) / (1024.0 * 1024.0);
 }
 
+// A far view at the level chooseDetailLevel picks (render --detail-levels 2): its frames as renderFrames
+// times them, and counters for the level, its kernels in pixels and the optical mass it changed.
+void chosenLevel(benchmark::State& state, const Dataset& d, const SplatSettings& s, const Camera& camera) {
+    const SplatScene& full = sceneOf(d, needsGradients(s));
+    const Volume volume = d.phantomSize > 0 ? makePhantom({.dims = glm::ivec3(d.phantomSize)}) : loadVolume(d.path);
+    const ImagePlane plane = makeImagePlane(camera, full.centre, full.radius, gWidth, gHeight);
+    const DetailLevel chosen = chooseDetailLevel(volume, full, plane, s);
+    renderFrames(state, d, s, camera, chosen.level);
+    state.counters["level"] = chosen.level;
+    state.counters["pixel_level"] = chosen.pixelLevel;
+    state.counters["kernel_px"] = chosen.kernelPx;
+    state.counters["mass_change"] = chosen.massChange;
+    state.counters["refused_mass_change"] = chosen.refusedMassChange;
+}
+
 void add(const std::string& name, std::function<void(benchmark::State&)> fn, int iterations = 3) {
     benchmark::RegisterBenchmark(name.c_str(), [fn](benchmark::State& st) { fn(st); })
         ->UseManualTime()
@@ -407,14 +423,16 @@ int main(int argc, char** argv) {
         add(n + "/ewa/sheet-front-to-back/half-resolution",
             [=](benchmark::State& st) { renderFrames(st, d, s, {}, 1); });
         // Levels of detail far away, where footprints shrink under a pixel: the whole volume halved
-        // once and twice against full resolution, each against the full volume's ground truth (what a
-        // level chosen per patch could gain at most, at what error).
-        for (double distance : {6.0, 8.0, 10.0}) {
-            for (int level = 0; level <= 2; ++level)
-                add(n + "/levels/far" + std::to_string(int(distance)) + "/level" + std::to_string(level),
+        // once and twice against full resolution, each against the full volume's ground truth, and the
+        // level render --detail-levels chooses (level 1 only from about 15 radii at 512x512).
+        for (double distance : {6.0, 8.0, 10.0, 16.0, 24.0}) {
+            const std::string row = n + "/levels/far" + std::to_string(int(distance));
+            for (int level = 0; level <= (distance > 10.0 ? 1 : 2); ++level)
+                add(row + "/level" + std::to_string(level),
                     [=](benchmark::State& st) { renderFrames(st, d, s, Camera{.distance = distance}, level); });
-            add(n + "/levels/far" + std::to_string(int(distance)) + "/level1-pick-one",
+            add(row + "/level1-pick-one",
                 [=](benchmark::State& st) { renderFrames(st, d, s, Camera{.distance = distance}, 1, {}, true); });
+            add(row + "/chosen", [=](benchmark::State& st) { chosenLevel(st, d, s, Camera{.distance = distance}); });
         }
         // Close up, each slice takes points where its footprints fit, against quads for every slice.
         s = driverDefaults();

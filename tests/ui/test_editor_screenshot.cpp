@@ -145,6 +145,25 @@ TEST(EditorScreenshot, LargeVolumesPreviewAtHalfResolutionWhileMovingAndSaveTheF
     EXPECT_LE(d.atOpaque, 2e-3f);
 }
 
+// A far view rests on a coarser level (Settings > Inspect > Coarser levels far away, on by default): the
+// line at the viewport's top left says so, and the level shows the volume; close up, no line.
+TEST(EditorScreenshot, AFarViewOfALargeVolumeRestsOnACoarserLevelAndSaysSo) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    const std::filesystem::path large = largeVolume();
+    const renderer::Image far = editorScreenshot("--camera 30,20,40,30 --tf grey-ramp", "editor_far_level.png", true, large);
+    const renderer::Image close = editorScreenshot("--camera 30,20,4,30 --tf grey-ramp", "editor_close_level.png", true, large);
+    ASSERT_FALSE(::testing::Test::HasFailure());
+    const ui::DockLayout layout = ui::makeEditorLayout();
+    const ui::Rect viewport = shrink(ui::computeDockRects(layout, kDockArea).node[size_t(layout.find("viewport"))], 30.0f, 0.0f);
+    const ui::Rect note{viewport.x, viewport.y, 400.0f, 20.0f};
+    const ui::Rect centre = shrink(viewport, 0.0f, 0.45f);   // the volume, a few pixels across at 40 radii
+    const double background = modalLuminance(far, viewport);
+    EXPECT_GT(fractionBrighterThan(far, note, background + 0.15), 0.01) << "no far-view note, see editor_far_level.png";
+    EXPECT_EQ(fractionBrighterThan(close, note, background + 0.15), 0.0) << "see editor_close_level.png";
+    EXPECT_GT(fractionBrighterThan(far, centre, background + 0.1), 0.05) << "the level shows no volume";
+}
+
 TEST(EditorScreenshot, ViewportShowsTheVolumeAndPanelsDifferFromIt) {
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";

@@ -33,6 +33,51 @@ ViewRequest request(const SplatScene& scene, double azimuth, ViewRequest::Levels
     return r;
 }
 
+// A smooth blob 48 voxels across and its levels at 1/2 and 1/4 (one fine voxel each), set on `thread`;
+// a progressive request for it at 96x80.
+ViewRequest blobWithLevels(RenderThread& thread) {
+    Volume v;
+    v.name = "blob";
+    v.dims = {48, 48, 48};
+    for (int z = 0; z < 48; ++z)
+        for (int y = 0; y < 48; ++y)
+            for (int x = 0; x < 48; ++x) {
+                const glm::dvec3 d = glm::dvec3(x, y, z) - 23.5;
+                v.values.floats().push_back(float(std::exp(-glm::dot(d, d) / (2.0 * 9.0 * 9.0))));
+            }
+    updateRange(v);
+    const TransferFunction ramp = builtinPreset("grey-ramp");
+    const SplatScene full = buildSplatScene(v, ramp, v.range);
+    std::vector<Volume> levels{halfResolution(v, Downsample::PickOne)};
+    levels.push_back(halfResolution(levels.back(), Downsample::PickOne));
+    RenderThread::Scenes scenes;
+    ViewRequest r = request(full, 30, ViewRequest::Levels::Progressive);
+    r.full.density = 0.2;
+    for (const Volume& level : levels) {
+        scenes.push_back(std::make_shared<const SplatScene>(buildSplatScene(level, ramp, v.range)));
+        r.coarse.push_back(r.full);
+        r.coarse.back().density = densityFor(level, v, r.full.density);
+    }
+    thread.setScenes(std::make_shared<const SplatScene>(full), scenes);
+    return r;
+}
+
+// Images of a request as they come, until its last (at most 30 s).
+std::vector<RenderedView> imagesUntilLast(RenderThread& thread, uint64_t id) {
+    std::vector<RenderedView> shown;
+    // Images replace each other in one slot: poll fast enough to see each (the test's frames take ms).
+    const auto start = std::chrono::steady_clock::now();
+    for (bool done = false; !done && msSince(start) < 30000.0;) {
+        if (auto view = thread.takeView()) {
+            done = view->last;
+            shown.push_back(std::move(*view));
+        }
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+    thread.waitForView(id);
+    return shown;
+}
+
 // The render thread needs a GL context of its own; without EGL the test skips (REQUIRE_GL=1: fails).
 std::unique_ptr<RenderThread> startOrSkip(std::string& why) {
     try {
@@ -85,44 +130,12 @@ TEST(RenderThread, AProgressiveRequestGivesEachLevelThenTheFullFrame) {
         if (const char* r = std::getenv("REQUIRE_GL"); r && std::string(r) == "1") FAIL() << why;
         GTEST_SKIP() << "no headless GL context: " << why;
     }
-    Volume v;
-    v.name = "blob";
-    v.dims = {48, 48, 48};
-    for (int z = 0; z < 48; ++z)
-        for (int y = 0; y < 48; ++y)
-            for (int x = 0; x < 48; ++x) {
-                const glm::dvec3 d = glm::dvec3(x, y, z) - 23.5;
-                v.values.floats().push_back(float(std::exp(-glm::dot(d, d) / (2.0 * 9.0 * 9.0))));
-            }
-    updateRange(v);
-    const TransferFunction ramp = builtinPreset("grey-ramp");
-    const SplatScene full = buildSplatScene(v, ramp, v.range);
-    std::vector<Volume> levels{halfResolution(v, Downsample::PickOne)};
-    levels.push_back(halfResolution(levels.back(), Downsample::PickOne));
-    RenderThread::Scenes scenes;
-    ViewRequest r = request(full, 30, ViewRequest::Levels::Progressive);
-    r.full.density = 0.2;
-    for (const Volume& level : levels) {
-        scenes.push_back(std::make_shared<const SplatScene>(buildSplatScene(level, ramp, v.range)));
-        r.coarse.push_back(r.full);
-        r.coarse.back().density = densityFor(level, v, r.full.density);
-    }
-    thread->setScenes(std::make_shared<const SplatScene>(full), scenes);
+    ViewRequest r = blobWithLevels(*thread);
     r.budgetMs = 1e-3;
+    const std::vector<RenderedView> views = imagesUntilLast(*thread, thread->requestView(r));
     std::vector<int> shown;
-    std::optional<RenderedView> last;
-    const uint64_t id = thread->requestView(r);
-    // Images replace each other in one slot: poll fast enough to see each (the test's frames take ms).
-    const auto start = std::chrono::steady_clock::now();
-    for (bool done = false; !done && msSince(start) < 30000.0;) {
-        if (auto view = thread->takeView()) {
-            shown.push_back(view->level);
-            done = view->last;
-            last = std::move(view);
-        }
-        std::this_thread::sleep_for(std::chrono::microseconds(200));
-    }
-    thread->waitForView(id);
+    for (const RenderedView& view : views) shown.push_back(view.level);
+    const std::optional<RenderedView> last = views.empty() ? std::nullopt : std::optional(views.back());
     ASSERT_TRUE(last) << (thread->takeError() ? "the render thread failed" : "no image in 30 s");
     EXPECT_EQ(shown.back(), 0) << "the full frame comes last";
     EXPECT_EQ(shown.front(), 2) << "the first image comes from the coarsest level";
@@ -134,4 +147,35 @@ TEST(RenderThread, AProgressiveRequestGivesEachLevelThenTheFullFrame) {
     if (last->levelRmse[1] >= 0.0) {
         EXPECT_LT(last->levelRmse[1], 0.03);
     }
+}
+
+// A far view's request rests on its finest level (ViewRequest::finestLevel): progressive, the coarsest
+// level, then finer ones down to it and no full frame; drawing one image, that level alone.
+TEST(RenderThread, AFarViewsRequestRestsOnItsLevelWithoutTheFullFrame) {
+    std::string why;
+    auto thread = startOrSkip(why);
+    if (!thread) {
+        if (const char* r = std::getenv("REQUIRE_GL"); r && std::string(r) == "1") FAIL() << why;
+        GTEST_SKIP() << "no headless GL context: " << why;
+    }
+    ViewRequest r = blobWithLevels(*thread);
+    r.budgetMs = 1e-3;
+    r.finestLevel = 1;
+    std::vector<RenderedView> views = imagesUntilLast(*thread, thread->requestView(r));
+    ASSERT_FALSE(views.empty()) << (thread->takeError() ? "the render thread failed" : "no image in 30 s");
+    EXPECT_EQ(views.front().level, 2);
+    EXPECT_EQ(views.back().level, 1) << "the view rests on level 1";
+    for (const RenderedView& view : views) {
+        EXPECT_GE(view.level, 1) << "no full frame";
+        EXPECT_EQ(view.finestLevel, 1);
+    }
+    r.levels = ViewRequest::Levels::FullOnly;   // one image a request (scripted runs)
+    views = imagesUntilLast(*thread, thread->requestView(r));
+    ASSERT_EQ(views.size(), 1u);
+    EXPECT_EQ(views[0].level, 1);
+    EXPECT_TRUE(views[0].last);
+    r.finestLevel = 5;   // past the coarsest: the coarsest
+    views = imagesUntilLast(*thread, thread->requestView(r));
+    ASSERT_EQ(views.size(), 1u);
+    EXPECT_EQ(views[0].level, 2);
 }

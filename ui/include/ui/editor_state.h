@@ -57,8 +57,11 @@ struct PreviewSettings {
     double defaultBudgetMs = 150.0;    // the driver's (set by the app)
     bool available = false;            // the volume shown is large enough to preview (set by the app)
     std::optional<double> lastInput;   // seconds (the app's clock) of the last moving input
-    bool shown = false;                // the viewport shows a coarser level (set by the app)
+    bool shown = false;                // the viewport shows a coarser level, finer ones to follow (set by the app)
     int shownLevel = 0;                // which: 1/2^shownLevel per axis (set by the app)
+    bool farLevels = true;             // far views rest on the coarsest level whose kernels are under the
+                                       // low-pass threshold (renderer/model/detail_levels.h)
+    int farLevel = 0;                  // the level the view shown rests on (set by the app; 0: full)
     bool moving(double now) const { return lastInput && now - *lastInput < kSettleS; }
 };
 
