@@ -2,6 +2,8 @@
 // input, and showing the drawn frame (with a scripted run's outputs). Each step is a method of EditorLoop.
 #include "editor_loop.h"
 
+#include "renderer/io/atomic_file.h"
+
 #include "renderer/gl/driver_profile.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/io/image.h"
@@ -175,9 +177,11 @@ void EditorLoop::presentFrame(int frame) {
 
 void EditorLoop::noteReady() {
     const char* file = std::getenv("SPLATLAB_READY_FILE");
-    if (m_readyNoted || !file || !m_hasScene || m_volumeJob || m_gradientJob || !m_shown) return;
+    if (!file || !m_hasScene || m_volumeJob || m_gradientJob || !m_shown) return;
+    if (m_readyNoted && m_finishedImagesNoted == m_finishedImages) return;
     m_readyNoted = true;
-    if (std::FILE* f = std::fopen(file, "w")) std::fclose(f);
+    m_finishedImagesNoted = m_finishedImages;
+    renderer::writeFileAtomically(file, std::to_string(m_finishedImages) + "\n");
 }
 
 void EditorLoop::editForProbe() {

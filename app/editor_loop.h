@@ -243,8 +243,11 @@ class EditorLoop {
 
     // --measure-interactive: the probe's edits and records; this UI frame started (after its wait) then.
     // SPLATLAB_READY_FILE (scripts that drive the window): created once the volume is shown, its gradients
-    // computed and its first image on screen, when no progress modal holds the input any more.
+    // computed and its first image on screen, when no progress modal holds the input any more; it then
+    // holds how many finished images (a request's last) the view has shown, so that a script waits for
+    // the image its input asked for rather than a fixed time.
     bool m_readyNoted = false;
+    uint64_t m_finishedImages = 0, m_finishedImagesNoted = 0;
     void noteReady();
     std::optional<InteractiveProbe> m_probe;
     InteractiveProbe::Clock::time_point m_frameStart;

@@ -235,7 +235,8 @@ void EditorLoop::showRenderedView() {
     if (m_shownHasHeatmap) m_heatmap.upload(view->width, view->height, view->heatmapRgba);
     showSplitPanes(*view);
     view->rgba = {}, view->heatmapRgba = {};
-    if (m_probe) m_probe->imageShown(view->request, view->level, InteractiveProbe::Clock::now());
+    if (m_probe) m_probe->imageShown(view->request, view->level, view->finestLevel, InteractiveProbe::Clock::now());
+    m_finishedImages += view->last;
     m_state.preview.shown = view->level > view->finestLevel;
     m_state.preview.shownLevel = view->level;
     m_state.preview.farLevel = view->finestLevel;

@@ -11,8 +11,8 @@ void drawFarViewFromLevel(renderer::SplatScene& scene, renderer::SplatSettings& 
     renderer::DetailLevel d = renderer::chooseDetailLevel(volume, scene, plane, settings, maxLevel);
     const double thresholdPx = renderer::adaptiveThresholds(scene.spacing, plane, settings).lowPassBelowPx;
     if (d.level < d.pixelLevel)
-        std::fprintf(stderr, "note: level %d would change the optical mass by %.1f %% (more than %.0f %%: a thin "
-                             "feature lost to averaging); ", d.level + 1, 100.0 * d.refusedMassChange,
+        std::fprintf(stderr, "note: level %d would change the optical mass by %.1f %% (more than %.0f %%: averaging "
+                             "changed what the TF shows); ", d.level + 1, 100.0 * d.refusedMassChange,
                      100.0 * renderer::kMaxMassChange);
     else
         std::fprintf(stderr, "note: ");

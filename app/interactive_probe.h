@@ -20,8 +20,9 @@ class InteractiveProbe {
     bool editDue(Clock::time_point now) const;
     void editMade(Clock::time_point now);
     void requested(uint64_t request); // the view request the edit asked for
-    // An image arrived: level 0 is the full frame.
-    void imageShown(uint64_t request, int level, Clock::time_point now);
+    // An image arrived: level 0 is the full frame; the view's own is finestLevel (a far view rests on a
+    // coarser level, RenderedView::finestLevel), which ends an edit as the full frame does.
+    void imageShown(uint64_t request, int level, int finestLevel, Clock::time_point now);
     // A UI frame's time, from after its wait for input to its swap; `rendering`: a view was in flight.
     void uiFrame(double ms, bool rendering);
     bool finished() const { return int(m_firstMs.size()) >= m_edits && !m_waiting; }

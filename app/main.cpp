@@ -341,6 +341,11 @@ struct RenderArgs {
 
 void printCounters(const SplatCounters& c) {
     using ull = unsigned long long;
+    // Every splat past the transparent and near-plane culls has its footprint (or, culled as hidden, the
+    // bound the occlusion test projects) computed: what a hidden voxel still costs.
+    const uint64_t computed = c.drawn + c.culledOffscreen + c.culledHuge + c.culledDegenerate + c.culledOccluded;
+    std::printf("  footprints computed %llu, %.2f per splat drawn\n", ull(computed),
+                c.drawn ? double(computed) / double(c.drawn) : 0.0);
     std::printf("  drawn %llu (reconstruction %llu, low-pass %llu, ewa %llu); culled transparent %llu, near %llu "
                 "(near layer %llu, dropped %llu), offscreen %llu, huge %llu, degenerate %llu, hidden behind "
                 "opaque %llu\n", ull(c.drawn), ull(c.drawnPerMode[0]), ull(c.drawnPerMode[1]), ull(c.drawnPerMode[2]),

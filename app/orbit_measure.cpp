@@ -11,14 +11,6 @@
 
 namespace {
 
-// The q-quantile (nearest rank) of `values`.
-double quantile(std::vector<double> values, double q) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    const size_t rank = size_t(std::ceil(q * double(values.size())));
-    return values[std::clamp<size_t>(rank, 1, values.size()) - 1];
-}
-
 std::string fmt(const char* f, double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, f, v);
@@ -74,7 +66,7 @@ OrbitSummary measureOrbit(renderer::SplatRenderer& gl, const renderer::SplatScen
             around.push_back(orbit.steps[(k + d) % n].rmse);
             around.push_back(orbit.steps[(k + n - d) % n].rmse);
         }
-        const double local = quantile(around, 0.5);
+        const double local = renderer::nearestRankQuantile(around, 0.5);
         step.localRatio = local > 0.0 ? step.rmse / local : 0.0;
         if (step.localRatio > orbit.maxLocalRatio) {
             orbit.maxLocalRatio = step.localRatio;
@@ -87,10 +79,10 @@ OrbitSummary measureOrbit(renderer::SplatRenderer& gl, const renderer::SplatScen
             orbit.maxLocalRatioElsewhere = std::max(orbit.maxLocalRatioElsewhere, step.localRatio);
         }
     }
-    orbit.medianRmse = quantile(all, 0.5);
-    orbit.p90Rmse = quantile(all, 0.9);
+    orbit.medianRmse = renderer::nearestRankQuantile(all, 0.5);
+    orbit.p90Rmse = renderer::nearestRankQuantile(all, 0.9);
     orbit.maxRmse = orbit.steps[orbit.worst].rmse;
-    orbit.medianAtSwitches = quantile(atSwitches, 0.5);
+    orbit.medianAtSwitches = renderer::nearestRankQuantile(atSwitches, 0.5);
     return orbit;
 }
 

@@ -21,9 +21,10 @@ void main() {
     for (uint c = bucket << 6; c < ((bucket + 1u) << 6) && !selected; ++c) selected = lut[c].a > 0.0;
     uint slice = run.z & 0xffffu;
     uint slot = uDescending ? uRuns - sliceRuns[slice + 1u] + (i - sliceRuns[slice]) : i;
-    // DrawArraysIndirectCommand: count, instanceCount, first (0 for dense runs), baseInstance (selects
-    // this run's aRun).
+    // DrawArraysIndirectCommand: count, instanceCount, first, baseInstance (selects this run's aRun). First
+    // is 0: gl_VertexID counts within the run (splat.vert adds the run's first entry), so it stays under
+    // 6 x 65536 whatever the volume's size, where 6 x the first entry overflowed an int from 358 M voxels.
     uint at = uReversed ? uRuns - 1u - slot : slot, count = selected ? run.w : 0u;
-    commands[at] = uvec4(count, 1u, run.x, i);
-    commands[uRuns + at] = uvec4(6u * count, 1u, 6u * run.x, i);
+    commands[at] = uvec4(count, 1u, 0u, i);
+    commands[uRuns + at] = uvec4(6u * count, 1u, 0u, i);
 }

@@ -22,9 +22,9 @@ const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, 
 void main() {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);   // culled unless a footprint is emitted below
     gl_PointSize = 1.0;
-    bool dense = (aRun.z >> 31) != 0u;
-    // Listed runs: gl_VertexID starts at the run's first entry; dense runs walk their tile from 0.
-    uint k = uint(gl_VertexID) / uint(uVertsPerSplat) - (dense ? 0u : aRun.x);
+    // The splat's place in its run: gl_VertexID counts from 0 in every run (bucket_commands.comp), and the
+    // footprint adds a listed run's first entry (a dense run walks its tile).
+    uint k = uint(gl_VertexID) / uint(uVertsPerSplat);
     if (uReverse) k = aRun.w - 1u - k;
     Footprint f;
     if (!footprint(aRun, k, f)) return;

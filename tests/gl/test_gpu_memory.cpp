@@ -51,3 +51,32 @@ TEST_F(GpuMemory, TheCheckBeforeUploadingCountsEveryBufferTheSceneTakes) {
     gl.setScene(scene);
     EXPECT_EQ(gl.sceneBytes(), bytes);
 }
+
+TEST_F(GpuMemory, AnotherVolumeStartsTheFramesWorkingBuffersAfresh) {
+    // The frame passes' buffers grow to the largest frame drawn; a small volume after a large one holds
+    // what the small one alone would, not the large one's.
+    const SplatScene large = buildSplatScene(makeCheckerboard({96, 96, 96}, 8), builtinPreset("grey-ramp"));
+    const SplatScene small = buildSplatScene(makeCheckerboard({16, 16, 16}, 4), builtinPreset("grey-ramp"));
+    SplatSettings s;
+    s.compositing = Compositing::SheetFrontToBack;
+    const auto plane = [](const SplatScene& scene, int size) {
+        return makeImagePlane(Camera{}, scene.centre, scene.radius, size, size);
+    };
+    SplatRenderer alone;
+    alone.setScene(small);
+    alone.render(plane(small, 64), s);
+    SplatRenderer gl;
+    gl.setScene(large);
+    gl.render(plane(large, 256), s);
+    const uint64_t afterLarge = gl.workingBytes();
+    gl.setScene(small);
+    gl.render(plane(small, 64), s);
+    EXPECT_GT(afterLarge, 8 * alone.workingBytes());
+    EXPECT_EQ(gl.workingBytes(), alone.workingBytes());
+    // The same volume again (a TF or window edit) keeps them: no reallocation a frame.
+    gl.render(plane(small, 64), s);
+    const uint64_t kept = gl.workingBytes();
+    gl.setScene(small);
+    gl.render(plane(small, 64), s);
+    EXPECT_EQ(gl.workingBytes(), kept);
+}

@@ -253,7 +253,7 @@ TEST(Cli, NoOcclusionCullingKeepsHiddenSplatsForTheSameImage) {
     // is the same.
     const auto dir = testing_support::testOutputDir("cli_occlusion");
     renderer::Image images[2];
-    unsigned long long hidden[2] = {0, 0}, drawn[2] = {0, 0};
+    unsigned long long hidden[2] = {0, 0}, drawn[2] = {0, 0}, computed[2] = {0, 0};
     for (int culled = 0; culled < 2; ++culled) {
         const auto out = dir / (culled ? "culled.exr" : "kept.exr");
         const CliRun r = renderHeadsqFrontToBack(out, std::string("--density 30") + (culled ? "" : " --no-occlusion-culling"));
@@ -262,11 +262,15 @@ TEST(Cli, NoOcclusionCullingKeepsHiddenSplatsForTheSameImage) {
         ASSERT_NE(at, std::string::npos) << r.output;
         hidden[culled] = std::stoull(r.output.substr(at + 21));
         drawn[culled] = std::stoull(r.output.substr(r.output.find("drawn ") + 6));
+        computed[culled] = std::stoull(r.output.substr(r.output.find("footprints computed ") + 20));
         images[culled] = renderer::readImage(out);
     }
     EXPECT_EQ(hidden[0], 0u);
     EXPECT_GT(hidden[1], 1000u);
     EXPECT_EQ(drawn[0], drawn[1] + hidden[1]);   // what culling removed, and only that
+    // A hidden splat still costs its footprint (or the bound the occlusion test projects): the same count.
+    EXPECT_EQ(computed[0], computed[1]);
+    EXPECT_GE(computed[1], drawn[1] + hidden[1]);
     const auto d = testing_support::renderDifference(images[0], images[1]);
     EXPECT_LT(d.elsewhere, 1e-4);
     EXPECT_LE(d.atOpaque, 2e-3f);

@@ -78,6 +78,18 @@ Volume oneVoxel() {
 
 // == Metrics
 
+TEST(Metrics, QuantilesTakeTheNearestRankOneRuleForEveryReport) {
+    // ceil(q n)-th smallest: the median of an even count is the lower middle value, whatever the order.
+    const std::vector<double> ten{7, 3, 10, 1, 5, 9, 2, 8, 4, 6};
+    EXPECT_EQ(nearestRankQuantile(ten, 0.5), 5.0);
+    EXPECT_EQ(nearestRankQuantile(ten, 0.9), 9.0);
+    EXPECT_EQ(nearestRankQuantile(ten, 0.95), 10.0);
+    EXPECT_EQ(nearestRankQuantile(ten, 1.0), 10.0);
+    EXPECT_EQ(nearestRankQuantile(ten, 0.0), 1.0);
+    EXPECT_EQ(nearestRankQuantile({4, 1, 3}, 0.5), 3.0);
+    EXPECT_EQ(nearestRankQuantile({}, 0.5), 0.0);
+}
+
 TEST(Metrics, IdenticalImagesHaveZeroErrorAndUnitSsim) {
     Image a(16, 12);
     for (size_t i = 0; i < a.rgba.size(); ++i) a.rgba[i] = float((i * 37) % 101) / 100.0f;

@@ -361,7 +361,7 @@ const BadHeader kBadHeaders[] = {
     {"overflowing_dims", {"sizes: 4000000000 4000000000 10"}, {"'sizes'", "4000000000 x 4000000000 x 10"}},
     // Refused from the header with the renderer's own limit, not after reading gigabytes.
     {"over_the_voxel_limit", {"sizes: 1024 1024 1024"},
-     {"'sizes'", "1024 x 1024 x 1024 = 1073741824 voxels is more than the 357913941 SplatLab renders"}},
+     {"'sizes'", "1024 x 1024 x 1024 = 1073741824 voxels is more than the 715827882 SplatLab renders"}},
     {"axis_over_65535", {"sizes: 70000 2 2"}, {"'sizes'", "70000 voxels along an axis", "65535"}},
     {"zero_spacing", {"spacings: 1 0 1"}, {"'spacings'", "'0'", "positive"}},
     {"negative_spacing", {"spacings: 1 1 -2"}, {"'spacings'", "'-2'", "positive"}},

@@ -136,6 +136,17 @@ void SplatRenderer::Gl::ensureTargets(int w, int h) {
     height = h;
 }
 
+void SplatRenderer::Gl::releaseWorkingBuffers() {
+    const GLuint buffers[] = {tileSplats, tileBins, tileState, tileList, tileBusy, chunkStartMap};
+    glDeleteBuffers(6, buffers);
+    tileSplats = tileBins = tileState = tileList = tileBusy = chunkStartMap = 0;
+    tileSplatBytes = tileBinBytes = tileStateBytes = tileListBytes = tileBusyBytes = chunkStartMapBytes = 0;
+    // The lists' high-water mark was the other volume's, and so are the figures its frames still owe
+    // (taken now, so that they cannot raise the mark again).
+    for (StatusSlot& slot : statusSlots) takeStatus(slot, nullptr);
+    listCapacity = 0;
+}
+
 // Grows `buffer` to at least `bytes` (with headroom); its contents are not kept.
 void SplatRenderer::Gl::ensureBuffer(GLuint& buffer, size_t& capacity, size_t bytes, const char* what) {
     if (bytes <= capacity && buffer) return;

@@ -108,6 +108,7 @@ void SplatRenderer::setScene(const SplatScene& scene) {
     checkGlErrors("SplatRenderer::setScene (before uploading)");
 
     m_stats.uploadBytes = 0;
+    if (g.dims != d) g.releaseWorkingBuffers();
     if (g.dims != d || !g.classTexture) {
         glDeleteTextures(1, &g.classTexture);
         glCreateTextures(GL_TEXTURE_3D, 1, &g.classTexture);

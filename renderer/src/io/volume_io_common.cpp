@@ -107,7 +107,7 @@ glm::ivec3 checkedDims(const fs::path& path, const std::string& field, long long
     const unsigned long long product = (unsigned long long)x * (unsigned long long)y * (unsigned long long)z;
     if (product > kMaxVoxels)
         fail(path, field, text + " = " + std::to_string(product) + " voxels is more than the " +
-                              std::to_string(kMaxVoxels) + " SplatLab renders (e.g. 710^3, 1024 x 1024 x 341)");
+                              std::to_string(kMaxVoxels) + " SplatLab renders (e.g. 894^3, 1024 x 1024 x 682)");
     return {int(x), int(y), int(z)};
 }
 

@@ -92,4 +92,11 @@ Image differenceImage(const Image& a, const Image& b, double gain) {
     return d;
 }
 
+double nearestRankQuantile(std::vector<double> values, double q) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const size_t rank = size_t(std::ceil(std::clamp(q, 0.0, 1.0) * double(values.size())));
+    return values[std::clamp<size_t>(rank, 1, values.size()) - 1];
+}
+
 } // namespace renderer

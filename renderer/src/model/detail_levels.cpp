@@ -68,11 +68,11 @@ DetailLevel chooseDetailLevel(const Volume& volume, const SplatScene& full, cons
                               const SplatSettings& s, int maxLevel, int previous, double hysteresis) {
     DetailLevel d;
     d.pixelLevel = coarsestLowPassLevel(full.dims, full.origin, full.spacing, plane, s, maxLevel, previous, hysteresis);
-    // The levels from finest to the one the pixels allow, each from the last; the coarsest that keeps the
-    // optical mass is drawn (a coarser one keeps it no better: each averages the one before).
-    Volume finer = volume;
+    // The levels from finest to the one the pixels allow, each halved from the last; the first that changes
+    // the optical mass too much ends the search, and the level before it is drawn.
+    std::optional<Volume> kept;   // the last level kept: the next is halved from it (not a copy of `volume`)
     for (int k = 1; k <= d.pixelLevel; ++k) {
-        Volume coarse = halfResolution(finer, Downsample::Mean);
+        Volume coarse = halfResolution(kept ? *kept : volume, Downsample::Mean);
         SplatScene scene = buildSplatScene(coarse, full.tf, full.window);
         if (!full.gradients.empty()) addGradients(scene, *computeGradients(coarse));
         const double change = opticalMassChange(full, scene);
@@ -84,7 +84,7 @@ DetailLevel chooseDetailLevel(const Volume& volume, const SplatScene& full, cons
         d.massChange = change;
         d.densityScale = densityFor(coarse, volume, 1.0);
         d.scene = std::move(scene);
-        finer = std::move(coarse);
+        kept = std::move(coarse);
     }
     d.kernelPx = levelKernelPx(full.dims, full.origin, full.spacing, plane, s, d.level);
     return d;

@@ -12,8 +12,19 @@ start_editor "$out" "$exe" editor "$volume" --up -z --camera 40,20,2.5,30 \
   --compositing sheet-front-to-back --split reconstruction,low-pass --split-difference --size 1280x800 \
   --session-out "$out/session.json"
 # 100 px to the right in the right pane, the pointer moving on (off the viewport) after the release.
+before=$(cat "$out/ready")   # the finished images the editor has shown
 xdotool mousemove --window "$w" "$x" "$y" mousedown 1 mousemove --window "$w" $((x + 50)) "$y" \
         mousemove --window "$w" $((x + 100)) "$y" mouseup 1 mousemove --window "$w" 1200 700
-sleep 8 # the turned view's three panes drawn (about a second on llvmpipe)
+# The turned view's three panes: a newer finished image, then none for 2 s (the drag's steps may each
+# finish one). About a second on llvmpipe; far longer in the sanitizers' build on a loaded machine.
+for _ in $(seq 600); do [ "$(cat "$out/ready")" != "$before" ] && break; sleep 0.2; done
+last=$(cat "$out/ready")
+for _ in $(seq 60); do
+  sleep 2
+  now=$(cat "$out/ready")
+  [ "$now" = "$last" ] && break
+  last=$now
+done
+sleep 0.5 # the image onto the screen by the next UI frame
 import -window root "$out/split_drag.png"
 stop_editor

@@ -16,10 +16,10 @@ namespace renderer {
 
 // The largest volume SplatLab opens: one limit for the readers and the renderer, so a file is refused
 // from its header, before anything is read, rather than after loading (a 1 GiB raw once took 22 s and
-// 4.1 GiB to be refused). The GL path addresses a splat list entry as gl_VertexID / 6 in a signed int,
-// hence INT32_MAX / 6 voxels (357,913,941: 710^3, or 1024 x 1024 x 341); the lists hold a voxel's
-// place in its slice in 16 bits, hence 65535 voxels along an axis.
-constexpr size_t kMaxVoxels = size_t(INT32_MAX) / 6;
+// 4.1 GiB to be refused). The GPU reads a voxel's packed gradient at byte 3 x its index, kept within a
+// signed int as drivers address storage buffers: INT32_MAX / 3 voxels (715,827,882: 894^3, or 1024 x
+// 1024 x 682). The lists hold a voxel's place in its slice in 16 bits, hence 65535 voxels along an axis.
+constexpr size_t kMaxVoxels = size_t(INT32_MAX) / 3;
 constexpr int kMaxAxisVoxels = 65535;
 
 struct ValueRange {
