@@ -2,6 +2,7 @@
 // window. Errors from the renderer become one line on stderr and a non-zero exit.
 #include "accuracy.h"
 #include "cli_parse.h"
+#include "compare_command.h"
 #include "console_progress.h"
 #include "editor.h"
 #include "far_view_level.h"
@@ -18,6 +19,7 @@
 #include "renderer/model/paraview_preset.h"
 #include "renderer/oracle/demo_scenes.h"
 #include "renderer/oracle/ground_truth.h"
+#include "renderer/oracle/image_slabs.h"
 #include "renderer/math/metrics.h"
 #include "renderer/oracle/near_layer.h"
 #include "renderer/oracle/reference_renderer.h"
@@ -333,6 +335,8 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 struct RenderArgs {
     int frames = 5, detailLevels = 0;
     bool cpu = false, counters = false;
+    double imageSlabs = 0.0;           // --image-slabs: slab thickness in voxels (0: the volume's own sheets)
+    bool postClassify = false;         // --post-classify: the slabs classify their mean value
     std::string heatmap;
     double orbitStep = std::nan("");   // --orbit: the turn's step in degrees (NaN: no orbit)
     std::string orbitCsv;
@@ -388,29 +392,57 @@ std::string formatMs(double ms) {
     return text;
 }
 
-// render --orbit: the turn drawn with GL, its summary printed, the frame after the largest jump to --out.
+// How the frames composite: the setting, or the image-aligned slabs that replace it.
+std::string compositingText(const Scene& s, const RenderArgs& ra) {
+    char slabs[96];
+    std::snprintf(slabs, sizeof slabs, "image-aligned slabs %g voxels thick%s", ra.imageSlabs,
+                  ra.postClassify ? ", post-classified" : "");
+    return ra.imageSlabs > 0.0 ? slabs : compositingName(s.settings.compositing);
+}
+
+// render --orbit: the turn drawn with GL or on the CPU (the oracle, or its image-aligned slabs), its
+// summary printed, the frame after the largest jump to --out.
 int runOrbit(const Scene& s, const SceneArgs& a, const RenderArgs& ra) {
-    auto context = HeadlessGl::create();
-    SplatRenderer gl;
-    gl.setScene(s.scene);
-    const OrbitSummary orbit = measureOrbit(gl, s.scene, s.camera, s.plane.width, s.plane.height, s.settings, ra.orbitStep);
+    OrbitSummary orbit;
+    std::string device = "CPU oracle (double)";
+    if (ra.cpu) {
+        orbit = measureOrbit([&](const ImagePlane& p) {
+            return ra.imageSlabs > 0.0 ? renderImageAlignedSlabs(s.scene, p, s.settings, {ra.imageSlabs, ra.postClassify})
+                                       : renderReference(s.scene, p, s.settings);
+        }, s.scene, s.camera, s.plane.width, s.plane.height, ra.orbitStep);
+    } else {
+        auto context = HeadlessGl::create();
+        SplatRenderer gl;
+        gl.setScene(s.scene);
+        orbit = measureOrbit([&](const ImagePlane& p) { gl.render(p, s.settings); return gl.readback(); }, s.scene,
+                             s.camera, s.plane.width, s.plane.height, ra.orbitStep);
+        device = glRendererName();
+    }
     if (!ra.orbitCsv.empty()) writeFileAtomically(ra.orbitCsv, orbitCsv(orbit));
     writeImage(orbit.worstFrame, a.out, s.background.data());
     std::printf("%s: %s, %s, %s on %s\n", a.out.c_str(), orbitSummaryText(orbit, ra.orbitStep).c_str(),
-                filterModeName(s.settings.filter), compositingName(s.settings.compositing), glRendererName().c_str());
+                filterModeName(s.settings.filter), compositingText(s, ra).c_str(), device.c_str());
     return 0;
 }
 
-int runRender(const SceneArgs& a, const RenderArgs& ra) {
+int runRender(const SceneArgs& a, RenderArgs ra) {
     const int frames = ra.frames;
+    if (ra.postClassify && ra.imageSlabs == 0.0)
+        throw CLI::ValidationError("--post-classify", "classifies image-aligned slabs: give --image-slabs THICKNESS");
+    if (ra.imageSlabs != 0.0) {
+        if (!(ra.imageSlabs >= kMinSlabThickness && ra.imageSlabs <= kMaxSlabThickness))
+            throw CLI::ValidationError("--image-slabs", "expected a slab thickness of 0.05 to 64 voxels");
+        if (!ra.heatmap.empty()) throw CLI::ValidationError("--heatmap", "the image-aligned slabs draw no heatmap");
+        ra.cpu = true;   // the slabs exist on the CPU only
+    }
     const bool cpu = ra.cpu;
     if (frames < 1) throw CLI::ValidationError("--frames", "must be >= 1");
     checkImageWritable(a.out);   // before the volume loads and the frames render
     const bool orbit = !std::isnan(ra.orbitStep) || !ra.orbitCsv.empty();
     if (orbit) {
         checkOrbitStep(ra.orbitStep);
-        if (cpu || !ra.heatmap.empty() || ra.counters)
-            throw CLI::ValidationError("--orbit", "turns the view with GL: not with --cpu, --heatmap or --counters");
+        if (!ra.heatmap.empty() || ra.counters)
+            throw CLI::ValidationError("--orbit", "compares whole frames: not with --heatmap or --counters");
         if (!ra.orbitCsv.empty()) checkFileReplaceable(ra.orbitCsv);
     }
     if (ra.detailLevels < 0 || ra.detailLevels > 3) throw CLI::ValidationError("--detail-levels", "must be 0 to 3 halvings");
@@ -427,11 +459,17 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     std::vector<double> ms;
     std::string device;
     SplatCounters counters;
+    SlabCounters slabs;
     if (cpu) {
         device = "CPU oracle (double)";
         for (int i = 0; i < frames; ++i) {
             const auto t0 = std::chrono::steady_clock::now();
-            image = renderReference(s.scene, s.plane, s.settings, &counters, s.settings.heatmap ? &heatmap : nullptr);
+            if (ra.imageSlabs > 0.0) {
+                image = renderImageAlignedSlabs(s.scene, s.plane, s.settings, {ra.imageSlabs, ra.postClassify}, &slabs);
+                counters = slabs.splats;
+            } else {
+                image = renderReference(s.scene, s.plane, s.settings, &counters, s.settings.heatmap ? &heatmap : nullptr);
+            }
             ms.push_back(msSince(t0));
         }
     } else {
@@ -481,8 +519,13 @@ int runRender(const SceneArgs& a, const RenderArgs& ra) {
     std::sort(ms.begin(), ms.end());
     std::printf("%s: %dx%d, %zu splats, %s, %s, %.2f ms/frame (median of %d) on %s\n", a.out.c_str(),
                 s.plane.width, s.plane.height, s.scene.visibleCount(), filterModeName(s.settings.filter),
-                compositingName(s.settings.compositing), ms[ms.size() / 2], frames, device.c_str());
+                compositingText(s, ra).c_str(), ms[ms.size() / 2], frames, device.c_str());
     if (ra.counters) printCounters(counters);
+    if (ra.imageSlabs > 0.0 && ra.counters)
+        std::printf("  %llu slabs; %llu footprint pixels written %llu times into them (%.2f slabs each)\n",
+                    (unsigned long long)slabs.slabs, (unsigned long long)slabs.footprintPixels,
+                    (unsigned long long)slabs.slabWrites,
+                    slabs.footprintPixels ? double(slabs.slabWrites) / double(slabs.footprintPixels) : 0.0);
     reportDroppedSplats(s, ra.counters || ra.cpu ? &counters : nullptr);
     return 0;
 }
@@ -509,45 +552,6 @@ int runReference(const SceneArgs& a, const SplatFlags& splat, const GroundTruthO
                     a.out.c_str(), (unsigned long long)stats.rays, stats.seconds, stats.meanHalvings,
                     (unsigned long long)stats.unconvergedRays, options.tolerance);
     if (!stats.cacheNote.empty()) std::fprintf(stderr, "splatlab: note: not cached: %s\n", stats.cacheNote.c_str());
-    return 0;
-}
-
-// A NaN or infinity in `image` would make every figure of the comparison NaN or inf.
-void requireFinite(const Image& image, const std::string& path) {
-    const auto bad = std::find_if(image.rgba.begin(), image.rgba.end(), [](float v) { return !std::isfinite(v); });
-    if (bad == image.rgba.end()) return;
-    const size_t pixel = size_t(bad - image.rgba.begin()) / 4;
-    throw LoadError(path, "", "a pixel is not a finite number (at (" + std::to_string(pixel % size_t(image.width)) +
-                                  ", " + std::to_string(pixel / size_t(image.width)) + ")): nothing to compare");
-}
-
-int runCompare(const std::string& a, const std::string& b, const std::string& diff, double gain) {
-    if (!(gain > 0.0 && std::isfinite(gain))) throw CLI::ValidationError("--gain", "must be a finite number > 0");
-    if (!diff.empty()) {
-        for (const std::string& input : {a, b}) {
-            std::error_code ec;
-            if (std::filesystem::equivalent(diff, input, ec))
-                throw CLI::ValidationError("--diff", "'" + diff + "' is an image being compared; name another file");
-        }
-        checkImageWritable(diff);
-    }
-    const Image image = readImage(a), reference = readImage(b);
-    if (image.width != reference.width || image.height != reference.height)
-        throw LoadError(a, "", std::to_string(image.width) + "x" + std::to_string(image.height) + " px, but " + b +
-                                   " is " + std::to_string(reference.width) + "x" + std::to_string(reference.height) +
-                                   ": render both at one --size");
-    requireFinite(image, a);
-    requireFinite(reference, b);
-    // .png holds the view composited over the background in 8 bits; .exr and .tif premultiplied float RGBA.
-    if (isFloatImageFormat(a) != isFloatImageFormat(b))
-        std::fprintf(stderr,
-                     "note: one image is 8-bit composited over its background (.png), the other premultiplied "
-                     "float RGBA: their alpha and colours differ by more than the renderers do; compare two of "
-                     "one kind\n");
-    const ImageError e = compareImages(image, reference);
-    std::printf("%s vs %s: RMSE %.6f  PSNR %.2f dB  SSIM %.5f  max error %.6f at (%d, %d)\n", a.c_str(), b.c_str(),
-                e.rmse, e.psnrDb, e.ssim, e.maxAbs, e.maxX, e.maxY);
-    if (!diff.empty()) writeImage(differenceImage(image, reference, gain), diff);
     return 0;
 }
 
@@ -595,6 +599,10 @@ int main(int argc, char** argv) {
                        "where the level's kernels stay under the low-pass threshold and keep the optical mass "
                        "(0: full resolution)")->capture_default_str();
     render->add_flag("--cpu", ra.cpu, "Render with the double-precision CPU oracle instead of GL");
+    render->add_option("--image-slabs", ra.imageSlabs, "Composite slabs parallel to the image, this many voxels thick, "
+                       "instead of the volume's slices (CPU oracle only: implies --cpu; front to back)");
+    render->add_flag("--post-classify", ra.postClassify, "With --image-slabs: apply the TF to each slab's "
+                     "reconstructed value instead of to each voxel (unshaded, 1D TFs)");
     render->add_option("--orbit", ra.orbitStep, "Turn the camera about the up axis in steps of this many degrees and "
                                                 "print how much each frame differs from the one before (popping); "
                                                 "--out gets the frame after the largest jump");
@@ -629,16 +637,13 @@ int main(int argc, char** argv) {
                           "The ground truth of a session saved by the editor: its volume, TF, window, camera and "
                           "compositing (a volume argument replaces its volume; --size and --out still apply)");
     reference->get_option("volume")->required(false);
+    reference->add_flag("--post-classified", gt.postClassified, "The truth of post-classification: the TF applied to "
+                        "the kernels' mean value along each ray (render --image-slabs T --post-classify)");
     reference->add_option("--cache", cacheDir, "Cache folder (default: ~/.cache/splatlab/reference)");
     reference->add_flag("--no-cache", noCache, "Always compute, never read or write the cache");
 
-    std::string cmpA, cmpB, cmpDiff;
-    double cmpGain = 10.0;
-    auto* compare = app.add_subcommand("compare", "Error of image A against reference B: RMSE, PSNR, SSIM, max");
-    compare->add_option("image", cmpA, "Image to judge (EXR keeps float data)")->required();
-    compare->add_option("reference", cmpB, "Reference image")->required();
-    compare->add_option("--diff", cmpDiff, "Write |A - B| x gain as an image");
-    compare->add_option("--gain", cmpGain, "Amplification of the difference image")->capture_default_str();
+    CompareArgs cmp;
+    auto* compare = addCompareCommand(app, cmp);
 
     std::string infoPath;
     RawFlags infoRaw;
@@ -730,7 +735,7 @@ int main(int argc, char** argv) {
         if (*editor && !editorSession.empty()) rejectFlagsBesideSession(editor);
         if (*render) return runRender(r, ra);
         if (*reference) return runReference(ref, refSplat, gt, cacheDir, noCache);
-        if (*compare) return runCompare(cmpA, cmpB, cmpDiff, cmpGain);
+        if (*compare) return runCompare(cmp);
         if (*info) return runInfo(infoPath, rawOptions(infoRaw), infoGradients);
         if (*accuracy) return runAccuracy(acc);
         if (*report) return runReport(reportArgs);

@@ -26,8 +26,8 @@ void checkOrbitStep(double stepDeg) {
                                     ": expected a step in degrees that divides 360 (0.5, 1, 45, ...), at most 180");
 }
 
-OrbitSummary measureOrbit(renderer::SplatRenderer& gl, const renderer::SplatScene& scene, renderer::Camera camera,
-                          int width, int height, const renderer::SplatSettings& settings, double stepDeg) {
+OrbitSummary measureOrbit(const OrbitFrame& render, const renderer::SplatScene& scene, renderer::Camera camera,
+                          int width, int height, double stepDeg) {
     checkOrbitStep(stepDeg);
     const int frames = int(std::lround(360.0 / stepDeg));
     OrbitSummary orbit;
@@ -36,8 +36,7 @@ OrbitSummary measureOrbit(renderer::SplatRenderer& gl, const renderer::SplatScen
     for (int k = 0; k < frames; ++k) {
         camera.azimuthDeg = startDeg + stepDeg * k;
         const renderer::ImagePlane plane = makeImagePlane(camera, scene.centre, scene.radius, width, height, scene.axes);
-        gl.render(plane, settings);
-        renderer::Image frame = gl.readback();
+        renderer::Image frame = render(plane);
         OrbitStep step{.azimuthDeg = camera.azimuthDeg, .axis = renderer::chooseTraversal(plane).axis};
         if (k > 0) step.rmse = renderer::compareImages(frame, previous).rmse;
         orbit.steps.push_back(step);

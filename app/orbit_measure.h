@@ -4,10 +4,11 @@
 // there as anywhere else. Each frame is compared with the one before (RMSE of premultiplied RGBA, as
 // error.md defines it), the last with the first.
 #pragma once
-#include "renderer/gl/splat_renderer.h"
+#include "renderer/io/image.h"
 #include "renderer/math/camera.h"
 #include "renderer/model/splat_scene.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,10 +37,12 @@ struct OrbitSummary {
 
 // Throws RenderError naming --orbit for a step that does not divide 360 or is over 180 degrees.
 void checkOrbitStep(double stepDeg);
+// Draws one frame of the turn: GL, the CPU oracle or its image-aligned slabs.
+using OrbitFrame = std::function<renderer::Image(const renderer::ImagePlane&)>;
 // Renders 360 / stepDeg frames, the camera's azimuth advancing by stepDeg from `camera`'s, everything else
 // as given (the step checked as checkOrbitStep does).
-OrbitSummary measureOrbit(renderer::SplatRenderer& gl, const renderer::SplatScene& scene, renderer::Camera camera,
-                          int width, int height, const renderer::SplatSettings& settings, double stepDeg);
+OrbitSummary measureOrbit(const OrbitFrame& render, const renderer::SplatScene& scene, renderer::Camera camera,
+                          int width, int height, double stepDeg);
 
 // One line a frame: "azimuth_deg,axis,rmse,local_ratio", under that header.
 std::string orbitCsv(const OrbitSummary& orbit);

@@ -4,6 +4,7 @@
 #include "orbit_measure.h"
 
 #include "renderer/gl/gl_context.h"
+#include "renderer/gl/splat_renderer.h"
 #include "renderer/math/metrics.h"
 #include "renderer/model/procedural.h"
 #include "renderer/model/volume.h"
@@ -46,7 +47,8 @@ TEST(OrbitPopping, EachStepIsTheRmseAgainstTheFrameBeforeWithItsSliceAxis) {
     const Camera start{.azimuthDeg = 10, .elevationDeg = 20};
     SplatRenderer gl;
     gl.setScene(scene);
-    const OrbitSummary orbit = measureOrbit(gl, scene, start, 32, 28, s, 45.0);
+    const OrbitSummary orbit = measureOrbit([&](const ImagePlane& p) { gl.render(p, s); return gl.readback(); },
+                                            scene, start, 32, 28, 45.0);
     ASSERT_EQ(orbit.steps.size(), 8u);
     // The same frames drawn one by one: each step's RMSE and axis, the last frame against the first.
     std::vector<Image> frames;
@@ -127,7 +129,7 @@ TEST(OrbitPopping, TheCommandLineWritesTheCsvAndTheWorstFrameAndRefusesBadSteps)
     const std::pair<std::string, std::string> bad[] = {
         {"--orbit 7", "--orbit 7: expected a step in degrees that divides 360"},
         {"--orbit 0", "--orbit 0: expected a step in degrees that divides 360"},
-        {"--orbit 45 --cpu", "not with --cpu, --heatmap or --counters"},
+        {"--orbit 45 --counters", "compares whole frames: not with --heatmap or --counters"},
     };
     for (const auto& [flags, message] : bad) {
         const CliRun b = splatlab("render \"" + testing_support::headsq() + "\" --size 24x20 " + flags + " --out \"" +

@@ -7,6 +7,7 @@
 
 #include "renderer/errors.h"
 #include "renderer/math/shading.h"
+#include "renderer/model/post_classification.h"
 #include "renderer/oracle/ray_kernel.h"
 #include "renderer/oracle/reference_renderer.h"
 #include "renderer/out_of_memory.h"
@@ -34,9 +35,9 @@ struct Ray {
 
 class Integrator {
 public:
-    Integrator(const SplatScene& scene, const SplatSettings& settings, const glm::dmat3& viewFromObject)
+    Integrator(const SplatScene& scene, const SplatSettings& settings, const glm::dmat3& viewFromObject, bool post)
         : m_scene(scene), m_settings(settings), m_viewFromObject(viewFromObject),
-          m_shaded(settings.shading != SplatSettings::Shading::None) {
+          m_shaded(settings.shading != SplatSettings::Shading::None), m_post(post) {
         m_sigma = settings.kernelScale * scene.spacing;
         m_kernelPeak = kernelPeak(scene.spacing, m_sigma, settings.cutoffSigmas);
         m_reach = glm::ivec3(glm::ceil(glm::dvec3(settings.cutoffSigmas * settings.kernelScale)));
@@ -76,7 +77,8 @@ public:
             const auto add = [&](int x0, int x1, int y, int z) {
                 for (int x = x0; x <= x1; ++x) {
                     const uint32_t i = uint32_t((size_t(z) * d.y + y) * d.x + x);
-                    if (m_scene.opacityOf(i) > 0.0f) ids.push_back(i);
+                    // Post-classified, transparent voxels count too: they pull the mean value down.
+                    if (m_post || m_scene.opacityOf(i) > 0.0f) ids.push_back(i);
                 }
             };
             for (int z = a.z; z <= b.z; ++z)
@@ -100,6 +102,7 @@ public:
             RayKernel& k = *along;
             k.extinction = voxelExtinction(m_scene, m_settings, i);
             k.colour = m_scene.colourOf(i);
+            k.value = m_scene.classes[i];
             // Shaded: the kernel's colour lit along this very ray (the Phong of shading.h with the
             // voxel's gradient, as both renderers decode it); per-splat shading approximates the ray's
             // direction by the splat centre's, per-fragment by the pixel centre's.
@@ -152,6 +155,41 @@ public:
         return glm::dvec4(colour, 1.0 - transmittance);
     }
 
+    // Post-classified RGBA of one ray with steps of length h: each step's weight W = sum of the kernels'
+    // integrals over it and value V / W (V weighting each by its class), classified by the LUT; the step's
+    // optical depth is the TF's extinction at that value times W.
+    glm::dvec4 marchPost(const std::vector<RayKernel>& kernels, double start, double h) const {
+        if (kernels.empty()) return glm::dvec4(0.0);
+        const double perOpacity = extinctionPerOpacity(m_scene, m_settings);
+        double end = start;
+        for (const auto& k : kernels) end = std::max(end, k.mid + k.halfLength);
+        double s = std::max(start, kernels.front().mid - kernels.front().halfLength);
+        glm::dvec3 colour(0.0);
+        double transmittance = 1.0;
+        size_t first = 0;
+        std::vector<ErfAt> erfs(kernels.size());
+        while (s < end && transmittance > 1e-12) {
+            const double s1 = s + h;
+            double weight = 0.0, valueSum = 0.0;
+            for (size_t j = first; j < kernels.size(); ++j) {
+                const RayKernel& k = kernels[j];
+                if (k.mid - k.halfLength >= s1) break;
+                const double w = integrate(k, s, s1, erfs[j]);
+                weight += w;
+                valueSum += k.value * w;
+            }
+            while (first < kernels.size() && kernels[first].mid + kernels[first].halfLength <= s1) ++first;
+            if (weight > 0.0) {
+                const glm::dvec4 tf = lutAt(m_scene.lut, valueSum / weight);
+                const double a = -std::expm1(-tf.a * perOpacity * weight);
+                colour += transmittance * glm::dvec3(tf) * a;
+                transmittance *= 1.0 - a;
+            }
+            s = s1;
+        }
+        return glm::dvec4(colour, 1.0 - transmittance);
+    }
+
     double smallestSigma() const { return std::min({m_sigma.x, m_sigma.y, m_sigma.z}); }
 
 private:
@@ -159,6 +197,7 @@ private:
     const SplatSettings& m_settings;
     glm::dmat3 m_viewFromObject;
     bool m_shaded = false;
+    bool m_post = false;
     glm::dvec3 m_sigma;
     double m_kernelPeak = 0.0;
     glm::ivec3 m_reach{3};
@@ -186,8 +225,15 @@ static Image renderGroundTruthOrThrow(const SplatScene& scene, const ImagePlane&
     if (!hasGroundTruth(settings))
         throw RenderError("ground truth: surface splats have none (flattened kernels are not the volume's)");
     requireGradients(settings, scene.gradients.size() == scene.classes.size(), scene.name);
-    const Integrator integrator(scene, settings, plane.viewFromObject);
     const bool xray = settings.compositing == Compositing::XRay;
+    if (options.postClassified) {
+        requirePostClassifiable(scene, settings, "ground truth");
+        if (xray) throw RenderError("ground truth: post-classification composites in order, not as X-ray's sum");
+    }
+    const Integrator integrator(scene, settings, plane.viewFromObject, options.postClassified);
+    const auto march = [&](const std::vector<RayKernel>& kernels, double start, double h) {
+        return options.postClassified ? integrator.marchPost(kernels, start, h) : Integrator::march(kernels, start, h, xray);
+    };
     const glm::dmat3 objectFromView = glm::transpose(plane.viewFromObject);
     const glm::dvec3 eye = objectFromView * -plane.translation;
     std::vector<glm::dvec4> samples(size_t(gw) * size_t(gh));
@@ -212,11 +258,11 @@ static Image renderGroundTruthOrThrow(const SplatScene& scene, const ImagePlane&
             }
             const auto kernels = integrator.gather(ray);
             double step = options.initialStepSigmas * integrator.smallestSigma();
-            glm::dvec4 coarse = Integrator::march(kernels, ray.start, step, xray), fine = coarse;
+            glm::dvec4 coarse = march(kernels, ray.start, step), fine = coarse;
             int k = 0;
             for (; k < options.maxHalvings; ++k) {
                 step *= 0.5;
-                fine = Integrator::march(kernels, ray.start, step, xray);
+                fine = march(kernels, ray.start, step);
                 const glm::dvec4 d = glm::abs(fine - coarse);
                 if (std::max({d.x, d.y, d.z, d.w}) <= options.tolerance) break;
                 coarse = fine;
@@ -319,6 +365,7 @@ std::string groundTruthKey(const SplatScene& scene, const ImagePlane& plane, con
     f.value(options.maxHalvings);
     f.value(options.supersample);
     if (settings.compositing == Compositing::XRay) f.value(uint8_t(1));   // the other integral (keys before it stand)
+    if (options.postClassified) f.value(uint8_t(5));                       // post-classified (keys before it stand)
     if (!scene.gradientFactors.empty()) {   // gradient opacity (keys without it stand)
         f.value(uint8_t(3));
         f.bytes(scene.gradientFactors.data(), scene.gradientFactors.size() * sizeof(float));

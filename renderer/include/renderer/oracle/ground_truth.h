@@ -28,6 +28,9 @@ struct GroundTruthOptions {
                                    // filter's weights are exact, the grid decides how well sub-pixel
                                    // detail is resolved (compare s with 2s to see). 0: no filter, one
                                    // ray through each pixel centre (the bare integral, for tests)
+    bool postClassified = false;   // the truth of post-classification (post_classification.h): the TF
+                                   // applied to the kernels' weighted mean value along the ray, each step's
+                                   // value from the kernels' closed-form integrals over it
 };
 
 struct GroundTruthStats {

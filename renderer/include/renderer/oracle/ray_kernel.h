@@ -15,6 +15,7 @@ struct RayKernel {
     double mid, width, halfLength, peak;
     double extinction; // g_k
     glm::dvec3 colour;
+    double value = 0.0; // post-classification: the voxel's class (post_classification.h)
 };
 
 // Peak of a kernel r_k = voxel volume x unit-mass Gaussian, so that the kernels sum to ~1 over the grid;

@@ -1,0 +1,271 @@
+// Image-aligned slabs on the CPU (see image_slabs.h). Per band of rows: kernels in order of their first
+// slab; a ring of slab sheets holds the slabs a kernel can still reach, and each slab is composited
+// under the image once no later kernel can reach it.
+#include "renderer/oracle/image_slabs.h"
+
+#include "renderer/errors.h"
+#include "renderer/math/classifier.h"
+#include "renderer/math/ewa.h"
+#include "renderer/math/shading.h"
+#include "renderer/model/post_classification.h"
+#include "renderer/oracle/near_layer.h"
+#include "renderer/out_of_memory.h"
+
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+
+namespace renderer {
+
+void slabShares(double mean, double sd, double thickness, long first, int count, double* shares) {
+    // Cumulative probability at each inner boundary; 0 before the first slab, 1 after the last.
+    double below = 0.0;
+    for (int i = 0; i < count; ++i) {
+        const double end = double(first + i + 1) * thickness;
+        double upTo = 1.0;
+        if (i + 1 < count)
+            upTo = sd > 0.0 ? 0.5 * std::erfc(-(end - mean) / (std::numbers::sqrt2 * sd)) : (mean < end ? 1.0 : 0.0);
+        shares[i] = upTo - below;
+        below = upTo;
+    }
+}
+
+namespace {
+
+struct SlabSplat {
+    SplatGeometry geometry;
+    glm::dvec3 colour;          // TF colour, shaded unless shading is per fragment
+    glm::dvec3 gradientCamera;  // per-fragment shading
+    double depth = 0.0;         // ray-space depth of the centre: |u|, or u2 orthographic
+    glm::dvec2 depthSlope{0.0}; // conditional mean's change per pixel of offset: S_xy^-1 S_xyr
+    double depthSd = 0.0;       // conditional standard deviation along the ray
+    long first = 0, last = -1;  // slabs it can reach anywhere on its footprint
+};
+
+// The ray-space variance of a kernel and the conditional law of its depth along a pixel's ray.
+// Depths are returned in slabs of `slabUnits` object units.
+void depthAlongRays(SlabSplat& s, glm::dvec3 u, const glm::dmat3& varianceCamera, const ImagePlane& plane,
+                    FilterMode mode, double cutoff, double slabUnits) {
+    const glm::dmat3 j = plane.orthographic
+                             ? glm::dmat3(glm::dvec3(plane.fPx, 0, 0), glm::dvec3(0, plane.fPx, 0), glm::dvec3(0, 0, 1))
+                             : rayJacobianPx(u, plane.fPx);
+    const glm::dmat3 v = j * varianceCamera * glm::transpose(j);
+    s.depth = plane.orthographic ? u.z : glm::length(u);
+    const double varDepth = v[2][2];
+    if (mode == FilterMode::LowPass) {   // the kernel's depth profile under the V_h footprint
+        s.depthSlope = glm::dvec2(0.0);
+        s.depthSd = std::sqrt(std::max(0.0, varDepth));
+    } else {
+        const glm::dvec2 cross(v[2][0], v[2][1]);   // S_xyr
+        s.depthSlope = s.geometry.conic * cross;    // conic = (S_xy [+ V_h])^-1, symmetric
+        s.depthSd = std::sqrt(std::max(0.0, varDepth - glm::dot(cross, s.depthSlope)));
+    }
+    s.depth /= slabUnits;
+    s.depthSlope /= slabUnits;
+    s.depthSd /= slabUnits;
+    // Over the cutoff ellipse d^T conic d <= c^2 the slope term is at most c sqrt(w^T conic^-1 w).
+    const double spread = cutoff * std::sqrt(std::max(0.0, glm::dot(s.depthSlope, glm::inverse(s.geometry.conic) * s.depthSlope)));
+    s.first = long(std::floor(s.depth - spread - cutoff * s.depthSd));
+    s.last = long(std::floor(s.depth + spread + cutoff * s.depthSd));
+}
+
+inline void under(double* p, const double* c, double a) {
+    for (int k = 0; k < 3; ++k) p[k] += (1.0 - p[3]) * c[k];
+    p[3] += (1.0 - p[3]) * a;
+}
+
+} // namespace
+
+static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                                const SlabOptions& options, SlabCounters* counters) {
+    const double thickness = options.thickness;
+    const bool post = options.postClassified;
+    if (settings.compositing == Compositing::XRay)
+        throw RenderError("image-aligned slabs: X-ray compositing has no order to slice (use a sheet or "
+                          "splat-every-sample compositing)");
+    if (settings.surfaceFlatten > 1.0)
+        throw RenderError("image-aligned slabs: surface splats are not modelled (surface flatten must be 1)");
+    if (!(thickness >= kMinSlabThickness && thickness <= kMaxSlabThickness))
+        throw RenderError("image-aligned slabs: thickness " + std::to_string(thickness) + " voxels is outside [" +
+                          std::to_string(kMinSlabThickness) + ", " + std::to_string(kMaxSlabThickness) + "]");
+    requireGradients(settings, scene.gradients.size() == scene.classes.size(), scene.name);
+    if (post) requirePostClassifiable(scene, settings, "image-aligned slabs");
+    const double perOpacity = extinctionPerOpacity(scene, settings);
+    const double meanSpacing = (scene.spacing.x + scene.spacing.y + scene.spacing.z) / 3.0;
+    const double slabUnits = thickness * meanSpacing;   // object units
+    const double cutoff = settings.cutoffSigmas;
+    const glm::dvec3 sigma = settings.kernelScale * scene.spacing;
+    const glm::dmat3 varianceCamera = kernelVarianceCamera(sigma, plane.viewFromObject);
+    const std::vector<uint8_t> modes =
+        settings.filter == FilterMode::Adaptive ? patchModes(scene, plane, settings) : std::vector<uint8_t>{};
+    const PatchGrid grid = patchGrid(scene.dims, chooseTraversal(plane).axis, settings.patchSize);
+
+    // 1. Each visible kernel's footprint and depth law, in slab units. Post-classified every kernel is
+    //    "visible": a transparent voxel's value still pulls the mean down.
+    std::vector<uint32_t> visible;
+    for (uint32_t voxel = 0; voxel < uint32_t(scene.classes.size()); ++voxel)
+        if (post || scene.opacityOf(voxel) > 0.0f) visible.push_back(voxel);
+    std::vector<SlabSplat> splats(visible.size());
+    tbb::combinable<SplatCounters> perThread;
+    tbb::parallel_for(size_t(0), visible.size(), [&](size_t k) {
+        const uint32_t voxel = visible[k];
+        FilterMode m = settings.filter;
+        if (m == FilterMode::Adaptive) {
+            const glm::uvec3 d(scene.dims);
+            m = FilterMode(modes[grid.indexOf(glm::ivec3(int(voxel % d.x), int(voxel / d.x % d.y), int(voxel / (d.x * d.y))))]);
+        }
+        SlabSplat& s = splats[k];
+        // Post-classified the footprint carries the kernel's weight (extinction 1) and colour.r its value.
+        s.geometry = splatGeometry(scene, plane, settings, voxel, post ? 1.0 : voxelExtinction(scene, settings, voxel), m,
+                                   &perThread.local());
+        if (s.geometry.culled) return;
+        const glm::dvec3 u = plane.toCamera(scene.positionOf(voxel));
+        depthAlongRays(s, u, varianceCamera, plane, m, cutoff, slabUnits);
+        s.colour = post ? glm::dvec3(scene.classes[voxel], 0.0, 0.0) : scene.colourOf(voxel);
+        if (settings.shading != SplatSettings::Shading::None) {
+            s.gradientCamera = plane.viewFromObject * decodeGradient(scene.gradients[voxel]).gradient();
+            if (settings.shading == SplatSettings::Shading::PerSplat)
+                s.colour = shade(s.colour, s.gradientCamera, -u, settings.shadingParams);
+        }
+    });
+    std::erase_if(splats, [](const SlabSplat& s) { return s.geometry.culled; });
+    std::stable_sort(splats.begin(), splats.end(), [](const SlabSplat& a, const SlabSplat& b) { return a.first < b.first; });
+    long ring = 1, front = 0, back = -1;
+    for (const SlabSplat& s : splats) ring = std::max(ring, s.last - s.first + 1);
+    if (!splats.empty()) {
+        front = splats.front().first;
+        for (const SlabSplat& s : splats) back = std::max(back, s.last);
+    }
+    if (ring > 4096)
+        throw RenderError("image-aligned slabs: a kernel spans " + std::to_string(ring) + " slabs of " +
+                          std::to_string(thickness) + " voxels (at most 4096): take thicker slabs");
+    SlabCounters total;
+    total.splats.visible = visible.size();
+    perThread.combine_each([&](const SplatCounters& c) {
+        total.splats.drawn += c.drawn;
+        total.splats.culledNear += c.culledNear;
+        total.splats.culledOffscreen += c.culledOffscreen;
+        total.splats.culledHuge += c.culledHuge;
+        total.splats.culledDegenerate += c.culledDegenerate;
+        for (int m = 0; m < 3; ++m) total.splats.drawnPerMode[m] += c.drawnPerMode[m];
+    });
+    total.slabs = splats.empty() ? 0 : uint64_t(back - front + 1);
+    const NearKernels near = findNearKernels(scene, plane, settings);
+    if (post && (!near.voxels.empty() || near.dropped > 0))
+        throw RenderError("image-aligned slabs: post-classified, " + std::to_string(near.voxels.size() + near.dropped) +
+                          " kernels in view reach the near plane (the near layer is pre-classified): move the camera back");
+    total.splats.nearLayer = near.voxels.size();
+    total.splats.droppedNear = near.dropped;
+
+    // 2. Bands of rows; in each, a ring of `ring` slab sheets (sum c tau, sum tau) per pixel.
+    const int w = plane.width, h = plane.height;
+    std::vector<double> acc(size_t(w) * h * 4, 0.0);
+    const double cut2 = cutoff * cutoff;
+    const bool perFragment = settings.shading == SplatSettings::Shading::PerFragment;
+    const bool earlyTermination = settings.opaqueAlpha < 1.0;
+    constexpr int kBand = 8;
+    tbb::combinable<std::pair<uint64_t, uint64_t>> work;   // footprint pixels, slab writes
+    tbb::parallel_for(0, (h + kBand - 1) / kBand, [&](int band) {
+        const int y0 = band * kBand, y1 = std::min(h, y0 + kBand);
+        const size_t sheetSize = size_t(y1 - y0) * w * 4;
+        std::vector<double> sheets(size_t(ring) * sheetSize, 0.0);
+        std::vector<double> shares(static_cast<size_t>(ring));
+        auto& [pixels, writes] = work.local();
+        long next = front;   // the first slab not yet composited
+        auto sheetOf = [&](long slab) { return &sheets[size_t(((slab % ring) + ring) % ring) * sheetSize]; };
+        auto flushBefore = [&](long end) {
+            for (; next < end; ++next) {
+                double* q = sheetOf(next);
+                for (int y = y0; y < y1; ++y)
+                    for (int x = 0; x < w; ++x) {
+                        double* sum = &q[(size_t(y - y0) * w + x) * 4];
+                        if (sum[3] > 0.0 && post) {   // (sum v w, -, -, sum w): classify the mean value
+                            const glm::dvec4 tf = lutAt(scene.lut, sum[0] / sum[3]);
+                            const double a = -std::expm1(-tf.a * perOpacity * sum[3]);
+                            const double c[3] = {tf.r * a, tf.g * a, tf.b * a};
+                            under(&acc[(size_t(y) * w + x) * 4], c, a);
+                        } else if (sum[3] > 0.0) {
+                            const double a = -std::expm1(-sum[3]);
+                            const double c[3] = {sum[0] / sum[3] * a, sum[1] / sum[3] * a, sum[2] / sum[3] * a};
+                            under(&acc[(size_t(y) * w + x) * 4], c, a);
+                        }
+                        std::fill_n(sum, 4, 0.0);
+                    }
+            }
+        };
+        for (const SlabSplat& s : splats) {
+            const SplatGeometry& g = s.geometry;
+            const int ya = std::max(y0, int(std::ceil(g.centrePx.y - g.halfExtentPx.y - 0.5)));
+            const int yb = std::min(y1 - 1, int(std::floor(g.centrePx.y + g.halfExtentPx.y - 0.5)));
+            if (ya > yb) continue;
+            flushBefore(s.first);
+            const int xa = std::max(0, int(std::ceil(g.centrePx.x - g.halfExtentPx.x - 0.5)));
+            const int xb = std::min(w - 1, int(std::floor(g.centrePx.x + g.halfExtentPx.x - 0.5)));
+            const int count = int(s.last - s.first + 1);
+            for (int y = ya; y <= yb; ++y)
+                for (int x = xa; x <= xb; ++x) {
+                    const glm::dvec2 d = glm::dvec2(x + 0.5, y + 0.5) - g.centrePx;
+                    const double e = glm::dot(d, g.conic * d);
+                    if (e > cut2) continue;
+                    const size_t px = size_t(y) * w + x;
+                    if (earlyTermination && acc[px * 4 + 3] >= settings.opaqueAlpha) continue;
+                    ++pixels;
+                    const double tau = g.amplitude * std::exp(-0.5 * e);
+                    glm::dvec3 colour = s.colour;
+                    if (perFragment)
+                        colour = shade(s.colour, s.gradientCamera,
+                                       toEyeAt(glm::dvec2(x + 0.5, y + 0.5), plane.centrePx, plane.fPx, plane.orthographic),
+                                       settings.shadingParams);
+                    slabShares(s.depth + glm::dot(s.depthSlope, d), s.depthSd, 1.0, s.first, count, shares.data());
+                    const size_t local = (size_t(y - y0) * w + x) * 4;
+                    for (int i = 0; i < count; ++i) {
+                        if (!(shares[size_t(i)] > 0.0)) continue;
+                        double* q = sheetOf(s.first + i) + local;
+                        const double t = tau * shares[size_t(i)];
+                        for (int c = 0; c < 3; ++c) q[c] += colour[c] * t;
+                        q[3] += t;
+                        ++writes;
+                    }
+                }
+        }
+        flushBefore(back + 1);
+    });
+    work.combine_each([&](const std::pair<uint64_t, uint64_t>& n) {
+        total.footprintPixels += n.first;
+        total.slabWrites += n.second;
+    });
+    if (counters) *counters = total;
+
+    // 3. The near layer in front, as renderReference composites it.
+    if (!near.voxels.empty()) tbb::parallel_for(0, h, [&](int y) {
+        for (int x = 0; x < w; ++x) {
+            const NearSums q = nearLayerSums(scene, plane, settings, near, x, y);
+            double* p = &acc[(size_t(y) * w + x) * 4];
+            for (const glm::dvec4& sheet : {q.back, q.front}) {
+                if (!(sheet.w > 0.0)) continue;
+                const double a = -std::expm1(-sheet.w);
+                for (int k = 0; k < 3; ++k) p[k] = sheet[k] / sheet.w * a + (1.0 - a) * p[k];
+                p[3] = a + (1.0 - a) * p[3];
+            }
+        }
+    });
+    Image img(w, h);
+    for (size_t i = 0; i < acc.size(); ++i) img.rgba[i] = float(acc[i]);
+    return img;
+}
+
+Image renderImageAlignedSlabs(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                              const SlabOptions& options, SlabCounters* counters) {
+    try {
+        return renderSlabsOrThrow(scene, plane, settings, options, counters);
+    } catch (const std::bad_alloc&) {
+        throw outOfMemory(volumeSubject(scene.name), "image-aligned slabs' splats and sheets", 0,
+                          " at " + std::to_string(plane.width) + "x" + std::to_string(plane.height));
+    }
+}
+
+} // namespace renderer
