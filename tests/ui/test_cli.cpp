@@ -627,9 +627,11 @@ TEST(Cli, AccuracyWritesTheReportWithItsTablesAndThumbnails) {
     const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     for (const char* part : {"## Hard cases", "| one-voxel |", "## The paper's claims per region", "| minified |",
                              "## Kernel scale on Marschner-Lobb", "| 0.60 |", "| 0.70 |",
-                             "covers only the hard cases named by `--only`: one-voxel."})
+                             "covers only the hard cases named by `--only`: one-voxel.", "## Image-aligned slabs",
+                             "| one-voxel | ewa |", "## Post-classified slabs"})
         EXPECT_THAT(md, HasSubstr(part));
     EXPECT_THAT(md, Not(HasSubstr("| zebra |")));
+    EXPECT_THAT(md, Not(HasSubstr("## Scans"))) << "the scans' truths take minutes: the whole report only";
     EXPECT_TRUE(std::filesystem::exists(dir / "images" / "accuracy" / "one-voxel_ewa.png"));
     EXPECT_TRUE(std::filesystem::exists(dir / "images" / "accuracy" / "board_regions.png"));
     const CliRun bad = splatlab("accuracy --out \"" + dir.string() + "\" --kernel-scales 0");

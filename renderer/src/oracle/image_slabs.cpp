@@ -13,13 +13,19 @@
 
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <numbers>
 #include <numeric>
 
 namespace renderer {
+
+namespace {
+constexpr int kBand = 8;   // rows a worker composites together
+} // namespace
 
 void slabShares(double mean, double sd, double thickness, long first, int count, double* shares) {
     // Cumulative probability at each inner boundary; 0 before the first slab, 1 after the last.
@@ -140,9 +146,17 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
         front = splats.front().first;
         for (const SlabSplat& s : splats) back = std::max(back, s.last);
     }
-    if (ring > 4096)
-        throw RenderError("image-aligned slabs: a kernel spans " + std::to_string(ring) + " slabs of " +
-                          std::to_string(thickness) + " voxels (at most 4096): take thicker slabs");
+    // Each worker holds `ring` sheets of a band of rows: bounded, or the thickness is refused by name.
+    constexpr double kRingBudget = 1024.0 * 1024.0 * 1024.0;   // bytes, all workers together
+    const double ringBytes = double(ring) * kBand * plane.width * 4 * sizeof(double) *
+                             double(tbb::this_task_arena::max_concurrency());
+    if (ring > 4096 || ringBytes > kRingBudget) {
+        char text[256];
+        std::snprintf(text, sizeof text, "image-aligned slabs: a kernel spans %ld slabs of %g voxels, %.0f MiB of "
+                      "slab sheets at %d px wide (at most 4096 slabs, %.0f MiB): take thicker slabs", ring, thickness,
+                      ringBytes / (1024.0 * 1024.0), plane.width, kRingBudget / (1024.0 * 1024.0));
+        throw RenderError(text);
+    }
     SlabCounters total;
     total.splats.visible = visible.size();
     perThread.combine_each([&](const SplatCounters& c) {
@@ -167,7 +181,6 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
     const double cut2 = cutoff * cutoff;
     const bool perFragment = settings.shading == SplatSettings::Shading::PerFragment;
     const bool earlyTermination = settings.opaqueAlpha < 1.0;
-    constexpr int kBand = 8;
     tbb::combinable<std::pair<uint64_t, uint64_t>> work;   // footprint pixels, slab writes
     tbb::parallel_for(0, (h + kBand - 1) / kBand, [&](int band) {
         const int y0 = band * kBand, y1 = std::min(h, y0 + kBand);
