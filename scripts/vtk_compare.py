@@ -96,19 +96,22 @@ def orbit_camera(azimuth, elevation, distance, dims, spacing, up):
 
 
 def tf_points(args):
-    """The TF's control points: `splatlab tf` reads a preset name or a JSON file as --tf does."""
+    """The TF's colour and opacity points (`splatlab tf` reads a preset name or a JSON file as --tf does)."""
     result = subprocess.run([args.splatlab, "tf", args.tf], capture_output=True, text=True)
     if result.returncode != 0:
         sys.exit(f"vtk_compare: --tf {args.tf}: {result.stderr.strip()}")
-    return json.loads(result.stdout)["points"]
+    return json.loads(result.stdout)
 
 
-def tf_functions(points, lo, hi, density):
+def tf_functions(tf, lo, hi, density):
+    """VTK's colour and opacity functions of the TF: values are the window's fractions ("window fraction")
+    or data units ("data"); SplatLab's opacity is extinction per voxel length."""
     colour, opacity = vtk.vtkColorTransferFunction(), vtk.vtkPiecewiseFunction()
-    for p in points:
-        value = lo + p["value"] * (hi - lo)
-        colour.AddRGBPoint(value, *p["colour"])
-        opacity.AddPoint(value, 1.0 - math.exp(-p["opacity"] * density))
+    at = (lambda v: v) if tf.get("units") == "data" else (lambda v: lo + v * (hi - lo))
+    for p in tf["colour"]:
+        colour.AddRGBPoint(at(p["value"]), *p["rgb"])
+    for p in tf["opacity"]:
+        opacity.AddPoint(at(p["value"]), 1.0 - math.exp(-p["opacity"] * density))
     return colour, opacity
 
 
@@ -170,17 +173,42 @@ def save_vtk(win, path):
     writer.Write()
 
 
-def time_splatlab(args, out_path):
+def run_splatlab(args, out_path, frames, extra=()):
     cmd = [args.splatlab, "render", args.volume, "--tf", args.tf, "--size", f"{args.size}x{args.size}",
            "--camera", ",".join(str(v) for v in args.camera), "--up", args.up_name, "--density", str(args.density),
            "--compositing", "sheet-front-to-back", "--filter", args.filter, "--opaque-alpha", str(args.opaque_alpha),
-           "--frames", str(args.frames), "--out", out_path]
-    result = subprocess.run(cmd, capture_output=True, text=True)
+           "--frames", str(frames), "--out", out_path, *extra]
+    return cmd, subprocess.run(cmd, capture_output=True, text=True)
+
+
+def time_splatlab(args, out_path):
+    cmd, result = run_splatlab(args, out_path, args.frames)
     found = re.search(r"([0-9.]+) ms/frame \(median", result.stdout)
     if result.returncode != 0 or not found:
         sys.exit(f"vtk_compare: {' '.join(cmd)} failed:\n{result.stdout}{result.stderr}")
     renderer = re.search(r" on (.*)$", result.stdout.strip().splitlines()[-1])
     return float(found.group(1)), renderer.group(1) if renderer else "?"
+
+
+def agreement(args, windows):
+    """PSNR of SplatLab's images against VTK's GL ray caster (both 8-bit PNG over black): the object-aligned
+    pre-classified sheets and the image-aligned post-classified slabs (CPU), which classify as VTK does."""
+    vtk_png = os.path.join(args.images, "vtk_gl.png")
+    windows["gl"].Render()
+    save_vtk(windows["gl"], vtk_png)
+    variants = [("pre-classified sheets (GL)", "splatlab.png", ()),
+                (f"post-classified slabs {args.slabs:g} voxels (CPU)", "splatlab_post.png",
+                 ("--image-slabs", str(args.slabs), "--post-classify"))]
+    print("| SplatLab | PSNR against VTK's GL ray caster |\n|---|---|")
+    for what, name, extra in variants:
+        out = os.path.join(args.images, name)
+        cmd, result = run_splatlab(args, out, 1, extra)
+        if result.returncode != 0:
+            sys.exit(f"vtk_compare: {' '.join(cmd)} failed:\n{result.stdout}{result.stderr}")
+        compared = subprocess.run([args.splatlab, "compare", out, vtk_png], capture_output=True, text=True)
+        found = re.search(r"PSNR ([0-9.inf]+) dB", compared.stdout)
+        print(f"| {what} | {found.group(1) if found else compared.stdout + compared.stderr} dB |", flush=True)
+    print(f"images: {args.images}/splatlab.png, splatlab_post.png, vtk_gl.png")
 
 
 def main():
@@ -201,6 +229,10 @@ def main():
     parser.add_argument("--frames", type=int, default=5)
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--images", default="vtk_compare", help="folder for the three images of the last round")
+    parser.add_argument("--agreement", action="store_true",
+                        help="no timing: the PSNR of SplatLab's pre-classified sheets and post-classified slabs "
+                             "against VTK's GL ray caster")
+    parser.add_argument("--slabs", type=float, default=0.25, help="with --agreement: the slabs' thickness in voxels")
     args = parser.parse_args()
 
     if args.volume is None:
@@ -227,6 +259,8 @@ def main():
 
     image, dims, spacing = read_nhdr(args.volume)
     windows = {kind: vtk_renderer(kind, image, dims, spacing, args) for kind in ("gl", "cpu")}
+    if args.agreement:
+        return agreement(args, windows)
     print(f"{os.path.basename(args.volume)} {dims[0]}x{dims[1]}x{dims[2]}, {args.size}x{args.size}, camera "
           f"{','.join(f'{v:g}' for v in args.camera)}, VTK {vtk.vtkVersion.GetVTKVersion()} (ray step "
           f"{args.sample_distance:g} voxel), SplatLab {args.filter} sheets front to back (opaque at "
