@@ -1,10 +1,13 @@
 // Image-aligned slabs (image_slabs.h) on the CPU: one kernel's slabs compose to its object-aligned
 // footprint; thin slabs come closer to the ground truth than object-aligned sheets where kernels
-// overlap in depth; and a view turning through an axis switch does not pop.
+// overlap in depth; a view turning through an axis switch does not pop. Post-classified
+// (post_classification.h): a uniform block as pre-classified, a step edge's surface that no voxel
+// holds, each against the post-classified ground truth.
 #include "renderer/errors.h"
 #include "renderer/io/volume_io.h"
 #include "renderer/math/metrics.h"
 #include "renderer/model/gradients.h"
+#include "renderer/model/post_classification.h"
 #include "renderer/model/procedural.h"
 #include "renderer/oracle/ground_truth.h"
 #include "renderer/oracle/hard_cases.h"
@@ -243,4 +246,20 @@ TEST(PostClassifiedSlabs, RefuseWhatTheyDoNotModel) {
     const ImagePlane close = makeImagePlane(Camera{30, 20, 1.05, 60.0}, scene.centre, scene.radius, 16, 16);
     EXPECT_THROW(renderImageAlignedSlabs(scene, close, SplatSettings{}, SlabOptions{0.5, true}), RenderError)
         << "kernels at the near plane";
+}
+
+// The TF read between classes: each class's own entry at a whole class, linear between two, clamped to
+// the LUT (a NaN value reads class 0).
+TEST(PostClassification, ReadsTheLutBetweenClasses) {
+    Lut lut(kLutSize, glm::vec4(0.0f));
+    lut[10] = glm::vec4(0.2f, 0.4f, 0.6f, 0.5f);
+    lut[11] = glm::vec4(0.4f, 0.0f, 1.0f, 1.0f);
+    lut[kLutSize - 1] = glm::vec4(1.0f);
+    EXPECT_NEAR(lutAt(lut, 10.0).a, 0.5, 1e-7);
+    EXPECT_NEAR(lutAt(lut, 10.25).a, 0.625, 1e-7);
+    EXPECT_NEAR(lutAt(lut, 10.5).r, 0.3, 1e-7);
+    EXPECT_NEAR(lutAt(lut, 10.5).g, 0.2, 1e-7);
+    EXPECT_EQ(lutAt(lut, 1e9), glm::dvec4(1.0));
+    EXPECT_EQ(lutAt(lut, -5.0), glm::dvec4(0.0));
+    EXPECT_EQ(lutAt(lut, std::nan("")), glm::dvec4(0.0));
 }

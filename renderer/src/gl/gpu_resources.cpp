@@ -4,6 +4,7 @@
 #include "renderer/out_of_memory.h"
 
 #include <cctype>
+#include <iterator>
 
 namespace renderer {
 
@@ -42,9 +43,8 @@ void SplatRenderer::Gl::checkGpuAllocation(const char* what, uint64_t bytes) con
 SplatRenderer::Gl::~Gl() {
     for (auto [bits, p] : splatPrograms) glDeleteProgram(p);
     for (auto [bits, p] : tilePrograms) glDeleteProgram(p);
-    const GLuint tileBuffers[] = {tileSplats, tileBins, tileState, tileList,
-                                  tileBusy, chunkStartMap, savedCounters};
-    glDeleteBuffers(7, tileBuffers);
+    deleteWorkingBuffers();
+    glDeleteBuffers(1, &savedCounters);
     for (StatusSlot& slot : statusSlots) {
         glDeleteBuffers(1, &slot.buffer);
         if (slot.fence) glDeleteSync(slot.fence);
@@ -136,11 +136,15 @@ void SplatRenderer::Gl::ensureTargets(int w, int h) {
     height = h;
 }
 
-void SplatRenderer::Gl::releaseWorkingBuffers() {
+void SplatRenderer::Gl::deleteWorkingBuffers() {
     const GLuint buffers[] = {tileSplats, tileBins, tileState, tileList, tileBusy, chunkStartMap};
-    glDeleteBuffers(6, buffers);
+    glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
     tileSplats = tileBins = tileState = tileList = tileBusy = chunkStartMap = 0;
     tileSplatBytes = tileBinBytes = tileStateBytes = tileListBytes = tileBusyBytes = chunkStartMapBytes = 0;
+}
+
+void SplatRenderer::Gl::releaseWorkingBuffers() {
+    deleteWorkingBuffers();
     // The lists' high-water mark was the other volume's, and so are the figures its frames still owe
     // (taken now, so that they cannot raise the mark again).
     for (StatusSlot& slot : statusSlots) takeStatus(slot, nullptr);

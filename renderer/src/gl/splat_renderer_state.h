@@ -257,6 +257,7 @@ struct SplatRenderer::Gl {
     // The frame passes' buffers, grown to the largest frame drawn, dropped for another volume (they regrow
     // on its first frame): a small scan opened after a large one does not keep the large one's.
     void releaseWorkingBuffers();
+    void deleteWorkingBuffers();   // those buffers deleted and zeroed: what the release and ~Gl share
     static GLuint makeTexture(GLenum format, int w, int h);
     static GLuint makeFbo(std::initializer_list<GLuint> colours, GLuint depthTexture);
     // The frame's image, heatmap, sheets and depth at w x h (kept while the size stays) and the
