@@ -9,6 +9,7 @@
 #include "renderer/math/shading.h"
 #include "renderer/model/post_classification.h"
 #include "renderer/oracle/near_layer.h"
+#include "renderer/oracle/sheet_compositing.h"
 #include "renderer/out_of_memory.h"
 
 #include <tbb/combinable.h>
@@ -77,11 +78,6 @@ void depthAlongRays(SlabSplat& s, glm::dvec3 u, const glm::dmat3& varianceCamera
     const double spread = cutoff * std::sqrt(std::max(0.0, glm::dot(s.depthSlope, glm::inverse(s.geometry.conic) * s.depthSlope)));
     s.first = long(std::floor(s.depth - spread - cutoff * s.depthSd));
     s.last = long(std::floor(s.depth + spread + cutoff * s.depthSd));
-}
-
-inline void under(double* p, const double* c, double a) {
-    for (int k = 0; k < 3; ++k) p[k] += (1.0 - p[3]) * c[k];
-    p[3] += (1.0 - p[3]) * a;
 }
 
 } // namespace
@@ -159,14 +155,7 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
     }
     SlabCounters total;
     total.splats.visible = visible.size();
-    perThread.combine_each([&](const SplatCounters& c) {
-        total.splats.drawn += c.drawn;
-        total.splats.culledNear += c.culledNear;
-        total.splats.culledOffscreen += c.culledOffscreen;
-        total.splats.culledHuge += c.culledHuge;
-        total.splats.culledDegenerate += c.culledDegenerate;
-        for (int m = 0; m < 3; ++m) total.splats.drawnPerMode[m] += c.drawnPerMode[m];
-    });
+    perThread.combine_each([&](const SplatCounters& c) { addCounters(total.splats, c); });
     total.slabs = splats.empty() ? 0 : uint64_t(back - front + 1);
     const NearKernels near = findNearKernels(scene, plane, settings);
     if (post && (!near.voxels.empty() || near.dropped > 0))
@@ -202,8 +191,8 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
                             const double c[3] = {tf.r * a, tf.g * a, tf.b * a};
                             under(&acc[(size_t(y) * w + x) * 4], c, a);
                         } else if (sum[3] > 0.0) {
-                            const double a = -std::expm1(-sum[3]);
-                            const double c[3] = {sum[0] / sum[3] * a, sum[1] / sum[3] * a, sum[2] / sum[3] * a};
+                            double c[3], a;
+                            sheetColour(sum, c, a);
                             under(&acc[(size_t(y) * w + x) * 4], c, a);
                         }
                         std::fill_n(sum, 4, 0.0);
@@ -254,18 +243,7 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
     if (counters) *counters = total;
 
     // 3. The near layer in front, as renderReference composites it.
-    if (!near.voxels.empty()) tbb::parallel_for(0, h, [&](int y) {
-        for (int x = 0; x < w; ++x) {
-            const NearSums q = nearLayerSums(scene, plane, settings, near, x, y);
-            double* p = &acc[(size_t(y) * w + x) * 4];
-            for (const glm::dvec4& sheet : {q.back, q.front}) {
-                if (!(sheet.w > 0.0)) continue;
-                const double a = -std::expm1(-sheet.w);
-                for (int k = 0; k < 3; ++k) p[k] = sheet[k] / sheet.w * a + (1.0 - a) * p[k];
-                p[3] = a + (1.0 - a) * p[3];
-            }
-        }
-    });
+    compositeNearLayer(scene, plane, settings, near, acc);
     Image img(w, h);
     for (size_t i = 0; i < acc.size(); ++i) img.rgba[i] = float(acc[i]);
     return img;

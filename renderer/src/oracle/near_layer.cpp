@@ -5,6 +5,9 @@
 #include "renderer/oracle/ground_truth.h"
 #include "renderer/oracle/ray_kernel.h"
 #include "renderer/oracle/reference_renderer.h"
+#include "renderer/oracle/sheet_compositing.h"
+
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -115,6 +118,28 @@ NearSums nearLayerSums(const SplatScene& scene, const ImagePlane& plane, const S
             glm::dvec4(scene.colourOf(voxel) * tau, tau);
     }
     return sums;
+}
+
+void compositeNearLayer(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                        const NearKernels& kernels, std::vector<double>& rgba) {
+    if (kernels.voxels.empty()) return;
+    const bool xray = settings.compositing == Compositing::XRay;
+    tbb::parallel_for(0, plane.height, [&](int y) {
+        for (int x = 0; x < plane.width; ++x) {
+            const NearSums q = nearLayerSums(scene, plane, settings, kernels, x, y);
+            double* p = &rgba[(size_t(y) * plane.width + x) * 4];
+            for (const glm::dvec4& sheet : {q.back, q.front}) {   // back to front
+                if (!(sheet.w > 0.0)) continue;
+                if (xray) {
+                    for (int c = 0; c < 4; ++c) p[c] += sheet[c];
+                } else {
+                    double c[3], a;
+                    sheetColour(&sheet[0], c, a);
+                    over(p, c, a);
+                }
+            }
+        }
+    });
 }
 
 } // namespace renderer

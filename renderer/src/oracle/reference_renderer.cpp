@@ -7,6 +7,7 @@
 #include "renderer/errors.h"
 #include "renderer/math/shading.h"
 #include "renderer/oracle/near_layer.h"
+#include "renderer/oracle/sheet_compositing.h"
 #include "renderer/out_of_memory.h"
 
 #include <tbb/blocked_range.h>
@@ -100,6 +101,9 @@ struct Splat {
     int mode = 0;               // resolved filter, for the heatmap
 };
 
+
+} // namespace
+
 void addCounters(SplatCounters& a, const SplatCounters& b) {
     a.drawn += b.drawn;
     a.culledTransparent += b.culledTransparent;
@@ -112,21 +116,6 @@ void addCounters(SplatCounters& a, const SplatCounters& b) {
     a.droppedNear += b.droppedNear;
     for (int m = 0; m < 3; ++m) a.drawnPerMode[m] += b.drawnPerMode[m];
 }
-
-// "Over" of premultiplied (c, a) onto what lies behind it.
-inline void over(double* dst, const double* c, double a) {
-    for (int k = 0; k < 3; ++k) dst[k] = c[k] + (1.0 - a) * dst[k];
-    dst[3] = a + (1.0 - a) * dst[3];
-}
-
-// Premultiplied RGBA of a sheet pixel holding (sum c tau, sum tau): alpha 1 - exp(-sum tau), colour
-// the tau-weighted mean.
-inline void sheetColour(const double* q, double* c, double& a) {
-    a = -std::expm1(-q[3]);
-    for (int k = 0; k < 3; ++k) c[k] = q[k] / q[3] * a;
-}
-
-} // namespace
 
 std::vector<uint8_t> patchModes(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                                 const std::vector<uint8_t>* previous) {
@@ -258,12 +247,8 @@ static Image renderReferenceOrThrow(const SplatScene& scene, const ImagePlane& p
                             double c[3], a;
                             sheetColour(q + l * bandSize, c, a);
                             double* p = &acc[l * layerSize + (size_t(y) * w + x) * 4];
-                            if (ftb) {   // "under": what is in front is already in p
-                                for (int k = 0; k < 3; ++k) p[k] += (1.0 - p[3]) * c[k];
-                                p[3] += (1.0 - p[3]) * a;
-                            } else {
-                                over(p, c, a);
-                            }
+                            if (ftb) under(p, c, a);   // what is in front is already in p
+                            else over(p, c, a);
                         }
                     }
                     for (int l = 0; l < layers; ++l) std::fill_n(q + l * bandSize, 4, 0.0);
@@ -363,22 +348,7 @@ static Image renderReferenceOrThrow(const SplatScene& scene, const ImagePlane& p
     // 3. The near layer in front of the splats (near_layer.h): over the image, or into X-ray's sums. The
     //    heatmap shows splats only.
     const bool xray = mode == Compositing::XRay;
-    if (!near.voxels.empty()) tbb::parallel_for(0, h, [&](int y) {
-        for (int x = 0; x < w; ++x) {
-            const NearSums q = nearLayerSums(scene, plane, settings, near, x, y);
-            double* p = &acc[(size_t(y) * w + x) * 4];
-            for (const glm::dvec4& sheet : {q.back, q.front}) {   // back to front
-                if (!(sheet.w > 0.0)) continue;
-                if (xray) {
-                    for (int c = 0; c < 4; ++c) p[c] += sheet[c];
-                } else {
-                    double c[3], a;
-                    sheetColour(&sheet[0], c, a);
-                    over(p, c, a);
-                }
-            }
-        }
-    });
+    compositeNearLayer(scene, plane, settings, near, acc);   // the first layer of acc: the image
 
     // X-ray shows 1 - exp(-sum); its heatmap splits that alpha by each mode's share of the sum.
     Image img(w, h);

@@ -89,4 +89,10 @@ struct NearSums {
 NearSums nearLayerSums(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                        const NearKernels& kernels, int x, int y);
 
+// The layer in front of an image of premultiplied RGBA (width x height x 4, rows from the top) that holds
+// everything behind it: its back sheet, then its front sheet, each "over" the image; with X-ray
+// compositing, added to X-ray's sums instead. Parallel over rows; nothing without kernels.
+void compositeNearLayer(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                        const NearKernels& kernels, std::vector<double>& rgba);
+
 } // namespace renderer

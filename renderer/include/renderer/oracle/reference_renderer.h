@@ -23,6 +23,9 @@ struct SplatCounters {
     uint64_t droppedNear = 0;      // of culledNear: in view but beyond kMaxNearKernels, left out of the image
 };
 
+// a += b, count by count (per-thread counts joined).
+void addCounters(SplatCounters& a, const SplatCounters& b);
+
 // Per-splat quantities both paths derive from one voxel (the GLSL vertex stage mirrors this).
 struct SplatGeometry {
     bool culled = false;
