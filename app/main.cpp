@@ -335,8 +335,7 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 struct RenderArgs {
     int frames = 5, detailLevels = 0;
     bool cpu = false, counters = false;
-    double imageSlabs = 0.0;           // --image-slabs: slab thickness in voxels (0: the volume's own sheets)
-    bool postClassify = false;         // --post-classify: the slabs classify their mean value
+    SlabOptions slabs{.thickness = 0.0};   // --image-slabs (0: the volume's own sheets), --post-classify, --supersample
     std::string heatmap;
     double orbitStep = std::nan("");   // --orbit: the turn's step in degrees (NaN: no orbit)
     std::string orbitCsv;
@@ -394,10 +393,12 @@ std::string formatMs(double ms) {
 
 // How the frames composite: the setting, or the image-aligned slabs that replace it.
 std::string compositingText(const Scene& s, const RenderArgs& ra) {
-    char slabs[96];
-    std::snprintf(slabs, sizeof slabs, "image-aligned slabs %g voxels thick%s", ra.imageSlabs,
-                  ra.postClassify ? ", post-classified" : "");
-    return ra.imageSlabs > 0.0 ? slabs : compositingName(s.settings.compositing);
+    char slabs[128];
+    const int ss = ra.slabs.supersample;
+    std::snprintf(slabs, sizeof slabs, "image-aligned slabs %g voxels thick%s%s", ra.slabs.thickness,
+                  ra.slabs.postClassified ? ", post-classified" : "",
+                  ss > 0 ? (", " + std::to_string(ss) + "x" + std::to_string(ss) + " samples a pixel").c_str() : "");
+    return ra.slabs.thickness > 0.0 ? slabs : compositingName(s.settings.compositing);
 }
 
 // render --orbit: the turn drawn with GL or on the CPU (the oracle, or its image-aligned slabs), its
@@ -407,8 +408,8 @@ int runOrbit(const Scene& s, const SceneArgs& a, const RenderArgs& ra) {
     std::string device = "CPU oracle (double)";
     if (ra.cpu) {
         orbit = measureOrbit([&](const ImagePlane& p) {
-            return ra.imageSlabs > 0.0 ? renderImageAlignedSlabs(s.scene, p, s.settings, {ra.imageSlabs, ra.postClassify})
-                                       : renderReference(s.scene, p, s.settings);
+            return ra.slabs.thickness > 0.0 ? renderImageAlignedSlabs(s.scene, p, s.settings, ra.slabs)
+                                            : renderReference(s.scene, p, s.settings);
         }, s.scene, s.camera, s.plane.width, s.plane.height, ra.orbitStep);
     } else {
         auto context = HeadlessGl::create();
@@ -427,10 +428,11 @@ int runOrbit(const Scene& s, const SceneArgs& a, const RenderArgs& ra) {
 
 int runRender(const SceneArgs& a, RenderArgs ra) {
     const int frames = ra.frames;
-    if (ra.postClassify && ra.imageSlabs == 0.0)
-        throw CLI::ValidationError("--post-classify", "classifies image-aligned slabs: give --image-slabs THICKNESS");
-    if (ra.imageSlabs != 0.0) {
-        if (!(ra.imageSlabs >= kMinSlabThickness && ra.imageSlabs <= kMaxSlabThickness))
+    if ((ra.slabs.postClassified || ra.slabs.supersample != 0) && ra.slabs.thickness == 0.0)
+        throw CLI::ValidationError(ra.slabs.postClassified ? "--post-classify" : "--supersample",
+                                   "applies to image-aligned slabs: give --image-slabs THICKNESS");
+    if (ra.slabs.thickness != 0.0) {
+        if (!(ra.slabs.thickness >= kMinSlabThickness && ra.slabs.thickness <= kMaxSlabThickness))
             throw CLI::ValidationError("--image-slabs", "expected a slab thickness of 0.05 to 64 voxels");
         if (!ra.heatmap.empty()) throw CLI::ValidationError("--heatmap", "the image-aligned slabs draw no heatmap");
         ra.cpu = true;   // the slabs exist on the CPU only
@@ -464,8 +466,8 @@ int runRender(const SceneArgs& a, RenderArgs ra) {
         device = "CPU oracle (double)";
         for (int i = 0; i < frames; ++i) {
             const auto t0 = std::chrono::steady_clock::now();
-            if (ra.imageSlabs > 0.0) {
-                image = renderImageAlignedSlabs(s.scene, s.plane, s.settings, {ra.imageSlabs, ra.postClassify}, &slabs);
+            if (ra.slabs.thickness > 0.0) {
+                image = renderImageAlignedSlabs(s.scene, s.plane, s.settings, ra.slabs, &slabs);
                 counters = slabs.splats;
             } else {
                 image = renderReference(s.scene, s.plane, s.settings, &counters, s.settings.heatmap ? &heatmap : nullptr);
@@ -521,7 +523,7 @@ int runRender(const SceneArgs& a, RenderArgs ra) {
                 s.plane.width, s.plane.height, s.scene.visibleCount(), filterModeName(s.settings.filter),
                 compositingText(s, ra).c_str(), ms[ms.size() / 2], frames, device.c_str());
     if (ra.counters) printCounters(counters);
-    if (ra.imageSlabs > 0.0 && ra.counters)
+    if (ra.slabs.thickness > 0.0 && ra.counters)
         std::printf("  %llu slabs; %llu footprint pixels written %llu times into them (%.2f slabs each)\n",
                     (unsigned long long)slabs.slabs, (unsigned long long)slabs.footprintPixels,
                     (unsigned long long)slabs.slabWrites,
@@ -599,10 +601,12 @@ int main(int argc, char** argv) {
                        "where the level's kernels stay under the low-pass threshold and keep the optical mass "
                        "(0: full resolution)")->capture_default_str();
     render->add_flag("--cpu", ra.cpu, "Render with the double-precision CPU oracle instead of GL");
-    render->add_option("--image-slabs", ra.imageSlabs, "Composite slabs parallel to the image, this many voxels thick, "
+    render->add_option("--image-slabs", ra.slabs.thickness, "Composite slabs parallel to the image, this many voxels thick, "
                        "instead of the volume's slices (CPU oracle only: implies --cpu; front to back)");
-    render->add_flag("--post-classify", ra.postClassify, "With --image-slabs: apply the TF to each slab's "
-                     "reconstructed value instead of to each voxel (unshaded, 1D TFs)");
+    render->add_flag("--post-classify", ra.slabs.postClassified, "With --image-slabs: apply the TF to each slab's "
+                     "reconstructed value instead of to each voxel (1D TFs)");
+    render->add_option("--supersample", ra.slabs.supersample, "With --image-slabs: S x S samples a pixel, resolved by "
+                       "the ground truth's 1-px Gaussian (0..4; 0: one sample, no resolve)");
     render->add_option("--orbit", ra.orbitStep, "Turn the camera about the up axis in steps of this many degrees and "
                                                 "print how much each frame differs from the one before (popping); "
                                                 "--out gets the frame after the largest jump");

@@ -6,7 +6,6 @@
 #include "renderer/errors.h"
 #include "renderer/io/volume_io.h"
 #include "renderer/math/metrics.h"
-#include "renderer/model/gradients.h"
 #include "renderer/model/post_classification.h"
 #include "renderer/model/procedural.h"
 #include "renderer/oracle/ground_truth.h"
@@ -239,8 +238,7 @@ TEST(PostClassifiedSlabs, RefuseWhatTheyDoNotModel) {
     SplatScene scene = buildSplatScene(hc.volume, hc.tf);
     const ImagePlane plane = makeImagePlane(hc.camera, scene.centre, scene.radius, 16, 16);
     SplatSettings s;
-    s.shading = SplatSettings::Shading::PerFragment;
-    addGradients(scene, *computeGradients(hc.volume));
+    s.surfaceFlatten = 4.0;
     EXPECT_THROW(renderImageAlignedSlabs(scene, plane, s, SlabOptions{0.5, true}), RenderError);
     EXPECT_THROW(renderGroundTruth(scene, plane, s, GroundTruthOptions{.postClassified = true}), RenderError);
     const ImagePlane close = makeImagePlane(Camera{30, 20, 1.05, 60.0}, scene.centre, scene.radius, 16, 16);

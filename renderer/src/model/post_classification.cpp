@@ -15,6 +15,16 @@ glm::dvec4 lutAt(const Lut& lut, double value) {
     return glm::dvec4(lut[i]) * (1.0 - t) + glm::dvec4(lut[i + 1]) * t;
 }
 
+glm::dvec4 classifyPost(const Lut& lut, double perOpacity, const PostSample& sample, const ShadingParams* shading,
+                        glm::dvec3 toEyeCamera) {
+    if (!(sample.weight > 0.0)) return glm::dvec4(0.0);
+    const glm::dvec4 tf = lutAt(lut, sample.valueSum / sample.weight);
+    const double a = -std::expm1(-tf.a * perOpacity * sample.weight);
+    glm::dvec3 colour(tf);
+    if (shading) colour = shade(colour, sample.gradientSum / sample.weight, toEyeCamera, *shading);
+    return glm::dvec4(colour * a, a);
+}
+
 double extinctionPerOpacity(const SplatScene& scene, const SplatSettings& settings) {
     return settings.density / ((scene.spacing.x + scene.spacing.y + scene.spacing.z) / 3.0);
 }
@@ -22,12 +32,10 @@ double extinctionPerOpacity(const SplatScene& scene, const SplatSettings& settin
 void requirePostClassifiable(const SplatScene& scene, const SplatSettings& settings, const std::string& who) {
     const char* what = !scene.gradientFactors.empty()                   ? "gradient opacity"
                        : !scene.tf2d.empty()                            ? "a 2D transfer function"
-                       : settings.shading != SplatSettings::Shading::None ? "shading"
                        : settings.surfaceFlatten > 1.0                  ? "surface splats"
                                                                         : nullptr;
     if (what)
-        throw RenderError(who + ": post-classification takes a 1D transfer function on unshaded volume kernels, "
-                                "not " + what);
+        throw RenderError(who + ": post-classification takes a 1D transfer function on volume kernels, not " + what);
 }
 
 } // namespace renderer

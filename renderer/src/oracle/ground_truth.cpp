@@ -4,6 +4,7 @@
 // until the result settles.
 #include "renderer/oracle/ground_truth.h"
 #include "renderer/oracle/ground_truth_cache.h"
+#include "renderer/oracle/pixel_filter.h"
 
 #include "renderer/errors.h"
 #include "renderer/math/shading.h"
@@ -106,9 +107,10 @@ public:
             // Shaded: the kernel's colour lit along this very ray (the Phong of shading.h with the
             // voxel's gradient, as both renderers decode it); per-splat shading approximates the ray's
             // direction by the splat centre's, per-fragment by the pixel centre's.
-            if (m_shaded)
-                k.colour = shade(k.colour, m_viewFromObject * decodeGradient(m_scene.gradients[i]).gradient(),
-                                 -(m_viewFromObject * ray.dir), m_settings.shadingParams);
+            // Post-classified, the gradients are averaged like the values and lit after classification.
+            if (m_shaded) k.gradient = m_viewFromObject * decodeGradient(m_scene.gradients[i]).gradient();
+            if (m_shaded && !m_post)
+                k.colour = shade(k.colour, k.gradient, -(m_viewFromObject * ray.dir), m_settings.shadingParams);
             if (k.mid + k.halfLength > ray.start) kernels.push_back(k);
         }
         std::sort(kernels.begin(), kernels.end(),
@@ -157,8 +159,9 @@ public:
 
     // Post-classified RGBA of one ray with steps of length h: each step's weight W = sum of the kernels'
     // integrals over it and value V / W (V weighting each by its class), classified by the LUT; the step's
-    // optical depth is the TF's extinction at that value times W.
-    glm::dvec4 marchPost(const std::vector<RayKernel>& kernels, double start, double h) const {
+    // optical depth is the TF's extinction at that value times W. Shaded, lit with the step's mean
+    // gradient from `toEye` (classifyPost).
+    glm::dvec4 marchPost(const std::vector<RayKernel>& kernels, double start, double h, glm::dvec3 toEye) const {
         if (kernels.empty()) return glm::dvec4(0.0);
         const double perOpacity = extinctionPerOpacity(m_scene, m_settings);
         double end = start;
@@ -170,21 +173,20 @@ public:
         std::vector<ErfAt> erfs(kernels.size());
         while (s < end && transmittance > 1e-12) {
             const double s1 = s + h;
-            double weight = 0.0, valueSum = 0.0;
+            PostSample sample;
             for (size_t j = first; j < kernels.size(); ++j) {
                 const RayKernel& k = kernels[j];
                 if (k.mid - k.halfLength >= s1) break;
                 const double w = integrate(k, s, s1, erfs[j]);
-                weight += w;
-                valueSum += k.value * w;
+                sample.weight += w;
+                sample.valueSum += k.value * w;
+                sample.gradientSum += k.gradient * w;
             }
             while (first < kernels.size() && kernels[first].mid + kernels[first].halfLength <= s1) ++first;
-            if (weight > 0.0) {
-                const glm::dvec4 tf = lutAt(m_scene.lut, valueSum / weight);
-                const double a = -std::expm1(-tf.a * perOpacity * weight);
-                colour += transmittance * glm::dvec3(tf) * a;
-                transmittance *= 1.0 - a;
-            }
+            const glm::dvec4 rgba =
+                classifyPost(m_scene.lut, perOpacity, sample, m_shaded ? &m_settings.shadingParams : nullptr, toEye);
+            colour += transmittance * glm::dvec3(rgba);
+            transmittance *= 1.0 - rgba.a;
             s = s1;
         }
         return glm::dvec4(colour, 1.0 - transmittance);
@@ -217,8 +219,7 @@ static Image renderGroundTruthOrThrow(const SplatScene& scene, const ImagePlane&
     // 1. Unfiltered rays on a grid of `ss` samples per pixel, with a margin for the filter's reach.
     //    Sample i sits at pixel coordinate (i + 0.5) / ss - margin / ss.
     const int ss = std::max(options.supersample, 1);
-    constexpr double kReachPx = 4.0;   // the 1-px Gaussian's weight beyond 4 sigma is below 3.4e-4
-    const int margin = filtered ? int(std::ceil(kReachPx * ss)) : 0;
+    const int margin = filtered ? pixelFilterMargin(ss) : 0;
     const int gw = plane.width * ss + 2 * margin, gh = plane.height * ss + 2 * margin;
     const auto samplePx = [&](int i) { return (i - margin + 0.5) / ss; };
 
@@ -231,8 +232,9 @@ static Image renderGroundTruthOrThrow(const SplatScene& scene, const ImagePlane&
         if (xray) throw RenderError("ground truth: post-classification composites in order, not as X-ray's sum");
     }
     const Integrator integrator(scene, settings, plane.viewFromObject, options.postClassified);
-    const auto march = [&](const std::vector<RayKernel>& kernels, double start, double h) {
-        return options.postClassified ? integrator.marchPost(kernels, start, h) : Integrator::march(kernels, start, h, xray);
+    const auto march = [&](const std::vector<RayKernel>& kernels, const Ray& ray, double h) {
+        return options.postClassified ? integrator.marchPost(kernels, ray.start, h, -(plane.viewFromObject * ray.dir))
+                                      : Integrator::march(kernels, ray.start, h, xray);
     };
     const glm::dmat3 objectFromView = glm::transpose(plane.viewFromObject);
     const glm::dvec3 eye = objectFromView * -plane.translation;
@@ -258,11 +260,11 @@ static Image renderGroundTruthOrThrow(const SplatScene& scene, const ImagePlane&
             }
             const auto kernels = integrator.gather(ray);
             double step = options.initialStepSigmas * integrator.smallestSigma();
-            glm::dvec4 coarse = march(kernels, ray.start, step), fine = coarse;
+            glm::dvec4 coarse = march(kernels, ray, step), fine = coarse;
             int k = 0;
             for (; k < options.maxHalvings; ++k) {
                 step *= 0.5;
-                fine = march(kernels, ray.start, step);
+                fine = march(kernels, ray, step);
                 const glm::dvec4 d = glm::abs(fine - coarse);
                 if (std::max({d.x, d.y, d.z, d.w}) <= options.tolerance) break;
                 coarse = fine;
@@ -285,36 +287,8 @@ static Image renderGroundTruthOrThrow(const SplatScene& scene, const ImagePlane&
             for (int x = 0; x < plane.width; ++x)
                 for (int c = 0; c < 4; ++c) img.pixel(x, y)[c] = float(samples[size_t(y) * gw + x][c]);
     }
-    // 2. The V_h filter, separably: weights exp(-d^2/2) of each sample's distance d (pixels) from the
-    //    pixel centre, normalised over the samples within reach.
-    const auto weightsFor = [&](int pixel, int count) {
-        std::vector<std::pair<int, double>> w;
-        double sum = 0.0;
-        for (int i = 0; i < count; ++i) {
-            const double d = samplePx(i) - (pixel + 0.5);
-            if (std::abs(d) <= kReachPx) w.emplace_back(i, std::exp(-0.5 * d * d)), sum += w.back().second;
-        }
-        for (auto& [i, v] : w) v /= sum;
-        return w;
-    };
-    std::vector<glm::dvec4> rows(filtered ? size_t(plane.width) * gh : 0);
-    if (filtered) tbb::parallel_for(0, plane.width, [&](int x) {
-        const auto w = weightsFor(x, gw);
-        for (int j = 0; j < gh; ++j) {
-            glm::dvec4 acc(0.0);
-            for (auto [i, v] : w) acc += v * samples[size_t(j) * gw + i];
-            rows[size_t(j) * plane.width + x] = acc;
-        }
-    });
-    if (filtered) tbb::parallel_for(0, plane.height, [&](int y) {
-        const auto w = weightsFor(y, gh);
-        for (int x = 0; x < plane.width; ++x) {
-            glm::dvec4 acc(0.0);
-            for (auto [j, v] : w) acc += v * rows[size_t(j) * plane.width + x];
-            float* out = img.pixel(x, y);
-            for (int c = 0; c < 4; ++c) out[c] = float(acc[c]);
-        }
-    });
+    // 2. The V_h filter.
+    if (filtered) img = filterToPixels(samples, ss, plane.width, plane.height);
     if (progress) progress(1.0);
     if (stats) {
         stats->rays = uint64_t(gw) * uint64_t(gh);

@@ -9,6 +9,7 @@
 #include "renderer/math/shading.h"
 #include "renderer/model/post_classification.h"
 #include "renderer/oracle/near_layer.h"
+#include "renderer/oracle/pixel_filter.h"
 #include "renderer/oracle/sheet_compositing.h"
 #include "renderer/out_of_memory.h"
 
@@ -45,8 +46,9 @@ namespace {
 
 struct SlabSplat {
     SplatGeometry geometry;
-    glm::dvec3 colour;          // TF colour, shaded unless shading is per fragment
-    glm::dvec3 gradientCamera;  // per-fragment shading
+    glm::dvec3 colour;          // TF colour, shaded unless shading is per fragment (pre-classified)
+    double value = 0.0;         // the voxel's class (post-classified)
+    glm::dvec3 gradientCamera;  // per-fragment or post-classified shading
     double depth = 0.0;         // ray-space depth of the centre: |u|, or u2 orthographic
     glm::dvec2 depthSlope{0.0}; // conditional mean's change per pixel of offset: S_xy^-1 S_xyr
     double depthSd = 0.0;       // conditional standard deviation along the ray
@@ -121,16 +123,17 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
             m = FilterMode(modes[grid.indexOf(glm::ivec3(int(voxel % d.x), int(voxel / d.x % d.y), int(voxel / (d.x * d.y))))]);
         }
         SlabSplat& s = splats[k];
-        // Post-classified the footprint carries the kernel's weight (extinction 1) and colour.r its value.
+        // Post-classified the footprint carries the kernel's weight (extinction 1).
         s.geometry = splatGeometry(scene, plane, settings, voxel, post ? 1.0 : voxelExtinction(scene, settings, voxel), m,
                                    &perThread.local());
         if (s.geometry.culled) return;
         const glm::dvec3 u = plane.toCamera(scene.positionOf(voxel));
         depthAlongRays(s, u, varianceCamera, plane, m, cutoff, slabUnits);
-        s.colour = post ? glm::dvec3(scene.classes[voxel], 0.0, 0.0) : scene.colourOf(voxel);
+        s.colour = scene.colourOf(voxel);
+        s.value = scene.classes[voxel];
         if (settings.shading != SplatSettings::Shading::None) {
             s.gradientCamera = plane.viewFromObject * decodeGradient(scene.gradients[voxel]).gradient();
-            if (settings.shading == SplatSettings::Shading::PerSplat)
+            if (settings.shading == SplatSettings::Shading::PerSplat && !post)
                 s.colour = shade(s.colour, s.gradientCamera, -u, settings.shadingParams);
         }
     });
@@ -142,9 +145,13 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
         front = splats.front().first;
         for (const SlabSplat& s : splats) back = std::max(back, s.last);
     }
+    // What a slab sums at a pixel, the weight last: pre-classified (c tau, tau); post-classified (v w, w),
+    // shaded (v w, g w, w).
+    const bool shaded = settings.shading != SplatSettings::Shading::None;
+    const int stride = !post ? 4 : shaded ? 5 : 2;
     // Each worker holds `ring` sheets of a band of rows: bounded, or the thickness is refused by name.
     constexpr double kRingBudget = 1024.0 * 1024.0 * 1024.0;   // bytes, all workers together
-    const double ringBytes = double(ring) * kBand * plane.width * 4 * sizeof(double) *
+    const double ringBytes = double(ring) * kBand * plane.width * stride * sizeof(double) *
                              double(tbb::this_task_arena::max_concurrency());
     if (ring > 4096 || ringBytes > kRingBudget) {
         char text[256];
@@ -164,16 +171,16 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
     total.splats.nearLayer = near.voxels.size();
     total.splats.droppedNear = near.dropped;
 
-    // 2. Bands of rows; in each, a ring of `ring` slab sheets (sum c tau, sum tau) per pixel.
+    // 2. Bands of rows; in each, a ring of `ring` slab sheets of `stride` sums per pixel.
     const int w = plane.width, h = plane.height;
     std::vector<double> acc(size_t(w) * h * 4, 0.0);
     const double cut2 = cutoff * cutoff;
-    const bool perFragment = settings.shading == SplatSettings::Shading::PerFragment;
+    const bool perFragment = settings.shading == SplatSettings::Shading::PerFragment && !post;
     const bool earlyTermination = settings.opaqueAlpha < 1.0;
     tbb::combinable<std::pair<uint64_t, uint64_t>> work;   // footprint pixels, slab writes
     tbb::parallel_for(0, (h + kBand - 1) / kBand, [&](int band) {
         const int y0 = band * kBand, y1 = std::min(h, y0 + kBand);
-        const size_t sheetSize = size_t(y1 - y0) * w * 4;
+        const size_t sheetSize = size_t(y1 - y0) * w * stride;
         std::vector<double> sheets(size_t(ring) * sheetSize, 0.0);
         std::vector<double> shares(static_cast<size_t>(ring));
         auto& [pixels, writes] = work.local();
@@ -184,29 +191,30 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
                 double* q = sheetOf(next);
                 for (int y = y0; y < y1; ++y)
                     for (int x = 0; x < w; ++x) {
-                        double* sum = &q[(size_t(y - y0) * w + x) * 4];
-                        if (sum[3] > 0.0 && post) {   // (sum v w, -, -, sum w): classify the mean value
-                            const glm::dvec4 tf = lutAt(scene.lut, sum[0] / sum[3]);
-                            const double a = -std::expm1(-tf.a * perOpacity * sum[3]);
-                            const double c[3] = {tf.r * a, tf.g * a, tf.b * a};
-                            under(&acc[(size_t(y) * w + x) * 4], c, a);
-                        } else if (sum[3] > 0.0) {
+                        double* sum = &q[(size_t(y - y0) * w + x) * stride];
+                        if (sum[stride - 1] > 0.0) {
                             double c[3], a;
-                            sheetColour(sum, c, a);
+                            if (post) {   // classify the mean value, light the mean gradient
+                                PostSample sample{.weight = sum[stride - 1], .valueSum = sum[0]};
+                                if (shaded) sample.gradientSum = glm::dvec3(sum[1], sum[2], sum[3]);
+                                const glm::dvec4 rgba = classifyPost(scene.lut, perOpacity, sample,
+                                                                     shaded ? &settings.shadingParams : nullptr,
+                                                                     toEyeAtPixel(x, y, plane));
+                                c[0] = rgba.r, c[1] = rgba.g, c[2] = rgba.b, a = rgba.a;
+                            } else {
+                                sheetColour(sum, c, a);
+                            }
                             under(&acc[(size_t(y) * w + x) * 4], c, a);
                         }
-                        std::fill_n(sum, 4, 0.0);
+                        std::fill_n(sum, stride, 0.0);
                     }
             }
         };
         for (const SlabSplat& s : splats) {
             const SplatGeometry& g = s.geometry;
-            const int ya = std::max(y0, int(std::ceil(g.centrePx.y - g.halfExtentPx.y - 0.5)));
-            const int yb = std::min(y1 - 1, int(std::floor(g.centrePx.y + g.halfExtentPx.y - 0.5)));
+            const auto [xa, xb, ya, yb] = footprintBox(g, y0, y1, w);
             if (ya > yb) continue;
             flushBefore(s.first);
-            const int xa = std::max(0, int(std::ceil(g.centrePx.x - g.halfExtentPx.x - 0.5)));
-            const int xb = std::min(w - 1, int(std::floor(g.centrePx.x + g.halfExtentPx.x - 0.5)));
             const int count = int(s.last - s.first + 1);
             for (int y = ya; y <= yb; ++y)
                 for (int x = xa; x <= xb; ++x) {
@@ -217,19 +225,22 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
                     if (earlyTermination && acc[px * 4 + 3] >= settings.opaqueAlpha) continue;
                     ++pixels;
                     const double tau = g.amplitude * std::exp(-0.5 * e);
-                    glm::dvec3 colour = s.colour;
-                    if (perFragment)
-                        colour = shade(s.colour, s.gradientCamera,
-                                       toEyeAt(glm::dvec2(x + 0.5, y + 0.5), plane.centrePx, plane.fPx, plane.orthographic),
-                                       settings.shadingParams);
+                    // What the kernel adds to each sum but the weight, in the layout of `stride`.
+                    double adds[4] = {s.value, s.gradientCamera.x, s.gradientCamera.y, s.gradientCamera.z};
+                    if (!post) {
+                        const glm::dvec3 colour =
+                            perFragment ? shadeAtPixel(s.colour, s.gradientCamera, x, y, plane, settings.shadingParams)
+                                        : s.colour;
+                        adds[0] = colour.r, adds[1] = colour.g, adds[2] = colour.b;
+                    }
                     slabShares(s.depth + glm::dot(s.depthSlope, d), s.depthSd, 1.0, s.first, count, shares.data());
-                    const size_t local = (size_t(y - y0) * w + x) * 4;
+                    const size_t local = (size_t(y - y0) * w + x) * stride;
                     for (int i = 0; i < count; ++i) {
                         if (!(shares[size_t(i)] > 0.0)) continue;
                         double* q = sheetOf(s.first + i) + local;
                         const double t = tau * shares[size_t(i)];
-                        for (int c = 0; c < 3; ++c) q[c] += colour[c] * t;
-                        q[3] += t;
+                        for (int c = 0; c < stride - 1; ++c) q[c] += adds[c] * t;
+                        q[stride - 1] += t;
                         ++writes;
                     }
                 }
@@ -251,8 +262,23 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
 
 Image renderImageAlignedSlabs(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                               const SlabOptions& options, SlabCounters* counters) {
+    if (options.supersample < 0 || options.supersample > kMaxSlabSupersample)
+        throw RenderError("image-aligned slabs: supersample must be 0.." + std::to_string(kMaxSlabSupersample) +
+                          ", got " + std::to_string(options.supersample));
     try {
-        return renderSlabsOrThrow(scene, plane, settings, options, counters);
+        if (options.supersample == 0) return renderSlabsOrThrow(scene, plane, settings, options, counters);
+        // The truth's sample grid (pixel_filter.h) as a finer image plane, then the truth's V_h resolve.
+        const int ss = options.supersample, margin = pixelFilterMargin(ss);
+        ImagePlane fine = plane;
+        fine.width = plane.width * ss + 2 * margin;
+        fine.height = plane.height * ss + 2 * margin;
+        fine.fPx = plane.fPx * ss;
+        fine.centrePx = plane.centrePx * double(ss) + double(margin);
+        const Image samples = renderSlabsOrThrow(scene, fine, settings, options, counters);
+        std::vector<glm::dvec4> wide(samples.rgba.size() / 4);
+        for (size_t i = 0; i < wide.size(); ++i)
+            wide[i] = glm::dvec4(samples.rgba[4 * i], samples.rgba[4 * i + 1], samples.rgba[4 * i + 2], samples.rgba[4 * i + 3]);
+        return filterToPixels(wide, ss, plane.width, plane.height);
     } catch (const std::bad_alloc&) {
         throw outOfMemory(volumeSubject(scene.name), "image-aligned slabs' splats and sheets", 0,
                           " at " + std::to_string(plane.width) + "x" + std::to_string(plane.height));

@@ -21,6 +21,22 @@
 
 namespace renderer {
 
+PixelBox footprintBox(const SplatGeometry& g, int y0, int y1, int width) {
+    return {std::max(0, int(std::ceil(g.centrePx.x - g.halfExtentPx.x - 0.5))),
+            std::min(width - 1, int(std::floor(g.centrePx.x + g.halfExtentPx.x - 0.5))),
+            std::max(y0, int(std::ceil(g.centrePx.y - g.halfExtentPx.y - 0.5))),
+            std::min(y1 - 1, int(std::floor(g.centrePx.y + g.halfExtentPx.y - 0.5)))};
+}
+
+glm::dvec3 toEyeAtPixel(int x, int y, const ImagePlane& plane) {
+    return toEyeAt(glm::dvec2(x + 0.5, y + 0.5), plane.centrePx, plane.fPx, plane.orthographic);
+}
+
+glm::dvec3 shadeAtPixel(glm::dvec3 colour, glm::dvec3 gradientCamera, int x, int y, const ImagePlane& plane,
+                        const ShadingParams& params) {
+    return shade(colour, gradientCamera, toEyeAtPixel(x, y, plane), params);
+}
+
 double voxelExtinction(const SplatScene& scene, const SplatSettings& settings, uint32_t voxel) {
     const double meanSpacing = (scene.spacing.x + scene.spacing.y + scene.spacing.z) / 3.0;
     return double(scene.opacityOf(voxel)) * settings.density / meanSpacing;
@@ -267,12 +283,8 @@ static Image renderReferenceOrThrow(const SplatScene& scene, const ImagePlane& p
             const Splat& s = splats[k];
             const SplatGeometry& g = s.geometry;
             if (g.culled) continue;
-            // Pixels whose centres (i + 0.5) fall inside the bounding box of the cutoff ellipse.
-            const int ya = std::max(y0, int(std::ceil(g.centrePx.y - g.halfExtentPx.y - 0.5)));
-            const int yb = std::min(y1 - 1, int(std::floor(g.centrePx.y + g.halfExtentPx.y - 0.5)));
+            const auto [xa, xb, ya, yb] = footprintBox(g, y0, y1, w);
             if (ya > yb) continue;
-            const int xa = std::max(0, int(std::ceil(g.centrePx.x - g.halfExtentPx.x - 0.5)));
-            const int xb = std::min(w - 1, int(std::floor(g.centrePx.x + g.halfExtentPx.x - 0.5)));
             const double heat[3] = {s.mode == 0 ? 1.0 : 0.0, s.mode == 1 ? 1.0 : 0.0, s.mode == 2 ? 1.0 : 0.0};
             for (int y = ya; y <= yb; ++y)
                 for (int x = xa; x <= xb; ++x) {
@@ -281,11 +293,8 @@ static Image renderReferenceOrThrow(const SplatScene& scene, const ImagePlane& p
                     if (e > cut2) continue;
                     if (earlyTermination && opaque[size_t(y - y0) * w + x]) continue;
                     const double tau = g.amplitude * std::exp(-0.5 * e);
-                    glm::dvec3 shaded = s.colour;
-                    if (perFragment)
-                        shaded = shade(s.colour, s.gradientCamera,
-                                       toEyeAt(glm::dvec2(x + 0.5, y + 0.5), plane.centrePx, plane.fPx, plane.orthographic),
-                                       settings.shadingParams);
+                    const glm::dvec3 shaded =
+                        perFragment ? shadeAtPixel(s.colour, s.gradientCamera, x, y, plane, settings.shadingParams) : s.colour;
                     for (int l = 0; l < layers; ++l) {
                         const double* colour = l == 0 ? &shaded[0] : heat;
                         double* p = sheets ? &sheet[l * bandSize + (size_t(y - y0) * w + x) * 4]

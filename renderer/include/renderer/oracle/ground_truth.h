@@ -48,7 +48,8 @@ struct GroundTruthStats {
 // With shading, each kernel's colour is lit along the ray itself (shading.h's Phong with the voxel's
 // decoded gradient and the ray's own direction): the truth of the pre-classified shaded model, which
 // per-splat shading (the splat centre's direction) and per-fragment shading (the pixel centre's)
-// approximate. It needs the scene's gradients (RenderError without them).
+// approximate. Post-classified and shaded, each step's classified colour is lit with the step's mean
+// gradient (post_classification.h). It needs the scene's gradients (RenderError without them).
 //
 // Whether frames drawn with `settings` have a ground truth to be compared with: not with surface
 // splats, whose flattened kernels are a rendering choice, not the volume's kernels.

@@ -23,8 +23,10 @@
 // Post-classified (post_classification.h): every kernel, transparent or not, adds its value times its
 // weight and its weight (the footprint's line integral through the slab) to the slab; the slab's mean
 // value is classified by the TF, and its optical depth is the TF's extinction there times the weight.
-// Its truth is GroundTruthOptions::postClassified. Unshaded, and not with the camera so close that
-// kernels reach the near plane (the near layer is pre-classified).
+// Shaded, each slab's classified colour is lit with the slab's mean gradient (the kernels' voxel
+// gradients summed like the values) from the pixel's ray: post_classification.h. Its truth is
+// GroundTruthOptions::postClassified. Not with the camera so close that kernels reach the near plane
+// (the near layer is pre-classified).
 #pragma once
 #include "renderer/io/image.h"
 #include "renderer/model/splat_scene.h"
@@ -47,10 +49,16 @@ struct SlabCounters {
 struct SlabOptions {
     double thickness = 0.5;        // voxel spacings (mean spacing)
     bool postClassified = false;
+    int supersample = 0;           // 0: one sample a pixel. S: S x S samples a pixel resolved by the truth's
+                                   // V_h filter (pixel_filter.h), the post-classified truth's own pixel
+                                   // filter: its silhouettes and thin TF bands are finer than a pixel.
+                                   // S^2 the work; reconstruction-only then leaves V_h to the resolve
 };
+constexpr int kMaxSlabSupersample = 4;
 
 // Throws RenderError for X-ray compositing (order-free: no slabs), surface splats (a rendering choice
-// the slabs do not model), a thickness outside [kMinSlabThickness, kMaxSlabThickness], and what
+// the slabs do not model), a thickness outside [kMinSlabThickness, kMaxSlabThickness], a supersample
+// outside 0..kMaxSlabSupersample, and what
 // post-classification does not take (requirePostClassifiable; kernels at the near plane).
 Image renderImageAlignedSlabs(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                               const SlabOptions& options, SlabCounters* counters = nullptr);

@@ -16,6 +16,7 @@ struct RayKernel {
     double extinction; // g_k
     glm::dvec3 colour;
     double value = 0.0; // post-classification: the voxel's class (post_classification.h)
+    glm::dvec3 gradient{0.0}; // post-classified shading: the voxel's relative gradient, camera space
 };
 
 // Peak of a kernel r_k = voxel volume x unit-mass Gaussian, so that the kernels sum to ~1 over the grid;

@@ -2,6 +2,7 @@
 // image rows so the result does not depend on the thread count. Tests compare GL images against it.
 #pragma once
 #include "renderer/io/image.h"
+#include "renderer/math/shading.h"
 #include "renderer/model/splat_scene.h"
 #include "renderer/model/splat_settings.h"
 
@@ -34,6 +35,19 @@ struct SplatGeometry {
     glm::dvec2 halfExtentPx{0.0};    // bounding box of the cutoff ellipse
     double amplitude = 0.0;          // optical depth at the centre: g_k * voxel volume * peak
 };
+// The pixels of rows [y0, y1) and columns [0, width) whose centres (i + 0.5) fall inside the bounding
+// box of the splat's cutoff ellipse: x in [xa, xb], y in [ya, yb], empty when either is reversed.
+struct PixelBox {
+    int xa, xb, ya, yb;
+};
+PixelBox footprintBox(const SplatGeometry& g, int y0, int y1, int width);
+
+// Towards the eye along the ray through pixel (x, y)'s centre, camera space (shading.h's toEyeAt), and
+// per-fragment shading there: `colour` lit with the gradient from that direction.
+glm::dvec3 toEyeAtPixel(int x, int y, const ImagePlane& plane);
+glm::dvec3 shadeAtPixel(glm::dvec3 colour, glm::dvec3 gradientCamera, int x, int y, const ImagePlane& plane,
+                        const ShadingParams& params);
+
 // `mode` is the resolved filter (never Adaptive: see classifier.h).
 SplatGeometry splatGeometry(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                             uint32_t voxel, double extinction, FilterMode mode, SplatCounters* counters = nullptr);

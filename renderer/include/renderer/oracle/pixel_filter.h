@@ -1,0 +1,19 @@
+// The V_h pixel filter of the ground truth (EWA_NOTES "Ground truth"), one place for the truth and the
+// supersampled image-aligned slabs: a grid of `ss` x `ss` samples a pixel, `pixelFilterMargin(ss)`
+// samples more on each side, sample i at pixel coordinate (i - margin + 0.5) / ss; each pixel is the
+// mean of the samples within kPixelFilterReachPx of its centre, weighted by the 1-px Gaussian.
+#pragma once
+#include "renderer/io/image.h"
+#include "renderer/math/glm_config.h"
+
+#include <vector>
+
+namespace renderer {
+
+constexpr double kPixelFilterReachPx = 4.0;   // the 1-px Gaussian's weight beyond 4 sigma is below 3.4e-4
+int pixelFilterMargin(int ss);
+
+// samples: (width ss + 2 margin) x (height ss + 2 margin), rows first. Separable, on all cores.
+Image filterToPixels(const std::vector<glm::dvec4>& samples, int ss, int width, int height);
+
+} // namespace renderer
