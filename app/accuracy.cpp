@@ -261,7 +261,7 @@ void kernelScaleTable(Report& r, const AccuracyArgs& args) {
 
 // 5. Image-aligned slabs (image_slabs.h) against object-aligned compositing: the thickness curve per
 // hard case, for EWA and reconstruction-only, with the work each thickness costs (footprint pixels
-// written per splat drawn; the slabs exist on the CPU only, so no frame time is given).
+// written per splat drawn; frame times are renderer_bench's image-slabs rows, docs/speed.md).
 void slabTable(Report& r, const AccuracyArgs& args, const std::vector<HardCase>& cases) {
     constexpr double kThicknesses[] = {1.0, 0.5, 0.25};
     r.md << "## Image-aligned slabs\n\n"

@@ -4,6 +4,7 @@
 // premultiplied, blended over the image
 // (GL_ONE, GL_ONE_MINUS_SRC_ALPHA); X-ray: 1 - exp(-sums), blended onto the resolved sums
 // (GL_ONE, GL_ONE_MINUS_SRC_COLOR: 1 - (1 - a)(1 - b) = 1 - exp(-(A + B))).
+#include "erf.glsl"
 layout(std430, binding = 5) readonly buffer NearKernels {
     uint count;
     uint pad0, pad1, pad2;
@@ -18,12 +19,6 @@ uniform float uPeak;        // kernelPeak(): the truncated kernel of unit mass a
 uniform bool uXRay;
 layout(location = 0) out vec4 outColour;
 
-// Abramowitz and Stegun 7.1.26: |error| below 1.5e-7, under float's resolution of the sums.
-float erfApprox(float x) {
-    float t = 1.0 / (1.0 + 0.3275911 * abs(x));
-    float p = ((((1.061405429 * t - 1.453152027) * t + 1.421413741) * t - 0.284496736) * t + 0.254829592) * t;
-    return sign(x) * (1.0 - p * exp(-x * x));
-}
 
 void main() {
     vec2 px = vec2(gl_FragCoord.x, uHeight - gl_FragCoord.y);   // the pixel centre, rows down

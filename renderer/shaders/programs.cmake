@@ -45,3 +45,5 @@ shader_program(loop_limit FILES loop_limit.comp)
 # The near layer (near_layer_pass.cpp); MAX_NEAR_KERNELS: kMaxNearKernels (renderer/oracle/near_layer.h).
 shader_program(near_kernels FILES near_kernels.comp AXES MAX_NEAR_KERNELS=1024u)
 shader_program(near_layer FILES fullscreen.vert near_layer.frag AXES MAX_NEAR_KERNELS=1024u)
+# Image-aligned slabs' per-pixel pass (image_slabs_gl.cpp).
+shader_program(slab_composite FILES slab_composite.comp)

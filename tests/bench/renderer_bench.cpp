@@ -15,6 +15,7 @@
 #include "renderer/math/metrics.h"
 #include "renderer/oracle/reference_renderer.h"
 #include "renderer/gl/driver_profile.h"
+#include "renderer/gl/image_slabs_gl.h"
 #include "renderer/gl/splat_renderer.h"
 #include "renderer/model/transfer_function.h"
 #include "renderer/io/volume_io.h"
@@ -244,6 +245,33 @@ void axisTurn(benchmark::State& state, const Dataset& d, bool across) {
 
 // A far view at the level chooseDetailLevel picks (render --detail-levels 2): its frames as renderFrames
 // times them, and counters for the level, its kernels in pixels and the optical mass it changed.
+// Image-aligned slabs (renderer/gl/image_slabs_gl.h): whole frames, the CPU's per-kernel set-up and the
+// GPU's pass, with the work they do. Pre-classified rows give their error as the others do; the
+// post-classified truth of a real scan takes far longer, so post-classified rows give none.
+void slabFrames(benchmark::State& state, const Dataset& d, SplatSettings s, SlabOptions options) {
+    const SplatScene& scene = sceneOf(d, needsGradients(s));
+    const ImagePlane plane = makeImagePlane(Camera{}, scene.centre, scene.radius, gWidth, gHeight);
+    const ImageSlabsGl pass;
+    SlabCounters work;
+    Image image = pass.render(scene, plane, s, options, &work);   // warm-up
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        image = pass.render(scene, plane, s, options, &work);
+        state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    state.counters["splats"] = double(work.splats.drawn);
+    state.counters["slabs"] = double(work.slabs);
+    state.counters["footprint_pixels"] = double(work.footprintPixels);
+    state.counters["slab_writes"] = double(work.slabWrites);
+    if (gErrors && !options.postClassified) {
+        const ImagePlane crop = centreCrop(plane, kComparisonCropPx);
+        const Image truth = cachedGroundTruth(scene, crop, s, {}, defaultGroundTruthCacheDir());
+        const ImageError e = compareImages(pass.render(scene, crop, s, options), truth);
+        state.counters["psnr_db"] = e.psnrDb;
+        state.counters["rmse"] = e.rmse;
+    }
+}
+
 void chosenLevel(benchmark::State& state, const Dataset& d, const SplatSettings& s, const Camera& camera) {
     const SplatScene& full = sceneOf(d, needsGradients(s));
     const Volume volume = d.phantomSize > 0 ? makePhantom({.dims = glm::ivec3(d.phantomSize)}) : loadVolume(d.path);
@@ -383,6 +411,16 @@ int main(int argc, char** argv) {
         SplatSettings s = driverDefaults();
         s.primitive = SplatSettings::Primitive::Quads;
         add(n + "/ewa/splat-every-sample/quads", [=](benchmark::State& st) { renderFrames(st, d, s); });
+        // Image-aligned slabs against the sheets front to back above: pre-classified 0.5 voxels thick,
+        // post-classified 0.25, unshaded and shaded per fragment.
+        for (auto [name, options, shading] :
+             {std::tuple{"pre-0.5", SlabOptions{0.5}, SplatSettings::Shading::None},
+              std::tuple{"post-0.25", SlabOptions{0.25, true}, SplatSettings::Shading::None},
+              std::tuple{"post-0.25-shaded", SlabOptions{0.25, true}, SplatSettings::Shading::PerFragment}}) {
+            SplatSettings v = driverDefaults();
+            v.shading = shading;
+            add(n + "/ewa/image-slabs/" + name, [=](benchmark::State& st) { slabFrames(st, d, v, options); }, 1);
+        }
         s = driverDefaults();
         s.drawAllBuckets = true;
         add(n + "/ewa/splat-every-sample/all-buckets", [=](benchmark::State& st) { renderFrames(st, d, s); });

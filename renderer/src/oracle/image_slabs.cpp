@@ -2,6 +2,7 @@
 // slab; a ring of slab sheets holds the slabs a kernel can still reach, and each slab is composited
 // under the image once no later kernel can reach it.
 #include "renderer/oracle/image_slabs.h"
+#include "renderer/oracle/slab_setup.h"
 
 #include "renderer/errors.h"
 #include "renderer/math/classifier.h"
@@ -42,113 +43,14 @@ void slabShares(double mean, double sd, double thickness, long first, int count,
     }
 }
 
-namespace {
-
-struct SlabSplat {
-    SplatGeometry geometry;
-    glm::dvec3 colour;          // TF colour, shaded unless shading is per fragment (pre-classified)
-    double value = 0.0;         // the voxel's class (post-classified)
-    glm::dvec3 gradientCamera;  // per-fragment or post-classified shading
-    double depth = 0.0;         // ray-space depth of the centre: |u|, or u2 orthographic
-    glm::dvec2 depthSlope{0.0}; // conditional mean's change per pixel of offset: S_xy^-1 S_xyr
-    double depthSd = 0.0;       // conditional standard deviation along the ray
-    long first = 0, last = -1;  // slabs it can reach anywhere on its footprint
-};
-
-// The ray-space variance of a kernel and the conditional law of its depth along a pixel's ray.
-// Depths are returned in slabs of `slabUnits` object units.
-void depthAlongRays(SlabSplat& s, glm::dvec3 u, const glm::dmat3& varianceCamera, const ImagePlane& plane,
-                    FilterMode mode, double cutoff, double slabUnits) {
-    const glm::dmat3 j = plane.orthographic
-                             ? glm::dmat3(glm::dvec3(plane.fPx, 0, 0), glm::dvec3(0, plane.fPx, 0), glm::dvec3(0, 0, 1))
-                             : rayJacobianPx(u, plane.fPx);
-    const glm::dmat3 v = j * varianceCamera * glm::transpose(j);
-    s.depth = plane.orthographic ? u.z : glm::length(u);
-    const double varDepth = v[2][2];
-    if (mode == FilterMode::LowPass) {   // the kernel's depth profile under the V_h footprint
-        s.depthSlope = glm::dvec2(0.0);
-        s.depthSd = std::sqrt(std::max(0.0, varDepth));
-    } else {
-        const glm::dvec2 cross(v[2][0], v[2][1]);   // S_xyr
-        s.depthSlope = s.geometry.conic * cross;    // conic = (S_xy [+ V_h])^-1, symmetric
-        s.depthSd = std::sqrt(std::max(0.0, varDepth - glm::dot(cross, s.depthSlope)));
-    }
-    s.depth /= slabUnits;
-    s.depthSlope /= slabUnits;
-    s.depthSd /= slabUnits;
-    // Over the cutoff ellipse d^T conic d <= c^2 the slope term is at most c sqrt(w^T conic^-1 w).
-    const double spread = cutoff * std::sqrt(std::max(0.0, glm::dot(s.depthSlope, glm::inverse(s.geometry.conic) * s.depthSlope)));
-    s.first = long(std::floor(s.depth - spread - cutoff * s.depthSd));
-    s.last = long(std::floor(s.depth + spread + cutoff * s.depthSd));
-}
-
-} // namespace
-
 static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                                 const SlabOptions& options, SlabCounters* counters) {
-    const double thickness = options.thickness;
-    const bool post = options.postClassified;
-    if (settings.compositing == Compositing::XRay)
-        throw RenderError("image-aligned slabs: X-ray compositing has no order to slice (use a sheet or "
-                          "splat-every-sample compositing)");
-    if (settings.surfaceFlatten > 1.0)
-        throw RenderError("image-aligned slabs: surface splats are not modelled (surface flatten must be 1)");
-    if (!(thickness >= kMinSlabThickness && thickness <= kMaxSlabThickness))
-        throw RenderError("image-aligned slabs: thickness " + std::to_string(thickness) + " voxels is outside [" +
-                          std::to_string(kMinSlabThickness) + ", " + std::to_string(kMaxSlabThickness) + "]");
-    requireGradients(settings, scene.gradients.size() == scene.classes.size(), scene.name);
-    if (post) requirePostClassifiable(scene, settings, "image-aligned slabs");
-    const double perOpacity = extinctionPerOpacity(scene, settings);
-    const double meanSpacing = (scene.spacing.x + scene.spacing.y + scene.spacing.z) / 3.0;
-    const double slabUnits = thickness * meanSpacing;   // object units
-    const double cutoff = settings.cutoffSigmas;
-    const glm::dvec3 sigma = settings.kernelScale * scene.spacing;
-    const glm::dmat3 varianceCamera = kernelVarianceCamera(sigma, plane.viewFromObject);
-    const std::vector<uint8_t> modes =
-        settings.filter == FilterMode::Adaptive ? patchModes(scene, plane, settings) : std::vector<uint8_t>{};
-    const PatchGrid grid = patchGrid(scene.dims, chooseTraversal(plane).axis, settings.patchSize);
-
-    // 1. Each visible kernel's footprint and depth law, in slab units. Post-classified every kernel is
-    //    "visible": a transparent voxel's value still pulls the mean down.
-    std::vector<uint32_t> visible;
-    for (uint32_t voxel = 0; voxel < uint32_t(scene.classes.size()); ++voxel)
-        if (post || scene.opacityOf(voxel) > 0.0f) visible.push_back(voxel);
-    std::vector<SlabSplat> splats(visible.size());
-    tbb::combinable<SplatCounters> perThread;
-    tbb::parallel_for(size_t(0), visible.size(), [&](size_t k) {
-        const uint32_t voxel = visible[k];
-        FilterMode m = settings.filter;
-        if (m == FilterMode::Adaptive) {
-            const glm::uvec3 d(scene.dims);
-            m = FilterMode(modes[grid.indexOf(glm::ivec3(int(voxel % d.x), int(voxel / d.x % d.y), int(voxel / (d.x * d.y))))]);
-        }
-        SlabSplat& s = splats[k];
-        // Post-classified the footprint carries the kernel's weight (extinction 1).
-        s.geometry = splatGeometry(scene, plane, settings, voxel, post ? 1.0 : voxelExtinction(scene, settings, voxel), m,
-                                   &perThread.local());
-        if (s.geometry.culled) return;
-        const glm::dvec3 u = plane.toCamera(scene.positionOf(voxel));
-        depthAlongRays(s, u, varianceCamera, plane, m, cutoff, slabUnits);
-        s.colour = scene.colourOf(voxel);
-        s.value = scene.classes[voxel];
-        if (settings.shading != SplatSettings::Shading::None) {
-            s.gradientCamera = plane.viewFromObject * decodeGradient(scene.gradients[voxel]).gradient();
-            if (settings.shading == SplatSettings::Shading::PerSplat && !post)
-                s.colour = shade(s.colour, s.gradientCamera, -u, settings.shadingParams);
-        }
-    });
-    std::erase_if(splats, [](const SlabSplat& s) { return s.geometry.culled; });
-    std::stable_sort(splats.begin(), splats.end(), [](const SlabSplat& a, const SlabSplat& b) { return a.first < b.first; });
-    long ring = 1, front = 0, back = -1;
-    for (const SlabSplat& s : splats) ring = std::max(ring, s.last - s.first + 1);
-    if (!splats.empty()) {
-        front = splats.front().first;
-        for (const SlabSplat& s : splats) back = std::max(back, s.last);
-    }
-    // What a slab sums at a pixel, the weight last: pre-classified (c tau, tau); post-classified (v w, w),
-    // shaded (v w, g w, w).
-    const bool shaded = settings.shading != SplatSettings::Shading::None;
-    const int stride = !post ? 4 : shaded ? 5 : 2;
+    const SlabSetup setup = prepareSlabs(scene, plane, settings, options);
+    const std::vector<SlabSplat>& splats = setup.splats;
+    const long ring = setup.ring, front = setup.front, back = setup.back;
+    const bool post = setup.post, shaded = setup.shaded, perFragment = setup.perFragment;
+    const int stride = setup.stride;
+    const double perOpacity = setup.perOpacity, thickness = options.thickness;
     // Each worker holds `ring` sheets of a band of rows: bounded, or the thickness is refused by name.
     constexpr double kRingBudget = 1024.0 * 1024.0 * 1024.0;   // bytes, all workers together
     const double ringBytes = double(ring) * kBand * plane.width * stride * sizeof(double) *
@@ -160,22 +62,12 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
                       ringBytes / (1024.0 * 1024.0), plane.width, kRingBudget / (1024.0 * 1024.0));
         throw RenderError(text);
     }
-    SlabCounters total;
-    total.splats.visible = visible.size();
-    perThread.combine_each([&](const SplatCounters& c) { addCounters(total.splats, c); });
-    total.slabs = splats.empty() ? 0 : uint64_t(back - front + 1);
-    const NearKernels near = findNearKernels(scene, plane, settings);
-    if (post && (!near.voxels.empty() || near.dropped > 0))
-        throw RenderError("image-aligned slabs: post-classified, " + std::to_string(near.voxels.size() + near.dropped) +
-                          " kernels in view reach the near plane (the near layer is pre-classified): move the camera back");
-    total.splats.nearLayer = near.voxels.size();
-    total.splats.droppedNear = near.dropped;
+    SlabCounters total = setup.counters;
 
-    // 2. Bands of rows; in each, a ring of `ring` slab sheets of `stride` sums per pixel.
+    // Bands of rows; in each, a ring of `ring` slab sheets of `stride` sums per pixel.
     const int w = plane.width, h = plane.height;
     std::vector<double> acc(size_t(w) * h * 4, 0.0);
-    const double cut2 = cutoff * cutoff;
-    const bool perFragment = settings.shading == SplatSettings::Shading::PerFragment && !post;
+    const double cut2 = settings.cutoffSigmas * settings.cutoffSigmas;
     const bool earlyTermination = settings.opaqueAlpha < 1.0;
     tbb::combinable<std::pair<uint64_t, uint64_t>> work;   // footprint pixels, slab writes
     tbb::parallel_for(0, (h + kBand - 1) / kBand, [&](int band) {
@@ -253,8 +145,8 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
     });
     if (counters) *counters = total;
 
-    // 3. The near layer in front, as renderReference composites it.
-    compositeNearLayer(scene, plane, settings, near, acc);
+    // The near layer in front, as renderReference composites it.
+    compositeNearLayer(scene, plane, settings, setup.near, acc);
     Image img(w, h);
     for (size_t i = 0; i < acc.size(); ++i) img.rgba[i] = float(acc[i]);
     return img;
@@ -262,23 +154,11 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
 
 Image renderImageAlignedSlabs(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                               const SlabOptions& options, SlabCounters* counters) {
-    if (options.supersample < 0 || options.supersample > kMaxSlabSupersample)
-        throw RenderError("image-aligned slabs: supersample must be 0.." + std::to_string(kMaxSlabSupersample) +
-                          ", got " + std::to_string(options.supersample));
+    requireSlabSupersample(options.supersample);
     try {
-        if (options.supersample == 0) return renderSlabsOrThrow(scene, plane, settings, options, counters);
-        // The truth's sample grid (pixel_filter.h) as a finer image plane, then the truth's V_h resolve.
-        const int ss = options.supersample, margin = pixelFilterMargin(ss);
-        ImagePlane fine = plane;
-        fine.width = plane.width * ss + 2 * margin;
-        fine.height = plane.height * ss + 2 * margin;
-        fine.fPx = plane.fPx * ss;
-        fine.centrePx = plane.centrePx * double(ss) + double(margin);
-        const Image samples = renderSlabsOrThrow(scene, fine, settings, options, counters);
-        std::vector<glm::dvec4> wide(samples.rgba.size() / 4);
-        for (size_t i = 0; i < wide.size(); ++i)
-            wide[i] = glm::dvec4(samples.rgba[4 * i], samples.rgba[4 * i + 1], samples.rgba[4 * i + 2], samples.rgba[4 * i + 3]);
-        return filterToPixels(wide, ss, plane.width, plane.height);
+        return renderSupersampled(plane, options.supersample, [&](const ImagePlane& p) {
+            return renderSlabsOrThrow(scene, p, settings, options, counters);
+        });
     } catch (const std::bad_alloc&) {
         throw outOfMemory(volumeSubject(scene.name), "image-aligned slabs' splats and sheets", 0,
                           " at " + std::to_string(plane.width) + "x" + std::to_string(plane.height));

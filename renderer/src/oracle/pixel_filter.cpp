@@ -47,4 +47,19 @@ Image filterToPixels(const std::vector<glm::dvec4>& samples, int ss, int width, 
     return img;
 }
 
+Image renderSupersampled(const ImagePlane& plane, int ss, const std::function<Image(const ImagePlane&)>& render) {
+    if (ss == 0) return render(plane);
+    const int margin = pixelFilterMargin(ss);
+    ImagePlane fine = plane;
+    fine.width = plane.width * ss + 2 * margin;
+    fine.height = plane.height * ss + 2 * margin;
+    fine.fPx = plane.fPx * ss;
+    fine.centrePx = plane.centrePx * double(ss) + double(margin);
+    const Image samples = render(fine);
+    std::vector<glm::dvec4> wide(samples.rgba.size() / 4);
+    for (size_t i = 0; i < wide.size(); ++i)
+        wide[i] = glm::dvec4(samples.rgba[4 * i], samples.rgba[4 * i + 1], samples.rgba[4 * i + 2], samples.rgba[4 * i + 3]);
+    return filterToPixels(wide, ss, plane.width, plane.height);
+}
+
 } // namespace renderer

@@ -1,5 +1,6 @@
 // Image-aligned sheet buffers (issue 37; 000's future work, 004 sec. on Neophytou and Mueller 2005), on
-// the CPU in double precision: the measurement that decides whether a GL path is worth building.
+// the CPU in double precision: the oracle of the GL pass (renderer/gl/image_slabs_gl.h), which takes the
+// same per-kernel set-up (slab_setup.h) and does the pixels' work on the GPU.
 //
 // Slabs are shells of constant distance from the eye (perspective) or planes of constant depth
 // (orthographic), `thickness` voxel spacings (mean spacing) thick, at fixed multiples of it from the

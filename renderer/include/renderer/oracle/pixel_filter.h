@@ -4,7 +4,10 @@
 // mean of the samples within kPixelFilterReachPx of its centre, weighted by the 1-px Gaussian.
 #pragma once
 #include "renderer/io/image.h"
+#include "renderer/math/camera.h"
 #include "renderer/math/glm_config.h"
+
+#include <functional>
 
 #include <vector>
 
@@ -15,5 +18,9 @@ int pixelFilterMargin(int ss);
 
 // samples: (width ss + 2 margin) x (height ss + 2 margin), rows first. Separable, on all cores.
 Image filterToPixels(const std::vector<glm::dvec4>& samples, int ss, int width, int height);
+
+// `render` on the finer plane of that sample grid (ss times the pixels, the margin around), resolved by
+// the filter to `plane`'s pixels; ss 0: render(plane) as it is.
+Image renderSupersampled(const ImagePlane& plane, int ss, const std::function<Image(const ImagePlane&)>& render);
 
 } // namespace renderer
