@@ -101,6 +101,9 @@ class EditorLoop {
     // == The view (editor_viewport.cpp)
     // What the render thread is asked to draw for the view as it stands.
     ViewRequest viewRequest() const;
+    // The slab frame a still view ends in (Settings > Image-aligned slabs), where it can have one.
+    std::optional<renderer::SlabOptions> slabsOfView() const;
+    void noteSlabStatus(); // the section's status: drawing, shown (showRenderedView), or why not
     // The level a far view needs (ViewRequest::finestLevel): the coarsest preview level whose kernels take
     // the low-pass filter (renderer/model/detail_levels.h), with hysteresis against the last request's.
     int farViewLevel(const ViewRequest& request);
@@ -204,6 +207,7 @@ class EditorLoop {
     int m_renderWidth = 0, m_renderHeight = 0;
     std::optional<RenderedView> m_shown;    // what the viewport shows (its pixels dropped once uploaded)
     uint64_t m_viewRequest = 0;             // the last view asked for
+    bool m_slabsAsked = false;              // ...with a slab frame
     int m_farLevel = 0;                     // its finestLevel
     // Each preview level's optical mass change against the full scene, of scene version m_levelMassOf.
     std::vector<double> m_levelMassChange;

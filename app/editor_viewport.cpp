@@ -25,6 +25,7 @@ void EditorLoop::renderViewport() {
     editForProbe();
     renderIfPending();
     showRenderedView();
+    noteSlabStatus();
     stepSplitTruth(); // |A - ground truth|: its truth, and the difference of the image shown
     // 4. The Filters panel's patches per filter, of the full frame shown.
     countPatchesIfShown();
@@ -185,7 +186,19 @@ ViewRequest EditorLoop::viewRequest() const {
     if (m_fullWindowStale && m_doc.preview) request.levels = Levels::FinestOnly;
     request.budgetMs = m_state.preview.budgetMs > 0.0 ? m_state.preview.budgetMs : m_state.preview.defaultBudgetMs;
     splitViewRequest(request); // a split view: its panes' settings, at a pane's size
+    request.slabs = slabsOfView();
     return request;
+}
+
+std::optional<renderer::SlabOptions> EditorLoop::slabsOfView() const {
+    // Not where no frame rests: a preview, a window still dragged, continuous rendering; nor what the
+    // Settings panel greys out (slab_section.cpp).
+    const ui::SlabView& slabs = m_state.slabs;
+    const renderer::SplatSettings& s = m_state.settings;
+    if (!slabs.enabled || m_options.preview || m_fullWindowStale || m_state.perf.renderContinuously ||
+        m_state.split.enabled || s.compositing == renderer::Compositing::XRay || s.surfaceFlatten > 1.0)
+        return std::nullopt;
+    return renderer::SlabOptions{.thickness = slabs.thickness, .postClassified = slabs.postClassified};
 }
 
 int EditorLoop::farViewLevel(const ViewRequest& request) {
@@ -219,6 +232,7 @@ void EditorLoop::renderIfPending() {
     m_renderPending = false;
     ViewRequest request = viewRequest();
     request.finestLevel = m_farLevel = farViewLevel(request);
+    m_slabsAsked = request.slabs.has_value();
     m_viewRequest = m_render->requestView(std::move(request));
     if (m_probe) m_probe->requested(m_viewRequest);
     if (m_scripted) { // deterministic frames: this frame shows this request's image
@@ -240,8 +254,13 @@ void EditorLoop::showRenderedView() {
     m_state.preview.shown = view->level > view->finestLevel;
     m_state.preview.shownLevel = view->level;
     m_state.preview.farLevel = view->finestLevel;
-    if (view->level == view->finestLevel) { // the Performance and Filters panels' figures are of the view's
-                                            // finished frames (full, or a far view's level)
+    if (view->slabs) {
+        char text[96];
+        std::snprintf(text, sizeof text, "slabs shown: %.1f s at %dx%d", view->slabMs / 1000.0, view->width,
+                      view->height);
+        m_state.slabs.status = text;
+    } else if (view->level == view->finestLevel) { // the Performance and Filters panels' figures are of the
+                                                   // view's finished frames (full, or a far view's level)
         const auto now = std::chrono::steady_clock::now();
         const double intervalMs = m_state.perf.renderContinuously && m_lastFullFrame
                                       ? std::chrono::duration<double, std::milli>(now - *m_lastFullFrame).count()
@@ -252,6 +271,18 @@ void EditorLoop::showRenderedView() {
         m_patchCountsStale = true;
     }
     m_shown = std::move(view);
+}
+
+void EditorLoop::noteSlabStatus() {
+    ui::SlabView& slabs = m_state.slabs;
+    if (!m_slabsAsked) return slabs.status.clear();
+    if (m_shown && m_shown->slabs && m_shown->request == m_viewRequest) return; // "slabs shown: ..."
+    if (m_render->busy()) {
+        slabs.status = "drawing slabs after the sheets' frame";
+    } else {
+        const std::string note = m_render->slabNote();
+        slabs.status = note.empty() ? std::string() : "sheets shown: " + note;
+    }
 }
 
 void EditorLoop::countPatchesIfShown() {
@@ -284,11 +315,15 @@ void EditorLoop::startSaveView(const std::filesystem::path& path) {
             m_save = PendingSave{.path = path, .heatmapOpacity = 0.0, .images = {}, .split = startSaveSplitView(view)};
             return;
         }
+        // As the view ends: in slabs where it does (a setting they refuse is said, not saved as sheets).
         m_save = PendingSave{
-            path, opacity, m_render->run([plane = view.plane, settings = view.full, opacity](Renderers& r) {
+            path, opacity,
+            m_render->run([plane = view.plane, settings = view.full, slabs = view.slabs, opacity](Renderers& r) {
                 r.full->render(plane, settings);
-                return std::pair{opacity < 1.0 ? r.full->readback() : renderer::Image(),
-                                 opacity > 0.0 ? r.full->readbackHeatmap() : renderer::Image()};
+                renderer::Image image = opacity >= 1.0 ? renderer::Image()
+                                        : slabs        ? r.slabs.render(plane, settings, *slabs)
+                                                       : r.full->readback();
+                return std::pair{std::move(image), opacity > 0.0 ? r.full->readbackHeatmap() : renderer::Image()};
             }),
             {}};
     });

@@ -37,6 +37,23 @@ double displayRmse(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b)
     return n ? std::sqrt(sum / double(n)) : 0.0;
 }
 
+std::string atSize(const renderer::ImagePlane& plane) {
+    return " at " + std::to_string(plane.width) + "x" + std::to_string(plane.height);
+}
+
+// The renderer's last image (or heatmap) over the request's background, 8 bits a channel, row 0 at the top.
+std::vector<uint8_t> shownPixels(renderer::SplatRenderer& which, const ViewRequest& request, bool heatmap,
+                                 const std::string& whose) {
+    std::vector<uint8_t> rgba;
+    const size_t bytes = size_t(request.plane.width) * size_t(request.plane.height) * 4;
+    renderer::namingAllocation(whose, heatmap ? "heatmap's pixels" : "view's pixels", bytes, atSize(request.plane),
+                               [&] { rgba.resize(bytes); });
+    const unsigned texture = which.displayTexture(request.background.data(), heatmap);
+    glGetTextureImage(texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(rgba.size()), rgba.data());
+    renderer::checkGlErrors("render thread: the view's pixels");
+    return rgba;
+}
+
 } // namespace
 
 RenderThread::RenderThread() {
@@ -88,6 +105,7 @@ void RenderThread::setLuts(const renderer::TfTables& full, std::vector<renderer:
             for (size_t k = 0; k < levels.size() && k < r.levels.size(); ++k)
                 r.levels[k]->setLut(levels[k]);
             m_shown.fullLut = full, m_shown.levelLuts = levels;
+            showSlabInputs(r);
         },
         true);
 }
@@ -99,6 +117,7 @@ void RenderThread::setGradients(std::shared_ptr<const renderer::SplatScene> full
             for (size_t k = 0; k < levels.size() && k < r.levels.size(); ++k)
                 r.levels[k]->setGradients(*levels[k]);
             m_shown.fullGradients = full, m_shown.levelGradients = levels;
+            showSlabInputs(r);
         },
         true);
 }
@@ -136,6 +155,7 @@ void RenderThread::uploadScenes(Renderers& r, const std::shared_ptr<const render
     }
     m_shown = {};
     m_shown.full = full, m_shown.levels = levels;
+    showSlabInputs(r);
     m_levelMs = {}; // another volume: its times are still to measure
     m_levelRmse = {-1, -1, -1, -1};
 }
@@ -155,8 +175,10 @@ void RenderThread::restoreShown(Renderers& r, const std::string& failure) {
         if (m_shown.fullLut) r.full->setLut(*m_shown.fullLut);
         for (size_t k = 0; k < m_shown.levelLuts.size() && k < r.levels.size(); ++k)
             r.levels[k]->setLut(m_shown.levelLuts[k]);
+        showSlabInputs(r);
     } catch (const std::exception& e) {
         m_shown = {}; // nothing left to put back; the error says so
+        showSlabInputs(r);
         throw renderer::RenderError(failure + "; the previous volume could not be put back on the GPU either: " +
                                     e.what());
     }
@@ -254,8 +276,12 @@ void RenderThread::loop(std::promise<std::string> started) {
         lock.unlock();
         try {
             const std::vector<int> levels = levelsToDraw(request, int(r.levels.size()));
-            for (size_t i = 0; i < levels.size(); ++i)
-                if (!renderLevel(r, levels[i], id, request, i > 0, i + 1 == levels.size())) break;
+            // Slabs after the full frame only: a far view's level or a preview is not the view's last word.
+            const bool slabsFollow = request.slabs && levels.back() == 0 && request.others.empty();
+            bool drawn = true;
+            for (size_t i = 0; i < levels.size() && drawn; ++i)
+                drawn = renderLevel(r, levels[i], id, request, i > 0, i + 1 == levels.size());
+            if (drawn && slabsFollow) renderSlabs(r, id, request);
         } catch (const std::bad_alloc&) {
             const std::string error = unnamedOutOfMemory("drawing the view");
             std::lock_guard errorLock(m_mutex);
@@ -273,6 +299,10 @@ void RenderThread::loop(std::promise<std::string> started) {
     m_viewDone.notify_all();
     lock.unlock();
     r = {}; // the renderers before the context
+}
+
+void RenderThread::showSlabInputs(Renderers& r) const {
+    r.slabs.setInputs(m_shown.full, m_shown.fullGradients, m_shown.fullLut);
 }
 
 std::string RenderThread::unnamedOutOfMemory(const char* doing) const {
@@ -349,18 +379,8 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
     view.plane = request.plane;
     view.truthKey = request.truthKey;
     const std::string whose = renderer::volumeSubject(m_sceneName);
-    const std::string where = " at " + std::to_string(view.width) + "x" + std::to_string(view.height);
     // The image, and the heatmap when asked: the viewport blends them, so an opacity change draws no frame.
-    const auto pixels = [&](bool heatmap) {
-        std::vector<uint8_t> rgba;
-        renderer::namingAllocation(whose, heatmap ? "heatmap's pixels" : "view's pixels",
-                                   size_t(view.width) * size_t(view.height) * 4, where,
-                                   [&] { rgba.resize(size_t(view.width) * size_t(view.height) * 4); });
-        const unsigned texture = which.displayTexture(request.background.data(), heatmap);
-        glGetTextureImage(texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(rgba.size()), rgba.data());
-        renderer::checkGlErrors("render thread: the view's pixels");
-        return rgba;
-    };
+    const auto pixels = [&](bool heatmap) { return shownPixels(which, request, heatmap, whose); };
     // The split view's other panes first (D, C, B), with the same renderer, so that its last frame (the
     // stats, the timers the Stats panel collects) is the first pane's; |A - B| from the two float images.
     renderer::Image second;
@@ -388,7 +408,7 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
         m_levelPixelsOf = id;
     }
     if (level > 0) {
-        renderer::namingAllocation(whose, "copy of a level's pixels", view.rgba.size(), where,
+        renderer::namingAllocation(whose, "copy of a level's pixels", view.rgba.size(), atSize(request.plane),
                                    [&] { m_levelPixels[size_t(level)] = view.rgba; });
     } else {
         for (int k = 1; k < kMaxViewLevels; ++k)
@@ -397,13 +417,61 @@ bool RenderThread::renderLevel(Renderers& r, int level, uint64_t id, const ViewR
     }
     view.levelMs = m_levelMs;
     view.levelRmse = m_levelRmse;
+    if (level == 0) {
+        std::lock_guard lock(m_mutex);
+        m_latestStats = view.stats;
+    }
+    finish(std::move(view));
+    return true;
+}
+
+void RenderThread::renderSlabs(Renderers& r, uint64_t id, const ViewRequest& request) {
+    const Clock::time_point started = Clock::now();
+    renderer::Image image;
+    try {
+        image = r.slabs.render(request.plane, request.full, *request.slabs,
+                               [&] { return superseded(id, started, request.budgetMs, true); });
+    } catch (const renderer::Cancelled&) {
+        return;
+    } catch (const renderer::RenderError& e) { // a setting the slabs do not take: the sheets stay, saying why
+        std::lock_guard lock(m_mutex);
+        m_slabNote = e.what();
+        return;
+    }
+    RenderedView view;
+    view.request = id;
+    view.width = request.plane.width, view.height = request.plane.height;
+    view.plane = request.plane;
+    view.truthKey = request.truthKey;
+    view.slabs = true; // after the view's last image: `last` as that one's
+    view.rgba = displayPixels(image, request.background.data());
+    // The heatmap is of the patches' filters, which the slabs take as the sheets did: the full frame's.
+    if (request.heatmap) view.heatmapRgba = shownPixels(*r.full, request, true, renderer::volumeSubject(m_sceneName));
+    if (request.keepFirstPane) view.firstPane = std::move(image);
+    view.stats = r.full->stats();
+    view.sceneBytes = r.full->sceneBytes();
+    view.workingBytes = r.full->workingBytes();
+    view.levelMs = m_levelMs;
+    view.levelRmse = m_levelRmse;
+    view.slabMs = msSince(started);
+    {
+        std::lock_guard lock(m_mutex);
+        m_slabNote.clear();
+    }
+    finish(std::move(view));
+}
+
+void RenderThread::finish(RenderedView view) {
     std::function<void()> onImage;
     {
         std::lock_guard lock(m_mutex);
-        if (level == 0) m_latestStats = view.stats;
         m_finished = std::move(view);
         onImage = m_onImage;
     }
     if (onImage) onImage();
-    return true;
+}
+
+std::string RenderThread::slabNote() const {
+    std::lock_guard lock(m_mutex);
+    return m_slabNote;
 }

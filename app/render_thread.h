@@ -3,9 +3,13 @@
 // hands it copies of the scenes and asks for views, and each UI frame takes the newest finished image.
 // Progressive: a view's first image comes from the finest level whose measured time fits the frame
 // budget, then finer levels replace it up to the full frame. A newer view request supersedes the frame in
-// flight at its next chunk (SplatRenderer::setInterrupt).
+// flight at its next chunk (SplatRenderer::setInterrupt). A still view may end in a frame of image-aligned
+// slabs (ViewRequest::slabs), after the full frame of sheets.
 #pragma once
+#include "slab_refinement.h"
+
 #include "renderer/gl/splat_renderer.h"
+#include "renderer/oracle/image_slabs.h"
 #include "renderer/model/splat_scene.h"
 #include "ui/split_view.h"
 
@@ -27,6 +31,7 @@
 struct Renderers {
     std::unique_ptr<renderer::SplatRenderer> full;
     std::vector<std::unique_ptr<renderer::SplatRenderer>> levels; // 1/2, 1/4, 1/8 per axis; may be none
+    SlabRefinement slabs; // image-aligned slab frames of the full scene shown
 };
 
 // Levels of detail a view can come from: 0 the full frame, k the level at 1/2^k per axis.
@@ -56,6 +61,10 @@ struct ViewRequest {
     // its image then the view's last; 0: the full frame.
     int finestLevel = 0;
     double budgetMs = 150.0; // a first image within this, from the finest level whose last time fits
+    // Then, where the request draws the full frame (not a far view's level) and has one pane: the same
+    // view in image-aligned slabs, one more image after its last (RenderedView::slabs). A failure (a
+    // setting the slabs do not take) leaves the sheets' frame shown and says why (RenderThread::slabNote).
+    std::optional<renderer::SlabOptions> slabs;
 };
 
 // One finished image of a request: a level's (then finer ones follow) or the full frame's.
@@ -73,6 +82,9 @@ struct RenderedView {
     std::optional<renderer::Image> firstPane;     // the first pane's float image, when asked
     std::string truthKey;                         // the request's
     renderer::ImagePlane plane;
+    bool slabs = false;         // the image-aligned slab frame after the last (ViewRequest::slabs), `last`
+                                // as that one; stats, level times and bytes are the sheets' full frame's
+    double slabMs = 0.0;        // ...its time
     renderer::FrameStats stats; // of the first pane
     uint64_t sceneBytes = 0, workingBytes = 0;
     // Per level (0: full): its last render and read-back in ms (0: not drawn yet), and the RMSE of its
@@ -115,6 +127,8 @@ class RenderThread {
     renderer::FrameStats latestStats() const;
     // A failure of a scene change or a view, oldest first.
     std::optional<std::string> takeError();
+    // Why the last slab frame asked for was not drawn ("" when it was, or none was asked for).
+    std::string slabNote() const;
 
     // Runs `task(renderers)` on the thread after what is queued; its result or exception in the future.
     template <class Task> auto run(Task task) -> std::future<decltype(task(std::declval<Renderers&>()))> {
@@ -138,6 +152,10 @@ class RenderThread {
     // The levels a request draws, in order (0: the full frame).
     std::vector<int> levelsToDraw(const ViewRequest& request, int levels) const;
     bool renderLevel(Renderers& r, int level, uint64_t id, const ViewRequest& request, bool refinement, bool last);
+    // The request's slab frame, after its full frame of sheets (ViewRequest::slabs).
+    void renderSlabs(Renderers& r, uint64_t id, const ViewRequest& request);
+    // Hands a finished image over and wakes the editor.
+    void finish(RenderedView view);
     bool superseded(uint64_t id, std::chrono::steady_clock::time_point started, double budgetMs,
                     bool refinement) const;
     // Scenes to the renderers (setScenes); on failure the shown ones back, and the error rethrown.
@@ -146,6 +164,8 @@ class RenderThread {
     // The scenes, gradients and LUTs shown before a change that failed with `failure`; should they not go
     // back either, a RenderError saying both.
     void restoreShown(Renderers& r, const std::string& failure);
+    // The slab frames' scene: what the renderers hold (m_shown).
+    void showSlabInputs(Renderers& r) const;
     // The message of a std::bad_alloc that nothing named on its way up, while `doing` something.
     std::string unnamedOutOfMemory(const char* doing) const;
 
@@ -156,6 +176,7 @@ class RenderThread {
     uint64_t m_nextId = 1, m_newestId = 0, m_doneId = 0, m_inFlight = 0;
     std::optional<RenderedView> m_finished;
     std::deque<std::string> m_errors;
+    std::string m_slabNote;
     renderer::FrameStats m_latestStats;
     bool m_stop = false;
     // Render thread only: each level's last time (0: not drawn since the scene changed) and last image

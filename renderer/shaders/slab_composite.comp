@@ -35,6 +35,7 @@ uniform ivec2 uSize;
 uniform int uTilesX, uRing, uStride, uLutSize;
 uniform uint uEntry0, uEntry1;   // this dispatch's entries of each tile's list
 uniform bool uFirst, uLast;      // the dispatch that starts the pixels, and the one that finishes them
+uniform int uTileRow0;           // the first row of tiles this dispatch covers (a band: see image_slabs_gl.cpp)
 uniform float uCut2, uOpaqueAlpha, uPerOpacity, uFPx;
 uniform vec2 uCentrePx;
 uniform bool uPost, uShaded, uPerFragment, uOrtho;
@@ -77,7 +78,7 @@ void composite(int j, vec2 px, int ringBase, inout vec4 acc) {
 }
 
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, uTileRow0 * int(gl_WorkGroupSize.y));
     if (any(greaterThanEqual(p, uSize))) return;
     int at = p.y * uSize.x + p.x;
     int ringBase = at * uRing * 5;   // this pixel's ring in `rings`

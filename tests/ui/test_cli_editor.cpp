@@ -287,3 +287,38 @@ TEST(Cli, TheEditorWithoutAVolumeOpensTheBundledBonsaiFramedInItsPresetAndLit) {
     EXPECT_GT(coveredBox(fromEditor).y1 - coveredBox(fromEditor).y0, int(0.6 * fromEditor.height))
         << "framed, the bonsai fills most of the height";
 }
+
+// Settings > Image-aligned slabs on (from a session): the still view ends in slabs, and Save image writes
+// them, as `render --session --image-slabs` draws the same view.
+TEST(Cli, TheEditorEndsAStillViewInSlabsAndSavesThemAsRenderDrawsThem) {
+    if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
+    const std::filesystem::path dir = testing_support::testOutputDir();
+    const std::filesystem::path session = dir / "slab_session.json", saved = dir / "editor_slabs.exr",
+                                slabs = dir / "render_slabs.exr", sheets = dir / "render_sheets.exr";
+    std::ofstream(session) << nlohmann::json{
+        {"splatlab_session", 1},
+        {"volume", headsq()},
+        {"camera", {{"azimuth", 60}, {"elevation", 15}, {"distance", 2.5}, {"fov", 30}, {"up", {0, 0, -1}}}},
+        {"slabs", {{"enabled", true}, {"thickness", 1.0}, {"post_classified", false}}}};
+    std::filesystem::remove(saved);
+    const CliRun e = runShell("LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1280x800x24\" \"" SPLATLAB_EXE
+                              "\" editor --session \"" + session.string() + "\" --size 1280x800 --frames 4 --save-image \"" +
+                              saved.string() + "\" 2>&1");
+    ASSERT_EQ(e.status, 0) << e.output;
+    const renderer::Image fromEditor = renderer::readImage(saved);
+    const std::string size = " --size " + std::to_string(fromEditor.width) + "x" + std::to_string(fromEditor.height);
+    for (const auto& [out, flags] : {std::pair{slabs, " --image-slabs 1"}, std::pair{sheets, ""}}) {
+        const CliRun r = splatlab("render --session \"" + session.string() + "\"" + size + flags +
+                                  " --frames 1 -o \"" + out.string() + "\"");
+        ASSERT_EQ(r.status, 0) << r.output;
+    }
+    const renderer::Image fromCli = renderer::readImage(slabs);
+    ASSERT_EQ(fromCli.rgba.size(), fromEditor.rgba.size());
+    EXPECT_GT(renderer::imageStats(fromEditor).coveredFraction, 0.1);
+    const auto d = testing_support::renderDifference(fromCli, fromEditor);
+    EXPECT_LE(d.elsewhere, 1e-5f) << "see editor_slabs.exr and render_slabs.exr";
+    EXPECT_LE(d.atOpaque, 2e-3f) << "see editor_slabs.exr and render_slabs.exr";
+    const auto fromSheets = testing_support::renderDifference(renderer::readImage(sheets), fromEditor);
+    EXPECT_GT(std::max(fromSheets.elsewhere, fromSheets.atOpaque), 0.02f) << "the saved view is the sheets'";
+}

@@ -8,9 +8,11 @@
 #include "renderer/model/splat_scene.h"
 #include "renderer/model/transfer_function.h"
 #include "renderer/model/volume.h"
+#include "renderer/oracle/image_slabs.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
@@ -178,4 +180,108 @@ TEST(RenderThread, AFarViewsRequestRestsOnItsLevelWithoutTheFullFrame) {
     views = imagesUntilLast(*thread, thread->requestView(r));
     ASSERT_EQ(views.size(), 1u);
     EXPECT_EQ(views[0].level, 2);
+}
+
+// A still view that asks for slabs (ViewRequest::slabs): the full frame of sheets, then one more image,
+// the same view in image-aligned slabs, equal to the CPU oracle's slabs to 8-bit rounding.
+TEST(RenderThread, AStillViewEndsInItsSlabFrameAfterTheSheets) {
+    std::string why;
+    auto thread = startOrSkip(why);
+    if (!thread) {
+        if (const char* r = std::getenv("REQUIRE_GL"); r && std::string(r) == "1") FAIL() << why;
+        GTEST_SKIP() << "no headless GL context: " << why;
+    }
+    std::atomic<int> images{0};
+    thread->setOnImage([&] { ++images; });
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(16), builtinPreset("grey-ramp"));
+    thread->setScenes(std::make_shared<const SplatScene>(scene), {});
+    ViewRequest r = request(scene, 30, ViewRequest::Levels::FullOnly);
+    r.full.compositing = Compositing::SheetFrontToBack;
+    r.background = {0.1f, 0.2f, 0.3f};
+    thread->waitForView(thread->requestView(r));
+    const std::optional<RenderedView> sheets = thread->takeView();
+    ASSERT_TRUE(sheets && !sheets->slabs);
+    r.slabs = SlabOptions{.thickness = 0.5, .postClassified = true};
+    images = 0;
+    thread->waitForView(thread->requestView(r));
+    const std::optional<RenderedView> slabs = thread->takeView();
+    ASSERT_TRUE(slabs) << (thread->takeError() ? "the render thread failed" : "no image");
+    EXPECT_TRUE(slabs->slabs && slabs->last);
+    EXPECT_EQ(images.load(), 2) << "the sheets' frame, then the slabs'";
+    EXPECT_EQ(thread->slabNote(), "");
+    const std::vector<uint8_t> oracle =
+        displayPixels(renderImageAlignedSlabs(scene, r.plane, r.full, *r.slabs), r.background.data());
+    ASSERT_EQ(slabs->rgba.size(), oracle.size());
+    int fromOracle = 0, fromSheets = 0;
+    for (size_t i = 0; i < oracle.size(); ++i) {
+        fromOracle = std::max(fromOracle, std::abs(int(slabs->rgba[i]) - int(oracle[i])));
+        fromSheets = std::max(fromSheets, std::abs(int(slabs->rgba[i]) - int(sheets->rgba[i])));
+    }
+    std::printf("[ slabs    ] largest difference from the oracle's slabs %d, from the sheets %d (of 255)\n",
+                fromOracle, fromSheets);
+    EXPECT_LE(fromOracle, 1);
+    EXPECT_GE(fromSheets, 8) << "post-classified slabs are not the pre-classified sheets";
+}
+
+// Slabs the settings refuse (X-ray has no order to slice): the sheets' frame stays, the note says why,
+// and it is no error of the render thread's.
+TEST(RenderThread, SlabsASettingRefusesLeaveTheSheetsAndSayWhy) {
+    std::string why;
+    auto thread = startOrSkip(why);
+    if (!thread) {
+        if (const char* r = std::getenv("REQUIRE_GL"); r && std::string(r) == "1") FAIL() << why;
+        GTEST_SKIP() << "no headless GL context: " << why;
+    }
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(16), builtinPreset("grey-ramp"));
+    thread->setScenes(std::make_shared<const SplatScene>(scene), {});
+    ViewRequest r = request(scene, 30, ViewRequest::Levels::FullOnly);
+    r.full.compositing = Compositing::XRay;
+    r.slabs = SlabOptions{};
+    thread->waitForView(thread->requestView(r));
+    const std::optional<RenderedView> shown = thread->takeView();
+    ASSERT_TRUE(shown);
+    EXPECT_FALSE(shown->slabs);
+    EXPECT_NE(thread->slabNote().find("X-ray"), std::string::npos) << thread->slabNote();
+    EXPECT_FALSE(thread->takeError());
+}
+
+// A newer view supersedes a slab frame in flight (between its dispatches, or in its set-up): the slow slab
+// frame never shows, and the newer view's image comes well before the slab frame would have.
+TEST(RenderThread, ANewerRequestSupersedesASlabFrameInFlight) {
+    std::string why;
+    auto thread = startOrSkip(why);
+    if (!thread) {
+        if (const char* r = std::getenv("REQUIRE_GL"); r && std::string(r) == "1") FAIL() << why;
+        GTEST_SKIP() << "no headless GL context: " << why;
+    }
+    std::atomic<int> images{0};
+    thread->setOnImage([&] { ++images; });
+    const SplatScene scene = buildSplatScene(makeMarschnerLobb(32), builtinPreset("grey-ramp"));
+    thread->setScenes(std::make_shared<const SplatScene>(scene), {});
+    ViewRequest r = request(scene, 30, ViewRequest::Levels::FullOnly);
+    r.plane = makeImagePlane(Camera{.azimuthDeg = 30, .elevationDeg = 20}, scene.centre, scene.radius, 160, 160);
+    r.full.compositing = Compositing::SheetFrontToBack;
+    r.slabs = SlabOptions{.thickness = 0.2, .postClassified = true};
+    // How long the slab frame takes when nothing supersedes it.
+    auto start = std::chrono::steady_clock::now();
+    thread->waitForView(thread->requestView(r));
+    const double wholeMs = msSince(start);
+    ASSERT_TRUE(thread->takeView()->slabs);
+    // Again, superseded once its sheets are shown.
+    images = 0;
+    thread->requestView(r);
+    while (images.load() < 1) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    start = std::chrono::steady_clock::now();
+    ViewRequest newer = r;
+    newer.slabs.reset();
+    const uint64_t b = thread->requestView(newer);
+    thread->waitForView(b);
+    const double newerMs = msSince(start);
+    const std::optional<RenderedView> shown = thread->takeView();
+    ASSERT_TRUE(shown);
+    EXPECT_EQ(shown->request, b);
+    EXPECT_EQ(images.load(), 2) << "the superseded slab frame showed";
+    std::printf("[ slabs    ] whole request %.0f ms; a newer view's image %.0f ms after it was asked\n", wholeMs,
+                newerMs);
+    EXPECT_LT(newerMs, 0.5 * wholeMs);
 }

@@ -65,6 +65,7 @@ ui::EditorState unusualState() {
     s.histogramLog = false;
     s.background = {0.5f, 0.25f, 0.0f};
     s.spaceMouse = {.enabled = false, .speed = 2.5, .invertRotation = true, .invertTranslation = true};
+    s.slabs = {.enabled = true, .thickness = 0.25, .postClassified = false, .status = {}};
     s.split = {.enabled = true,
                .imagePanes = 4,
                .panes = {ui::SplitPane{renderer::FilterMode::LowPass, renderer::Compositing::XRay},
@@ -127,6 +128,9 @@ void expectSameSession(const ui::EditorState& a, const ui::EditorState& b) {
         EXPECT_EQ(a.split.panes[i].compositing, b.split.panes[i].compositing) << "pane " << i;
     }
     EXPECT_EQ(a.split.difference, b.split.difference);
+    EXPECT_EQ(a.slabs.enabled, b.slabs.enabled);
+    EXPECT_EQ(a.slabs.thickness, b.slabs.thickness);
+    EXPECT_EQ(a.slabs.postClassified, b.slabs.postClassified);
 }
 
 std::string readText(const std::filesystem::path& p) {
@@ -242,6 +246,8 @@ TEST(Session, AWrongValueAnywhereIsRefusedNamingTheFieldAndChangesNothing) {
         {R"({"splatlab_session": 1, "splatting": {"counters": 1}})", "'splatting.counters'"},
         {R"({"splatlab_session": 1, "view": {"background": [0, 2, 0]}})", "'view.background'"},
         {R"({"splatlab_session": 1, "space_mouse": {"speed": 0}})", "'space_mouse.speed'"},
+        {R"({"splatlab_session": 1, "slabs": {"thickness": 0.01}})", "'slabs.thickness'"},
+        {R"({"splatlab_session": 1, "slabs": {"post_classified": "yes"}})", "'slabs.post_classified'"},
         {R"({"splatlab_session": 1, "split": {"filter_b": "sharp"}})", "'split.filter_b'"},
         {R"({"splatlab_session": 1, "split": {"compositing_a": 2}})", "'split.compositing_a'"},
         {R"({"splatlab_session": 1, "split": {"enabled": "yes"}})", "'split.enabled'"},

@@ -12,6 +12,7 @@
 #include <imgui_internal.h> // ImGuiContext::HoveredId and FindWindowByName, to find widgets to click
 
 #include <functional>
+#include <vector>
 #include <map>
 
 namespace {
@@ -239,6 +240,12 @@ TEST_F(ImGuiNull, ClickingCompositingComboAndXrayItemSelectsXray) {
 // The Settings panel's checkbox `label`: found by hovering down its column, then clicked.
 class SettingsCheckbox : public ImGuiNull {
 protected:
+    // Tall enough that the Settings panel's every section fits without scrolling.
+    void SetUp() override {
+        ImGuiNull::SetUp();
+        windowHeight = 1200.0f;
+        ImGui::GetIO().DisplaySize = ImVec2(1280.0f, windowHeight);
+    }
     // The checkbox's row in the panel, or a negative number when the panel does not show it.
     float find(ui::EditorState& state, const char* label) {
         ImGuiID id = 0;
@@ -248,7 +255,7 @@ protected:
         };
         mouse(900.0f, 700.0f, false);
         frame(body);
-        return findItem(id, 20.0f, 0.0f, 700.0f, body);
+        return findItem(id, 20.0f, 0.0f, windowHeight, body);
     }
     // Clicks it at row y; returns whether the panel reported a settings change.
     bool click(ui::EditorState& state, float y) {
@@ -290,6 +297,28 @@ TEST_F(SettingsCheckbox, CullHiddenSplatsTurnsOcclusionCullingOffAndOnFrontToBac
     // Back to front nothing is culled, so the box is not offered.
     state.settings.compositing = renderer::Compositing::SheetBackToFront;
     EXPECT_LT(find(state, "Cull hidden splats"), 0.0f);
+}
+
+// Slabs when still: a click turns the slab frame on and off; X-ray, surface splats and the split view
+// grey it out, and a click there changes nothing.
+TEST_F(SettingsCheckbox, SlabsWhenStillTogglesAndIsGreyedOutWhereTheSlabsCannotDraw) {
+    ui::EditorState state;
+    const float y = find(state, "Slabs when still");
+    ASSERT_GE(y, 0.0f) << "no Slabs when still checkbox";
+    EXPECT_TRUE(click(state, y));
+    EXPECT_TRUE(state.slabs.enabled);
+    EXPECT_TRUE(click(state, y));
+    EXPECT_FALSE(state.slabs.enabled);
+    for (const auto& greyed : std::vector<std::function<void(ui::EditorState&)>>{
+             [](ui::EditorState& s) { s.settings.compositing = renderer::Compositing::XRay; },
+             [](ui::EditorState& s) { s.settings.surfaceFlatten = 4.0; },
+             [](ui::EditorState& s) { s.split.enabled = true; }}) {
+        ui::EditorState other;
+        greyed(other);
+        const float at = find(other, "Slabs when still");
+        EXPECT_FALSE(click(other, at >= 0.0f ? at : y));
+        EXPECT_FALSE(other.slabs.enabled);
+    }
 }
 
 // The preview toggle acts only where the app found the volume large enough to preview.

@@ -8,6 +8,7 @@
 #include "ui/file_browser.h"
 #include "ui/footprint_inspector.h"
 #include "ui/session.h"
+#include "slab_section.h"
 #include "split_viewport.h"
 #include "widgets.h"
 
@@ -24,13 +25,6 @@
 namespace ui {
 
 namespace {
-
-bool sliderDouble(const char* label, double& value, double lo, double hi, const char* format,
-                  ImGuiSliderFlags flags = 0) {
-    return numberField(label, value, [&] {
-        return ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &lo, &hi, format, flags);
-    });
-}
 
 // The axis names renderer::axisFromName() understands; an up vector that is none of them (set
 // programmatically) shows as "custom" until one is picked.
@@ -207,6 +201,9 @@ SettingsChanges drawSettingsPanel(EditorState& state) {
 
     sectionTitle("Split view");
     changes.settingsChanged |= drawSplitViewSection(state, s.compositing);
+
+    sectionTitle("Image-aligned slabs");
+    changes.settingsChanged |= drawSlabSection(state);
 
     sectionTitle("Shading and surfaces");
     ImGui::BeginDisabled(!state.gradientsReady);

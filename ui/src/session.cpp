@@ -148,6 +148,9 @@ void saveSession(const EditorState& state, const std::filesystem::path& volume, 
         j["split"]["filter_" + pane] = renderer::filterModeName(split.panes[i].filter);
         j["split"]["compositing_" + pane] = renderer::compositingName(split.panes[i].compositing);
     }
+    j["slabs"] = {{"enabled", state.slabs.enabled},
+                  {"thickness", state.slabs.thickness},
+                  {"post_classified", state.slabs.postClassified}};
     j["space_mouse"] = {{"enabled", state.spaceMouse.enabled},
                         {"speed", state.spaceMouse.speed},
                         {"invert_rotation", state.spaceMouse.invertRotation},
@@ -266,6 +269,11 @@ std::filesystem::path loadSession(const std::filesystem::path& file, EditorState
         next.split.difference = (*difference)["difference"].get<bool>() ? SplitDifference::AgainstB : SplitDifference::Off;
     else
         split.name("difference", next.split.difference, &splitDifferenceFromName);
+
+    const Section slabs(j, "slabs", name);
+    slabs.boolean("enabled", next.slabs.enabled);
+    slabs.number("thickness", next.slabs.thickness, kSlabThicknessLo, kSlabThicknessHi);
+    slabs.boolean("post_classified", next.slabs.postClassified);
 
     const Section mouse(j, "space_mouse", name);
     mouse.boolean("enabled", next.spaceMouse.enabled);

@@ -45,6 +45,14 @@ inline void numberHint(const char* text) {
         ImGui::SetTooltip("%s\nClick to type a value, drag to change it", text);
 }
 
+// A slider for a double through numberField() (a press without a drag types a value).
+inline bool sliderDouble(const char* label, double& value, double lo, double hi, const char* format,
+                         ImGuiSliderFlags flags = 0) {
+    return numberField(label, value, [&] {
+        return ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &lo, &hi, format, flags);
+    });
+}
+
 // ImGui 1.86's InputText takes a fixed buffer; this grows the std::string as the user types.
 inline bool inputPath(const char* label, std::string& text) {
     auto resize = [](ImGuiInputTextCallbackData* data) {

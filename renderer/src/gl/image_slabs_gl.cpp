@@ -11,6 +11,7 @@
 #include "renderer/oracle/slab_setup.h"
 
 #include <algorithm>
+#include <utility>
 #include <string>
 
 namespace renderer {
@@ -18,6 +19,7 @@ namespace renderer {
 namespace {
 
 constexpr int kTilePx = 8;   // the shader's local size and tile side
+constexpr int kInterruptBandTiles = 8;   // tile rows a dispatch covers when a newer view may cancel the frame
 
 // Each kernel as the shader reads it (slab_composite.comp's Kernel, std430).
 struct GpuKernel {
@@ -87,7 +89,7 @@ ImageSlabsGl::~ImageSlabsGl() { glDeleteProgram(m_program); }
 
 Image ImageSlabsGl::renderPlane(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                                 const SlabOptions& options, SlabCounters* counters) const {
-    const SlabSetup setup = prepareSlabs(scene, plane, settings, options);
+    const SlabSetup setup = prepareSlabs(scene, plane, settings, options, m_interrupt);
     const int w = plane.width, h = plane.height;
     const double ringBytes = double(w) * h * double(setup.ring) * 5 * sizeof(float);
     if (ringBytes > kGlSlabRingBudget)
@@ -99,7 +101,14 @@ Image ImageSlabsGl::renderPlane(const SplatScene& scene, const ImagePlane& plane
     std::vector<uint32_t> starts, lists;
     listTiles(setup, w, h, starts, lists);
 
-    const GLuint buffers[7] = {
+    struct Buffers {   // deleted however the frame ends (a newer view cancels it between dispatches)
+        GLuint ids[7];
+        ~Buffers() {
+            for (GLuint i = 0; i < 7; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, 0);
+            glUseProgram(0);
+            glDeleteBuffers(7, ids);
+        }
+    } owned{{
         storage(kernels.data(), kernels.size() * sizeof(GpuKernel)),
         storage(starts.data(), starts.size() * sizeof(uint32_t)),
         storage(lists.data(), lists.size() * sizeof(uint32_t)),
@@ -107,7 +116,8 @@ Image ImageSlabsGl::renderPlane(const SplatScene& scene, const ImagePlane& plane
         storage(nullptr, size_t(w) * h * sizeof(glm::vec4)),
         storage(nullptr, size_t(w) * h * sizeof(glm::uvec4)),
         storage(nullptr, size_t(ringBytes)),
-    };
+    }};
+    const GLuint* buffers = owned.ids;
     const GLuint program = m_program;
     glUseProgram(program);
     const auto at = [&](const char* name) { return glGetUniformLocation(program, name); };
@@ -141,7 +151,16 @@ Image ImageSlabsGl::renderPlane(const SplatScene& scene, const ImagePlane& plane
         glUniform1ui(at("uEntry1"), e0 + perDispatch);
         glUniform1i(at("uFirst"), e0 == 0);
         glUniform1i(at("uLast"), e0 + perDispatch >= busiest);
-        glDispatchCompute(GLuint((w + kTilePx - 1) / kTilePx), GLuint((h + kTilePx - 1) / kTilePx), 1);
+        // With an interrupt, in bands of tile rows, each waited for before the question: a post-classified
+        // dispatch over the whole image took seconds on llvmpipe, a newer view's wait.
+        const int tilesY = (h + kTilePx - 1) / kTilePx, band = m_interrupt ? kInterruptBandTiles : tilesY;
+        for (int row0 = 0; row0 < tilesY; row0 += band) {
+            glUniform1i(at("uTileRow0"), row0);
+            glDispatchCompute(GLuint((w + kTilePx - 1) / kTilePx), GLuint(std::min(band, tilesY - row0)), 1);
+            if (!m_interrupt) continue;
+            glFinish();   // so that the question comes after the band's work, not after its queueing
+            if (m_interrupt()) throw Cancelled("image-aligned slabs (GL): superseded");
+        }
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }
 
@@ -149,21 +168,15 @@ Image ImageSlabsGl::renderPlane(const SplatScene& scene, const ImagePlane& plane
     std::vector<glm::uvec4> work(size_t(w) * h);
     glGetNamedBufferSubData(buffers[4], 0, GLsizeiptr(pixels.size() * sizeof(glm::vec4)), pixels.data());
     glGetNamedBufferSubData(buffers[5], 0, GLsizeiptr(work.size() * sizeof(glm::uvec4)), work.data());
-    for (GLuint i = 0; i < 7; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, 0);
-    glUseProgram(0);
-    glDeleteBuffers(7, buffers);
 
     std::vector<double> acc(size_t(w) * h * 4);
     for (size_t i = 0; i < pixels.size(); ++i)
         for (int c = 0; c < 4; ++c) acc[4 * i + size_t(c)] = pixels[i][c];
-    compositeNearLayer(scene, plane, settings, setup.near, acc);
     if (counters) {
         *counters = setup.counters;
         for (const glm::uvec4& n : work) counters->footprintPixels += n.y, counters->slabWrites += n.z;
     }
-    Image img(w, h);
-    for (size_t i = 0; i < acc.size(); ++i) img.rgba[i] = float(acc[i]);
-    return img;
+    return imageWithNearLayer(scene, plane, settings, setup.near, std::move(acc));
 }
 
 Image ImageSlabsGl::render(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,

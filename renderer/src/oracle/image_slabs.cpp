@@ -19,6 +19,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <utility>
 #include <cstdio>
 #include <cmath>
 #include <numbers>
@@ -146,10 +147,7 @@ static Image renderSlabsOrThrow(const SplatScene& scene, const ImagePlane& plane
     if (counters) *counters = total;
 
     // The near layer in front, as renderReference composites it.
-    compositeNearLayer(scene, plane, settings, setup.near, acc);
-    Image img(w, h);
-    for (size_t i = 0; i < acc.size(); ++i) img.rgba[i] = float(acc[i]);
-    return img;
+    return imageWithNearLayer(scene, plane, settings, setup.near, std::move(acc));
 }
 
 Image renderImageAlignedSlabs(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,

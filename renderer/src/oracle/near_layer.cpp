@@ -142,4 +142,12 @@ void compositeNearLayer(const SplatScene& scene, const ImagePlane& plane, const 
     });
 }
 
+Image imageWithNearLayer(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                         const NearKernels& kernels, std::vector<double> rgba) {
+    compositeNearLayer(scene, plane, settings, kernels, rgba);
+    Image img(plane.width, plane.height);
+    for (size_t i = 0; i < rgba.size(); ++i) img.rgba[i] = float(rgba[i]);
+    return img;
+}
+
 } // namespace renderer

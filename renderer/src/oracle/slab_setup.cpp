@@ -54,7 +54,7 @@ void requireSlabSupersample(int supersample) {
 }
 
 SlabSetup prepareSlabs(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
-                       const SlabOptions& options) {
+                       const SlabOptions& options, const std::function<bool()>& interrupted) {
     const double thickness = options.thickness;
     const bool post = options.postClassified;
     if (settings.compositing == Compositing::XRay)
@@ -86,6 +86,9 @@ SlabSetup prepareSlabs(const SplatScene& scene, const ImagePlane& plane, const S
     std::vector<SlabSplat> splats(visible.size());
     tbb::combinable<SplatCounters> perThread;
     tbb::parallel_for(size_t(0), visible.size(), [&](size_t k) {
+        constexpr size_t kInterruptEvery = 4096;   // kernels: the check takes a lock, a kernel microseconds
+        if (interrupted && k % kInterruptEvery == 0 && interrupted())
+            throw Cancelled("image-aligned slabs: superseded");
         const uint32_t voxel = visible[k];
         FilterMode m = settings.filter;
         if (m == FilterMode::Adaptive) {

@@ -65,6 +65,18 @@ struct PreviewSettings {
     bool moving(double now) const { return lastInput && now - *lastInput < kSettleS; }
 };
 
+// Settings > Image-aligned slabs: a still view's full frame drawn again in slabs parallel to the image
+// (renderer/oracle/image_slabs.h; pre- or post-classified, shaded as the view), which replaces the sheets'
+// image once done. Seconds a frame on a CPU driver, so the sheets show while the view moves.
+struct SlabView {
+    bool enabled = false;
+    double thickness = 0.5;        // voxel spacings (mean spacing): docs/accuracy.md's thickness curve
+    bool postClassified = true;    // the TF applied to the reconstructed value, not to each voxel
+    std::string status;            // the last slab frame's time, or why the sheets show (set by the app)
+};
+// What the slabs take, in the editor's ranges (the Settings panel's slider, sessions).
+constexpr double kSlabThicknessLo = 0.1, kSlabThicknessHi = 4.0;
+
 // A file dropped on the window, waiting for the panel whose button opens such a file (dropFile).
 enum class FileAction { None, OpenVolume, OpenSession, LoadTransferFunction };
 
@@ -106,6 +118,7 @@ struct EditorState {
     double heatmapOpacity = 1.0;     // ...blended: 0 the image only, 1 the heatmap only
     int measureRepeats = 5;          // Filters > Measure: timed frames of each setting (median, p10, p90)
     SplitView split;                 // the viewport in panes, each with its own filter (split_view.h)
+    SlabView slabs;                  // a still view refined with image-aligned slabs
     std::optional<RegimeTour> tour;  // the camera dollying near to far and back (Filters panel); none: still
     // Files: the volume shown (set by the app once it loaded), and the Files section's path fields.
     std::filesystem::path loadedVolume;

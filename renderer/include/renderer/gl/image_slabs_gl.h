@@ -10,6 +10,8 @@
 #pragma once
 #include "renderer/oracle/image_slabs.h"
 
+#include <functional>
+
 namespace renderer {
 
 // Bytes of the slabs every pixel holds open at once (5 floats a slab; a pixel holds as many as one
@@ -27,11 +29,17 @@ public:
     Image render(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                  const SlabOptions& options, SlabCounters* counters = nullptr) const;
 
+    // Asked during the set-up and after each band of 8 tile rows of a dispatch (each band then waits for
+    // the GPU: a whole post-classified dispatch took seconds on llvmpipe): once it returns true
+    // render() throws Cancelled. An editor's newer view supersedes a slab frame this way.
+    void setInterrupt(std::function<bool()> interrupted) { m_interrupt = std::move(interrupted); }
+
 private:
     Image renderPlane(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                       const SlabOptions& options, SlabCounters* counters) const;
     unsigned int m_program = 0;
     uint32_t m_loopLimit = 0;   // iterations the driver lets a shader's loops run (0: no limit)
+    std::function<bool()> m_interrupt;
 };
 
 } // namespace renderer

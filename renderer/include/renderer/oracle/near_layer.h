@@ -9,6 +9,7 @@
 // (renderer/shaders/near_kernels.comp, near_layer.frag). It does not filter with V_h: near kernels
 // are many pixels wide.
 #pragma once
+#include "renderer/io/image.h"
 #include "renderer/math/camera.h"
 #include "renderer/model/splat_scene.h"
 #include "renderer/model/splat_settings.h"
@@ -94,5 +95,9 @@ NearSums nearLayerSums(const SplatScene& scene, const ImagePlane& plane, const S
 // compositing, added to X-ray's sums instead. Parallel over rows; nothing without kernels.
 void compositeNearLayer(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
                         const NearKernels& kernels, std::vector<double>& rgba);
+// compositeNearLayer over `rgba` (width x height of the plane), as a float image: how the image-aligned
+// slabs, on the CPU and on the GL, finish.
+Image imageWithNearLayer(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
+                         const NearKernels& kernels, std::vector<double> rgba);
 
 } // namespace renderer

@@ -5,6 +5,8 @@
 #include "renderer/oracle/image_slabs.h"
 #include "renderer/oracle/near_layer.h"
 
+#include <functional>
+
 namespace renderer {
 
 struct SlabSplat {
@@ -34,8 +36,9 @@ struct SlabSetup {
 // Throws RenderError for a supersample outside 0..kMaxSlabSupersample, naming it.
 void requireSlabSupersample(int supersample);
 
-// Throws RenderError as renderImageAlignedSlabs does (all but the supersample and the CPU's ring budget).
+// Throws RenderError as renderImageAlignedSlabs does (all but the supersample and the CPU's ring budget);
+// Cancelled once `interrupted` (asked every few thousand kernels, from worker threads) says so.
 SlabSetup prepareSlabs(const SplatScene& scene, const ImagePlane& plane, const SplatSettings& settings,
-                       const SlabOptions& options);
+                       const SlabOptions& options, const std::function<bool()>& interrupted = {});
 
 } // namespace renderer
