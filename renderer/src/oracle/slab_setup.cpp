@@ -6,6 +6,7 @@
 #include "renderer/math/ewa.h"
 #include "renderer/math/shading.h"
 #include "renderer/model/post_classification.h"
+#include "renderer/oracle/post_reach.h"
 
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
@@ -80,9 +81,13 @@ SlabSetup prepareSlabs(const SplatScene& scene, const ImagePlane& plane, const S
 
     // Each visible kernel's footprint and depth law, in slab units. Post-classified every kernel is
     //    "visible": a transparent voxel's value still pulls the mean down.
+    //    Those whose whole neighbourhood is transparent change no pixel (post_reach.h): skipped.
+    const std::vector<uint8_t> nearVisible = post && options.cullTransparent
+                                                 ? kernelsNearVisible(scene, postReach(scene, plane, settings, slabUnits))
+                                                 : std::vector<uint8_t>{};
     std::vector<uint32_t> visible;
     for (uint32_t voxel = 0; voxel < uint32_t(scene.classes.size()); ++voxel)
-        if (post || scene.opacityOf(voxel) > 0.0f) visible.push_back(voxel);
+        if (post ? nearVisible.empty() || nearVisible[voxel] : scene.opacityOf(voxel) > 0.0f) visible.push_back(voxel);
     std::vector<SlabSplat> splats(visible.size());
     tbb::combinable<SplatCounters> perThread;
     tbb::parallel_for(size_t(0), visible.size(), [&](size_t k) {
@@ -124,6 +129,7 @@ SlabSetup prepareSlabs(const SplatScene& scene, const ImagePlane& plane, const S
     out.stride = !post ? 4 : out.shaded ? 5 : 2;
     SlabCounters& total = out.counters;
     total.splats.visible = visible.size();
+    if (!nearVisible.empty()) total.skippedTransparent = scene.classes.size() - visible.size();
     perThread.combine_each([&](const SplatCounters& c) { addCounters(total.splats, c); });
     total.slabs = out.splats.empty() ? 0 : uint64_t(out.back - out.front + 1);
     out.near = findNearKernels(scene, plane, settings);

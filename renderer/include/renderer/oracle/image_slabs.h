@@ -22,7 +22,8 @@
 // shading, early termination and the near layer as renderReference.
 //
 // Post-classified (post_classification.h): every kernel, transparent or not, adds its value times its
-// weight and its weight (the footprint's line integral through the slab) to the slab; the slab's mean
+// weight and its weight (the footprint's line integral through the slab) to the slab (but for those
+// whose whole neighbourhood the TF leaves transparent, which change no pixel: post_reach.h); the slab's mean
 // value is classified by the TF, and its optical depth is the TF's extinction there times the weight.
 // Shaded, each slab's classified colour is lit with the slab's mean gradient (the kernels' voxel
 // gradients summed like the values) from the pixel's ray: post_classification.h. Its truth is
@@ -45,6 +46,8 @@ struct SlabCounters {
     uint64_t footprintPixels = 0;  // (kernel, pixel) pairs inside the cutoff: what one sheet writes
     uint64_t slabWrites = 0;       // (kernel, slab, pixel) sums written: each footprint pixel once per slab
                                    // the kernel reaches there
+    uint64_t skippedTransparent = 0;   // post-classified kernels skipped: all within reach transparent
+                                       // (post_reach.h)
 };
 
 struct SlabOptions {
@@ -54,6 +57,8 @@ struct SlabOptions {
                                    // V_h filter (pixel_filter.h), the post-classified truth's own pixel
                                    // filter: its silhouettes and thin TF bands are finer than a pixel.
                                    // S^2 the work; reconstruction-only then leaves V_h to the resolve
+    bool cullTransparent = true;   // post-classified: skip kernels whose neighbourhood the TF leaves wholly
+                                   // transparent (post_reach.h; the same image). false: the baseline
 };
 constexpr int kMaxSlabSupersample = 4;
 
