@@ -217,6 +217,7 @@ class EditorLoop {
         double heatmapOpacity = 0.0;   // the heatmap over the image, as the viewport blends it
         std::future<std::pair<renderer::Image, renderer::Image>> images;   // image, heatmap (0 x 0: none)
         std::future<SplitImage> split;                                     // instead, in a split view
+        bool slabs = false;                                                // the image is the slab frame
     };
     std::optional<PendingSave> m_save;
     std::optional<std::future<std::vector<uint8_t>>> m_patchModes;

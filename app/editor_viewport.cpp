@@ -312,7 +312,8 @@ void EditorLoop::startSaveView(const std::filesystem::path& path) {
         ViewRequest view = viewRequest();
         const double opacity = view.heatmap ? std::clamp(m_state.heatmapOpacity, 0.0, 1.0) : 0.0;
         if (!view.others.empty()) {
-            m_save = PendingSave{.path = path, .heatmapOpacity = 0.0, .images = {}, .split = startSaveSplitView(view)};
+            m_save = PendingSave{
+                .path = path, .heatmapOpacity = 0.0, .images = {}, .split = startSaveSplitView(view), .slabs = false};
             return;
         }
         // As the view ends: in slabs where it does (a setting they refuse is said, not saved as sheets).
@@ -325,7 +326,7 @@ void EditorLoop::startSaveView(const std::filesystem::path& path) {
                                                        : r.full->readback();
                 return std::pair{std::move(image), opacity > 0.0 ? r.full->readbackHeatmap() : renderer::Image()};
             }),
-            {}};
+            {}, view.slabs.has_value()};
     });
 }
 
@@ -353,7 +354,8 @@ std::optional<std::string> EditorLoop::finishSaveView(bool wait) {
         char what[48] = "";
         if (save.heatmapOpacity >= 1.0) std::snprintf(what, sizeof what, " (heatmap)");
         else if (save.heatmapOpacity > 0.0) std::snprintf(what, sizeof what, " (heatmap at %.2f)", save.heatmapOpacity);
-        written = std::to_string(shown.width) + " x " + std::to_string(shown.height) + what;
+        written = std::to_string(shown.width) + " x " + std::to_string(shown.height) + what +
+                  (save.slabs && save.heatmapOpacity < 1.0 ? " (image-aligned slabs)" : "");
         m_state.imageSaved = "wrote " + save.path.filename().string() + ", " + *written;
         m_state.saveNotice = ui::savedNotice(save.path, *written);
         ui::noteRecentFile(m_state, ui::FileKind::Image, save.path);

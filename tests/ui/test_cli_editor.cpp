@@ -306,6 +306,7 @@ TEST(Cli, TheEditorEndsAStillViewInSlabsAndSavesThemAsRenderDrawsThem) {
                               "\" editor --session \"" + session.string() + "\" --size 1280x800 --frames 4 --save-image \"" +
                               saved.string() + "\" 2>&1");
     ASSERT_EQ(e.status, 0) << e.output;
+    EXPECT_THAT(e.output, HasSubstr("(image-aligned slabs)")) << "the note of what was saved";
     const renderer::Image fromEditor = renderer::readImage(saved);
     const std::string size = " --size " + std::to_string(fromEditor.width) + "x" + std::to_string(fromEditor.height);
     for (const auto& [out, flags] : {std::pair{slabs, " --image-slabs 1"}, std::pair{sheets, ""}}) {
