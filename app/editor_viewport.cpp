@@ -4,6 +4,7 @@
 #include "editor_loop.h"
 
 #include "heatmap_blend.h"
+#include "slab_frames.h"
 #include "renderer/io/image.h"
 #include "renderer/model/detail_levels.h"
 #include "renderer/oracle/demo_scenes.h"
@@ -191,14 +192,11 @@ ViewRequest EditorLoop::viewRequest() const {
 }
 
 std::optional<renderer::SlabOptions> EditorLoop::slabsOfView() const {
-    // Not where no frame rests: a preview, a window still dragged, continuous rendering; nor what the
-    // Settings panel greys out (slab_section.cpp).
-    const ui::SlabView& slabs = m_state.slabs;
-    const renderer::SplatSettings& s = m_state.settings;
-    if (!slabs.enabled || m_options.preview || m_fullWindowStale || m_state.perf.renderContinuously ||
-        m_state.split.enabled || s.compositing == renderer::Compositing::XRay || s.surfaceFlatten > 1.0)
+    // Not where no frame rests: a preview, a window still dragged, continuous rendering, a split view (the
+    // Settings panel greys the section out for it, slab_section.cpp).
+    if (m_options.preview || m_fullWindowStale || m_state.perf.renderContinuously || m_state.split.enabled)
         return std::nullopt;
-    return renderer::SlabOptions{.thickness = slabs.thickness, .postClassified = slabs.postClassified};
+    return slabsOfStillView(m_state.slabs, m_state.settings);
 }
 
 int EditorLoop::farViewLevel(const ViewRequest& request) {

@@ -25,3 +25,8 @@ std::string slabsText(const renderer::SlabOptions& options) {
                   ss > 0 ? (", " + std::to_string(ss) + "x" + std::to_string(ss) + " samples a pixel").c_str() : "");
     return text;
 }
+
+std::optional<renderer::SlabOptions> slabsOfStillView(const ui::SlabView& slabs, const renderer::SplatSettings& s) {
+    if (!slabs.enabled || s.compositing == renderer::Compositing::XRay || s.surfaceFlatten > 1.0) return std::nullopt;
+    return renderer::SlabOptions{.thickness = slabs.thickness, .postClassified = slabs.postClassified};
+}

@@ -4,8 +4,10 @@
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/image_slabs_gl.h"
 #include "renderer/oracle/image_slabs.h"
+#include "ui/editor_state.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 
 class SlabFrames {
@@ -24,3 +26,7 @@ private:
 
 // "image-aligned slabs 0.25 voxels thick, post-classified, 2x2 samples a pixel": what the frames composite.
 std::string slabsText(const renderer::SlabOptions& options);
+
+// The slabs a still view ends in (Settings > Image-aligned slabs), in the editor and in `render --session`:
+// none when they are off, for X-ray (order-free: no slabs) or for surface splats (which they do not model).
+std::optional<renderer::SlabOptions> slabsOfStillView(const ui::SlabView& slabs, const renderer::SplatSettings& s);

@@ -289,7 +289,7 @@ TEST(Cli, TheEditorWithoutAVolumeOpensTheBundledBonsaiFramedInItsPresetAndLit) {
 }
 
 // Settings > Image-aligned slabs on (from a session): the still view ends in slabs, and Save image writes
-// them, as `render --session --image-slabs` draws the same view.
+// them, as `render --session` draws the same view (and `--image-slabs 0` the session's sheets).
 TEST(Cli, TheEditorEndsAStillViewInSlabsAndSavesThemAsRenderDrawsThem) {
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "xvfb-run not found (On Debian/Ubuntu: apt install xvfb xauth)";
@@ -309,11 +309,16 @@ TEST(Cli, TheEditorEndsAStillViewInSlabsAndSavesThemAsRenderDrawsThem) {
     EXPECT_THAT(e.output, HasSubstr("(image-aligned slabs)")) << "the note of what was saved";
     const renderer::Image fromEditor = renderer::readImage(saved);
     const std::string size = " --size " + std::to_string(fromEditor.width) + "x" + std::to_string(fromEditor.height);
-    for (const auto& [out, flags] : {std::pair{slabs, " --image-slabs 1"}, std::pair{sheets, ""}}) {
+    for (const auto& [out, flags] : {std::pair{slabs, ""}, std::pair{sheets, " --image-slabs 0"}}) {
         const CliRun r = splatlab("render --session \"" + session.string() + "\"" + size + flags +
                                   " --frames 1 -o \"" + out.string() + "\"");
         ASSERT_EQ(r.status, 0) << r.output;
+        EXPECT_EQ(r.output.find("image-aligned slabs 1 voxels thick") != std::string::npos, out == slabs) << r.output;
     }
+    const CliRun heat = splatlab("render --session \"" + session.string() + "\" --heatmap \"" +
+                                 (dir / "slab_heat.png").string() + "\" -o \"" + (dir / "slab.png").string() + "\"");
+    EXPECT_NE(heat.status, 0);
+    EXPECT_THAT(heat.output, HasSubstr("the session's image-aligned slabs draw no heatmap (--image-slabs 0"));
     const renderer::Image fromCli = renderer::readImage(slabs);
     ASSERT_EQ(fromCli.rgba.size(), fromEditor.rgba.size());
     EXPECT_GT(renderer::imageStats(fromEditor).coveredFraction, 0.1);
