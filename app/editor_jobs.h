@@ -214,23 +214,31 @@ struct ClassifyJob : WorkerJob<Classified> {
 
 // The Filters panel's "Measure": the ground truths of the view's centre crop on the worker (cached on
 // disk), then, one setting a UI frame, each filter x compositing mode (speed_error.h) timed on the whole
-// view `repeats` times and compared on the crop.
+// view `repeats` times and compared on the crop; where the still view ends in image-aligned slabs, those
+// slabs last (against the post-classified truth where they post-classify).
 // It works on a copy of the scene: a TF edit changes the document's while the worker reads.
 struct FilterComparisonJob {
     renderer::SplatScene scene;
     renderer::ImagePlane view, crop;
     renderer::SplatSettings settings;
     std::vector<renderer::SplatSettings> toMeasure; // speedErrorSettings(settings)
-    size_t measured = 0;                            // settings of toMeasure measured so far
+    std::optional<renderer::SlabOptions> slabs;     // the slabs in force, measured after toMeasure
+    size_t measured = 0;                            // of toMeasure, then the slabs, measured so far
+    // Set as the job ends (a cancel, any edit of the view): a slab frame being timed stops (seconds each on
+    // llvmpipe) instead of holding the render thread.
+    std::shared_ptr<std::atomic<bool>> ended = std::make_shared<std::atomic<bool>>(false);
     WorkerJob<renderer::CropTruths> truth;          // last: destroyed (joined) before the scene it reads
 
     FilterComparisonJob(const renderer::SplatScene& s, const renderer::ImagePlane& v,
-                        const renderer::SplatSettings& set)
+                        const renderer::SplatSettings& set, std::optional<renderer::SlabOptions> slabsInForce)
         : scene(s), view(v), crop(renderer::centreCrop(v, renderer::kComparisonCropPx)), settings(set),
-          toMeasure(renderer::speedErrorSettings(set)) {
+          toMeasure(renderer::speedErrorSettings(set)), slabs(slabsInForce) {
         truth.subject = renderer::volumeSubject(s.name) + "'s ground truth";
         truth.start([this](const renderer::ProgressCallback& progress) {
-            return renderer::cropTruths(scene, crop, settings, {}, renderer::defaultGroundTruthCacheDir(), progress);
+            return renderer::cropTruths(scene, crop, settings, {}, renderer::defaultGroundTruthCacheDir(), progress,
+                                        slabs && slabs->postClassified);
         });
     }
+    ~FilterComparisonJob() { *ended = true; }
+    size_t settingsToMeasure() const { return toMeasure.size() + (slabs ? 1 : 0); }
 };

@@ -1,6 +1,7 @@
 // The ImGui frame: the docked panels with what each is shown, the modals, and what their edits ask of the
 // next frame (a render, the preview, the probe). The panels themselves are in ui/.
 #include "editor_loop.h"
+#include "slab_frames.h"
 
 #include "renderer/oracle/probe.h"
 
@@ -70,8 +71,9 @@ std::vector<ui::DockPanel> EditorLoop::makePanels() {
                            .measurementsStale = m_measurementsStale,
                            .truthProgress = m_comparison ? m_comparison->truth.fraction.load() : 0.0,
                            .settingsToMeasure = m_comparison && m_comparison->truth.done
-                                                    ? m_comparison->toMeasure.size()
-                                                    : 0});
+                                                    ? m_comparison->settingsToMeasure()
+                                                    : 0,
+                           .slabsInForce = slabsOfStillView(m_state.slabs, m_state.settings).has_value()});
          }},
         {"Help", "bottom", [] { ui::drawHelpPanel(); }},
     };

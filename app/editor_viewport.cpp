@@ -84,7 +84,8 @@ void EditorLoop::stepFilterMeasurement() {
     if (m_filtersChanges.measure && m_hasScene && m_lastPlane && !m_comparison) {
         m_measurements.clear();
         m_measurementsStale = false;
-        m_comparison = std::make_unique<FilterComparisonJob>(m_doc.scene, *m_lastPlane, m_state.settings);
+        m_comparison = std::make_unique<FilterComparisonJob>(m_doc.scene, *m_lastPlane, m_state.settings,
+                                                             slabsOfStillView(m_state.slabs, m_state.settings));
     }
     if (!m_comparison) return m_measurement.reset();
     if (!m_comparison->truth.done) return;
@@ -101,10 +102,22 @@ void EditorLoop::stepFilterMeasurement() {
         m_measurement.reset();
         m_renderPending = true; // the crop replaced the view's targets: the view again
     }
-    if (m_comparison->measured == m_comparison->toMeasure.size()) return m_comparison.reset();
-    const renderer::SplatSettings& settings = m_comparison->toMeasure[m_comparison->measured++];
-    m_measurement = m_render->run([view = m_comparison->view, crop = m_comparison->crop,
-                                   truth = m_comparison->truth.result->of(settings), settings,
+    FilterComparisonJob& job = *m_comparison;
+    if (job.measured == job.settingsToMeasure()) return m_comparison.reset();
+    if (job.measured == job.toMeasure.size()) { // the slabs in force, on the render thread's slab pass
+        ++job.measured;
+        m_measurement = m_render->run([view = job.view, crop = job.crop, truth = job.truth.result->ofSlabs(*job.slabs),
+                                       settings = job.settings, slabs = *job.slabs, ended = job.ended,
+                                       repeats = m_state.measureRepeats](Renderers& r) {
+            const auto draw = [&](const renderer::ImagePlane& p) {
+                return r.slabs.render(p, settings, slabs, [&] { return ended->load(); });
+            };
+            return renderer::measureSlabs(draw, view, crop, truth, settings, slabs, repeats);
+        });
+        return;
+    }
+    const renderer::SplatSettings& settings = job.toMeasure[job.measured++];
+    m_measurement = m_render->run([view = job.view, crop = job.crop, truth = job.truth.result->of(settings), settings,
                                    repeats = m_state.measureRepeats](Renderers& r) {
         return renderer::measureSetting(*r.full, view, crop, truth, settings, repeats);
     });

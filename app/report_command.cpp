@@ -10,11 +10,13 @@
 #include "renderer/errors.h"
 #include "renderer/gl/driver_profile.h"
 #include "renderer/gl/gl_context.h"
+#include "renderer/gl/image_slabs_gl.h"
 #include "renderer/io/atomic_file.h"
 #include "renderer/io/volume_io.h"
 #include "renderer/model/window.h"
 #include "renderer/oracle/demo_scenes.h"
 #include "renderer/oracle/speed_error.h"
+#include "ui/speed_error_chart.h"
 
 #include <epoxy/gl.h>
 #include <sys/utsname.h>
@@ -51,8 +53,13 @@ std::string machineDescription() {
     return text + ", " + std::to_string(std::thread::hardware_concurrency()) + " threads";
 }
 
-// A file-name-safe form of a setting: "ewa_sheet-front-to-back".
+// A file-name-safe form of a setting: "ewa_sheet-front-to-back", "ewa_slabs-0.5-post".
 std::string settingFileName(const FilterMeasurement& m) {
+    if (m.slabThickness > 0.0) {
+        char text[64];
+        std::snprintf(text, sizeof text, "_slabs-%g%s", m.slabThickness, m.postClassified ? "-post" : "");
+        return filterModeName(m.filter) + std::string(text);
+    }
     return std::string(filterModeName(m.filter)) + "_" + compositingName(m.compositing);
 }
 
@@ -84,9 +91,20 @@ ReportSection measureScan(SplatRenderer& gl, const ReportArgs& a, const fs::path
     // 2. The crop's ground truths (cached), 3. the measurement.
     std::fprintf(stderr, "%s: ground truth of the centre %d x %d px\n", s.name.c_str(), crop.width,
                  crop.height);
-    const CropTruths truths = cropTruths(scene, crop, s.current, {}, cacheDir, printProgress);
+    const std::optional<SlabOptions> slabs =
+        a.slabThickness > 0.0 ? std::optional(SlabOptions{.thickness = a.slabThickness, .postClassified = a.postClassify})
+                              : std::nullopt;
+    const CropTruths truths = cropTruths(scene, crop, s.current, {}, cacheDir, printProgress,
+                                         slabs && slabs->postClassified);
     gl.setScene(scene);
     s.points = measureSpeedAgainstError(gl, view, crop, truths, s.current, a.repeats);
+    Image slabCrop;   // --image-slabs: their row last, in the settings in force
+    if (slabs) {
+        const ImageSlabsGl pass;
+        const auto draw = [&](const ImagePlane& p) { return pass.render(scene, p, s.current, *slabs); };
+        s.points.push_back(measureSlabs(draw, view, crop, truths.ofSlabs(*slabs), s.current, *slabs, a.repeats));
+        slabCrop = draw(crop);
+    }
     // 4. Thumbnails: the view, the crop's truth and each setting's crop.
     s.viewImage = tag + "_view.png";
     gl.render(view, s.current);
@@ -98,9 +116,12 @@ ReportSection measureScan(SplatRenderer& gl, const ReportArgs& a, const fs::path
         gl.render(crop, setting);
         writeImage(gl.readback(), out / s.cropImages.back());
     }
+    if (slabs) {
+        s.cropImages.push_back(tag + "_" + settingFileName(s.points.back()) + ".png");
+        writeImage(slabCrop, out / s.cropImages.back());
+    }
     for (const FilterMeasurement& m : s.points)
-        std::printf("%s | %s | %.3f ms (p10 %.3f, p90 %.3f) | %.3f dB\n", s.name.c_str(),
-                    (std::string(filterModeName(m.filter)) + ", " + compositingName(m.compositing)).c_str(),
+        std::printf("%s | %s | %.3f ms (p10 %.3f, p90 %.3f) | %.3f dB\n", s.name.c_str(), ui::settingLabel(m).c_str(),
                     m.frameMs, m.p10Ms, m.p90Ms, m.psnrDb);
     return s;
 }
@@ -128,11 +149,18 @@ CLI::App* addReportCommand(CLI::App& app, ReportArgs& a) {
                     "Transfer function: a preset name or a JSON file (default: the preset named like "
                     "the volume, else ct-skin-bone)");
     cmd->add_option("--cache", a.cache, "Ground-truth cache folder (default: ~/.cache/splatlab/reference)");
+    cmd->add_option("--image-slabs", a.slabThickness, "Also time image-aligned slabs this many voxels thick in the "
+                                                      "settings in force (GL), their row last")
+        ->check(CLI::Range(kMinSlabThickness, kMaxSlabThickness));
+    cmd->add_flag("--post-classify", a.postClassify, "With --image-slabs: post-classified, against the "
+                                                     "post-classified truth");
     return cmd;
 }
 
 int runReport(const ReportArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
+    if (a.postClassify && a.slabThickness == 0.0)
+        throw CLI::ValidationError("--post-classify", "applies to image-aligned slabs: give --image-slabs THICKNESS");
     // Every input checked before the first measurement: the volumes exist, the folder takes files.
     const glm::ivec2 size = parseSize(a.size, "--size");
     const Camera camera = parseCamera(a.camera);

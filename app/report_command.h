@@ -16,6 +16,8 @@ struct ReportArgs {
     std::string up = "z";   // the axis shown upwards: one for every volume, or one per volume (y,z,-z)
     std::string tf;    // empty: the preset named like the volume (bonsai, headsq), else ct-skin-bone
     std::string cache; // ground-truth cache (empty: the default, ground_truth.h)
+    double slabThickness = 0.0;   // --image-slabs: also time these image-aligned slabs (0: none)
+    bool postClassify = false;    // --post-classify: the slabs post-classified, against their own truth
 };
 
 CLI::App* addReportCommand(CLI::App& app, ReportArgs& args);

@@ -55,6 +55,12 @@ std::string marker(const ui::PointStyle& s, double r) {
     case ui::PointStyle::Triangle:
         return "<polygon points=\"0," + fmt("%.1f", -d) + " " + fmt("%.1f", 1.2 * r) + "," + fmt("%.1f", r) +
                " " + fmt("%.1f", -1.2 * r) + "," + fmt("%.1f", r) + "\" " + fill + "/>";
+    case ui::PointStyle::Hexagon: {
+        std::string points;
+        for (int k = 0; k < 6; ++k)
+            points += fmt("%.1f", 1.2 * r * std::cos(k * M_PI / 3.0)) + "," + fmt("%.1f", 1.2 * r * std::sin(k * M_PI / 3.0)) + " ";
+        return "<polygon points=\"" + points + "\" " + fill + "/>";
+    }
     }
     return "";
 }
@@ -211,7 +217,7 @@ std::string reportSummaryMarkdown(const ReportPage& page) {
         for (renderer::FilterMode f : kFilters) {
             std::string cell = " - ";
             for (const renderer::FilterMeasurement& m : s.points)
-                if (m.filter == f && m.compositing == shown)
+                if (m.filter == f && m.compositing == shown && m.slabThickness == 0.0)
                     cell = " " + fmt("%.2f", m.frameMs) + " ms, " + fmt("%.2f", m.psnrDb) + " dB ";
             md << cell << "|";
         }

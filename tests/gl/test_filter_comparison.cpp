@@ -6,7 +6,9 @@
 #include "image_compare.h"
 #include "test_paths.h"
 
+#include "renderer/gl/image_slabs_gl.h"
 #include "renderer/oracle/filter_comparison.h"
+#include "renderer/oracle/image_slabs.h"
 #include "renderer/oracle/speed_error.h"
 #include "renderer/oracle/ground_truth.h"
 #include "renderer/math/metrics.h"
@@ -21,6 +23,19 @@ namespace {
 TransferFunction opaqueRamp() {
     return fromSharedPoints("ramp", {{0.0, {0.1, 0.1, 0.1}, 0.3}, {1.0, {1.0, 1.0, 1.0}, 0.9}});
 }
+
+// What the speed-against-error tests measure: a Marschner-Lobb block under an opaque ramp, a 32x24 view of
+// it and that view's centre 10 x 10 px, at density 0.3.
+struct MeasuredView {
+    SplatScene scene = buildSplatScene(makeMarschnerLobb(12), opaqueRamp());
+    ImagePlane view = makeImagePlane(Camera{}, scene.centre, scene.radius, 32, 24);
+    ImagePlane crop = centreCrop(view, 10);
+    SplatSettings settings = [] {
+        SplatSettings s;
+        s.density = 0.3;
+        return s;
+    }();
+};
 
 } // namespace
 
@@ -93,11 +108,8 @@ TEST_F(GlTest, EachFiltersErrorIsItsCropAgainstTheGroundTruthAndMinifiedReconstr
 TEST_F(GlTest, SpeedAgainstErrorTimesEverySettingWithRepeatsAndTakesEachErrorAgainstItsOwnTruth) {
     // 16 settings, each timed `repeats` times, in speedErrorSettings' order; X-ray against X-ray's truth,
     // the others against the attenuating one.
-    const SplatScene scene = buildSplatScene(makeMarschnerLobb(12), opaqueRamp());
-    const ImagePlane view = makeImagePlane(Camera{}, scene.centre, scene.radius, 32, 24);
-    const ImagePlane crop = centreCrop(view, 10);
-    SplatSettings base;
-    base.density = 0.3;
+    const MeasuredView measured;
+    const auto& [scene, view, crop, base] = measured;
     const std::filesystem::path cache = testing_support::testOutputDir("speed_error_cache");
     const CropTruths truths = cropTruths(scene, crop, base, {}, cache);
     SplatSettings xray = base;
@@ -121,5 +133,38 @@ TEST_F(GlTest, SpeedAgainstErrorTimesEverySettingWithRepeatsAndTakesEachErrorAga
         const ImageError e = cropError(gl, crop, truths.of(settings[i]), settings[i]);
         EXPECT_NEAR(m.psnrDb, e.psnrDb, 1e-3) << what;
         EXPECT_LT(m.rmse, 0.1) << what << ": compared with another setting's truth?";
+    }
+}
+
+TEST_F(GlTest, SlabsAreMeasuredAgainstTheirOwnTruthPostClassifiedAgainstThePostClassifiedOne) {
+    // The editor's Measure with Settings > Image-aligned slabs on: the slabs in force timed on the view and
+    // their crop compared with the truth of their model, the post-classified one where they post-classify.
+    MeasuredView measured;
+    measured.settings.compositing = Compositing::SheetFrontToBack;
+    const auto& [scene, view, crop, settings] = measured;
+    const CropTruths truths =
+        cropTruths(scene, crop, settings, {}, testing_support::testOutputDir("speed_error_cache"), {}, true);
+    GroundTruthOptions post;
+    post.postClassified = true;
+    EXPECT_LT(compareImages(truths.postClassified, renderGroundTruth(scene, crop, settings, post)).maxAbs, 1e-6);
+    ImageSlabsGl pass;
+    for (const bool postClassified : {false, true}) {
+        const SlabOptions slabs{.thickness = 0.5, .postClassified = postClassified};
+        int drawn = 0;
+        const auto draw = [&](const ImagePlane& p) { return ++drawn, pass.render(scene, p, settings, slabs); };
+        const FilterMeasurement m = measureSlabs(draw, view, crop, truths.ofSlabs(slabs), settings, slabs, 3);
+        EXPECT_EQ(drawn, 4) << "three timed frames of the view, then the crop";
+        EXPECT_EQ(m.frames, 3);
+        EXPECT_EQ(m.slabThickness, 0.5);
+        EXPECT_EQ(m.postClassified, postClassified);
+        EXPECT_LE(m.p10Ms, m.frameMs);
+        EXPECT_LE(m.frameMs, m.p90Ms);
+        const ImageError own = compareImages(renderImageAlignedSlabs(scene, crop, settings, slabs), truths.ofSlabs(slabs));
+        EXPECT_NEAR(m.psnrDb, own.psnrDb, 0.05) << "GL's crop, within the GL-oracle tolerance of the oracle's";
+        const ImageError other = compareImages(pass.render(scene, crop, settings, slabs),
+                                               postClassified ? truths.attenuating : truths.postClassified);
+        EXPECT_GT(m.psnrDb, other.psnrDb + 3.0) << "closer to its own model's truth than to the other's";
+        std::printf("[ slab measure ] %s: %.2f dB against its truth, %.2f dB against the other\n",
+                    postClassified ? "post-classified" : "pre-classified", m.psnrDb, other.psnrDb);
     }
 }

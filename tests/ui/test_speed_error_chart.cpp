@@ -117,6 +117,42 @@ TEST_F(ImGuiNull, TheFiltersPanelsChartPutsEachMeasurementWhereItsFiguresSay) {
     }
 }
 
+TEST_F(ImGuiNull, TheSlabsInForceAreTheRingedPointAndPostClassifiedSlabsAFrontOfTheirOwn) {
+    // Settings > Image-aligned slabs on: Measure's last point is the slabs in force (EWA, sheets front to back,
+    // 0.5 voxels, post-classified), drawn as a hexagon and ringed; the sheets of the same filter are not.
+    windowWidth = 955.0f, windowHeight = 260.0f;
+    ui::EditorState state;
+    state.settings.filter = renderer::FilterMode::Ewa;
+    state.settings.compositing = renderer::Compositing::SheetFrontToBack;
+    const renderer::ImagePlane plane = renderer::makeImagePlane(renderer::Camera{}, {32, 32, 46}, 60.0, 955, 545);
+    ui::FiltersView view;
+    view.plane = &plane;
+    view.radius = 60.0;
+    view.cropPx = 96;
+    view.measurements = handMadePoints();
+    renderer::FilterMeasurement slabs = view.measurements.front();
+    slabs.filter = renderer::FilterMode::Ewa;
+    slabs.compositing = renderer::Compositing::SheetFrontToBack;
+    slabs.slabThickness = 0.5;
+    slabs.postClassified = true;
+    slabs.frameMs = 300.0, slabs.p10Ms = 290.0, slabs.p90Ms = 320.0, slabs.psnrDb = 19.0;
+    view.measurements.push_back(slabs);
+    view.slabsInForce = true;
+    ui::FiltersChanges changes;
+    frame([&] { changes = ui::drawFiltersPanel(state, view); });
+    ASSERT_TRUE(changes.chart);
+    const ui::SpeedErrorChart& c = *changes.chart;
+    const size_t last = view.measurements.size() - 1;
+    for (size_t i = 0; i < c.points.size(); ++i) EXPECT_EQ(c.points[i].current, i == last) << i;
+    // Slowest and least accurate, yet on a front: the only point against the post-classified truth, last.
+    EXPECT_TRUE(c.points[last].pareto);
+    EXPECT_EQ(c.front.back(), last);
+    EXPECT_EQ(ui::pointStyle(slabs).shape, ui::PointStyle::Hexagon);
+    EXPECT_EQ(ui::settingLabel(slabs), "ewa, image-aligned slabs 0.5, post-classified");
+    slabs.postClassified = false;
+    EXPECT_EQ(ui::settingLabel(slabs), "ewa, image-aligned slabs 0.5");
+}
+
 TEST(Cli, ReportWritesAPageWhoseChartShowsTheMeasuredFigures) {
     const std::filesystem::path dir = testing_support::testOutputDir() / "cli_report";
     std::filesystem::remove_all(dir / "page");
@@ -228,6 +264,33 @@ TEST(Cli, ReportWritesAPageWhoseChartShowsTheMeasuredFigures) {
     for (const char* file : {"scan1_view.png", "scan1_truth.png", "scan1_ewa_xray.png",
                              "scan1_adaptive_sheet-front-to-back.png"})
         EXPECT_TRUE(std::filesystem::exists(dir / "page" / file)) << file;
+}
+
+TEST(Cli, ReportTimesImageAlignedSlabsLastAgainstTheirOwnTruth) {
+    // --image-slabs 1 --post-classify: a 17th row, the slabs, compared with the post-classified truth, with
+    // its crop thumbnail and its point on the chart; the summary's sheets cells stay the sheets'.
+    const std::filesystem::path dir = testing_support::testOutputDir() / "cli_report_slabs";
+    std::filesystem::remove_all(dir / "page");
+    const CliRun r = splatlab("report \"" + testing_support::headsq() + "\" --out \"" + (dir / "page").string() +
+                              "\" --cache \"" + (dir / "cache").string() +
+                              "\" --repeats 1 --size 24x20 --up -z --image-slabs 1 --post-classify");
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(
+        r.output, m,
+        std::regex(R"(headsq\.nhdr \| ewa, image-aligned slabs 1, post-classified \| [0-9.]+ ms .* \| ([0-9.inf-]+) dB)")))
+        << r.output;
+    // Measured 20.4 dB (the sheets 24.3): headsq at 24x20 px is minified about 3 voxels a pixel, where one
+    // post-classified sample a pixel aliases against the truth's 1-px filter (accuracy.md's 2x2 column).
+    EXPECT_GT(std::stod(m[1]), 17.0) << "post-classified slabs against the post-classified truth";
+    EXPECT_TRUE(std::filesystem::exists(dir / "page" / "scan1_ewa_slabs-1-post.png"));
+    std::ifstream in(dir / "page" / "index.html");
+    const std::string html((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_THAT(html, HasSubstr("data-setting=\"ewa, image-aligned slabs 1, post-classified\""));
+    const CliRun alone = splatlab("report \"" + testing_support::headsq() + "\" --out \"" +
+                                  (dir / "page2").string() + "\" --post-classify");
+    EXPECT_NE(alone.status, 0);
+    EXPECT_THAT(alone.output, HasSubstr("--post-classify: applies to image-aligned slabs"));
 }
 
 TEST(Cli, ReportRefusesABadVolumeOrFolderWithOneClearLine) {

@@ -84,3 +84,15 @@ TEST(SpeedError, XRayHasAFrontOfItsOwnSinceItsErrorIsAgainstAnotherImage) {
     slowXRay.compositing = Compositing::XRay;
     EXPECT_EQ(front({point(10, 30), xray, slowXRay}), (std::vector<bool>{true, true, false}));
 }
+
+TEST(SpeedError, PostClassifiedSlabsHaveAFrontOfTheirOwnPreClassifiedSlabsCompeteWithTheSheets) {
+    FilterMeasurement post = point(5, 50), pre = point(5, 50);
+    post.slabThickness = pre.slabThickness = 0.5;
+    post.postClassified = true;
+    // Faster and closer, but against the post-classified truth: the sheets' point stays on its front.
+    EXPECT_EQ(front({point(10, 30), post}), (std::vector<bool>{true, true}));
+    // Pre-classified slabs share the sheets' truth: faster and closer, they push the sheets off.
+    EXPECT_EQ(front({point(10, 30), pre}), (std::vector<bool>{false, true}));
+    EXPECT_FALSE(sameGroundTruth(post, pre));
+    EXPECT_TRUE(sameGroundTruth(pre, point(1, 1)));
+}

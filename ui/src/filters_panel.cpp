@@ -123,8 +123,10 @@ void drawCostColumn(EditorState& state, const FiltersView& view, FiltersChanges&
         ImGui::EndDisabled();
         hint("Times each filter x compositing mode on the whole view (median and p10-p90 of the Repeats frames)\n"
              "and compares the view's centre crop with the ground truth: the exact integral along Gaussian-weighted\n"
-             "rays, computed on the CPU (seconds to minutes, cached on disk for the next time). The chart marks the\n"
-             "Pareto front (ringed gold: no other setting is both faster and closer) and the settings in force (white)");
+             "rays, computed on the CPU (seconds to minutes, cached on disk for the next time). With Settings >\n"
+             "Image-aligned slabs on, the slabs in force too (a hexagon; post-classified: against the truth of\n"
+             "post-classification). The chart marks the Pareto front (ringed gold: no other setting is both faster\n"
+             "and closer) and the settings in force (white)");
         sameLineIfFits("repeats 00", 2.0f * ImGui::GetStyle().FramePadding.x);
         ImGui::SetNextItemWidth(ImGui::CalcTextSize("repeats 00").x + 2.0f * ImGui::GetStyle().FramePadding.x);
         if (numberField("##repeats", state.measureRepeats,
@@ -141,7 +143,7 @@ void drawCostColumn(EditorState& state, const FiltersView& view, FiltersChanges&
     // setting, so that a narrow column cuts nothing off).
     const float font = ImGui::GetFontSize(), avail = ImGui::GetContentRegionAvail().y;
     const float chartHeight = std::max(7.0f * font, 0.62f * avail);
-    changes.chart = drawSpeedErrorChart(view.measurements, state.settings, chartHeight);
+    changes.chart = drawSpeedErrorChart(view.measurements, state.settings, chartHeight, view.slabsInForce);
     const float listHeight = std::max(4.0f * font, ImGui::GetContentRegionAvail().y - ImGui::GetStyle().ItemSpacing.y);
     if (ImGui::BeginChild("##cost_list", ImVec2(0.0f, listHeight))) {
         for (size_t i = 0; i < view.measurements.size(); ++i) {

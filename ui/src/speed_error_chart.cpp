@@ -39,7 +39,7 @@ double SpeedErrorChart::yAt(double db) const {
 
 SpeedErrorChart layoutSpeedErrorChart(std::span<const renderer::FilterMeasurement> points,
                                       const renderer::SplatSettings* current, double left, double top,
-                                      double right, double bottom) {
+                                      double right, double bottom, bool slabsInForce) {
     SpeedErrorChart c;
     c.left = left, c.top = top, c.right = std::max(right, left + 1.0), c.bottom = std::max(bottom, top + 1.0);
     // 1. Axes: time from 0 to 8 % past the slowest p90; PSNR 1 dB either side of the finite values.
@@ -58,12 +58,16 @@ SpeedErrorChart layoutSpeedErrorChart(std::span<const renderer::FilterMeasuremen
     for (size_t i = 0; i < points.size(); ++i) {
         const renderer::FilterMeasurement& m = points[i];
         c.points.push_back({c.xAt(m.frameMs), c.xAt(m.p10Ms), c.xAt(m.p90Ms), c.yAt(m.psnrDb), front[i],
-                            current && current->filter == m.filter && current->compositing == m.compositing});
+                            current && current->filter == m.filter && current->compositing == m.compositing &&
+                                (m.slabThickness > 0.0) == slabsInForce});
         if (front[i]) c.front.push_back(i);
     }
-    const auto xray = [&](size_t i) { return points[i].compositing == renderer::Compositing::XRay; };
+    const auto truth = [&](size_t i) {   // the order of the fronts: attenuating, X-ray, post-classified
+        const renderer::FilterMeasurement& m = points[i];
+        return m.compositing == renderer::Compositing::XRay ? 1 : m.slabThickness > 0.0 && m.postClassified ? 2 : 0;
+    };
     std::sort(c.front.begin(), c.front.end(), [&](size_t a, size_t b) {
-        if (xray(a) != xray(b)) return xray(b);
+        if (truth(a) != truth(b)) return truth(a) < truth(b);
         return points[a].frameMs != points[b].frameMs ? points[a].frameMs < points[b].frameMs
                                                       : points[a].psnrDb < points[b].psnrDb;
     });
@@ -71,6 +75,12 @@ SpeedErrorChart layoutSpeedErrorChart(std::span<const renderer::FilterMeasuremen
 }
 
 std::string settingLabel(const renderer::FilterMeasurement& m) {
+    if (m.slabThickness > 0.0) {
+        char slabs[64];
+        std::snprintf(slabs, sizeof slabs, ", image-aligned slabs %g%s", m.slabThickness,
+                      m.postClassified ? ", post-classified" : "");
+        return renderer::filterModeName(m.filter) + std::string(slabs);
+    }
     return std::string(renderer::filterModeName(m.filter)) + ", " + renderer::compositingName(m.compositing);
 }
 
@@ -83,11 +93,12 @@ PointStyle pointStyle(const renderer::FilterMeasurement& m) {
     if (m.compositing == renderer::Compositing::SheetBackToFront) shape = PointStyle::Square;
     if (m.compositing == renderer::Compositing::SheetFrontToBack) shape = PointStyle::Diamond;
     if (m.compositing == renderer::Compositing::XRay) shape = PointStyle::Triangle;
+    if (m.slabThickness > 0.0) shape = PointStyle::Hexagon;
     return {rgb[f][0], rgb[f][1], rgb[f][2], shape};
 }
 
 SpeedErrorChart drawSpeedErrorChart(std::span<const renderer::FilterMeasurement> points,
-                                    const renderer::SplatSettings& current, float height) {
+                                    const renderer::SplatSettings& current, float height, bool slabsInForce) {
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     const float width = std::max(ImGui::GetContentRegionAvail().x, 1.0f), font = ImGui::GetFontSize();
     ImGui::Dummy(ImVec2(width, height));
@@ -95,7 +106,7 @@ SpeedErrorChart drawSpeedErrorChart(std::span<const renderer::FilterMeasurement>
     // The plot inside room for the PSNR labels on the left and the time labels below.
     const SpeedErrorChart c =
         layoutSpeedErrorChart(points, &current, origin.x + 3.0f * font, origin.y + 0.5f * font,
-                              origin.x + width - 0.5f * font, origin.y + height - 2.2f * font);
+                              origin.x + width - 0.5f * font, origin.y + height - 2.2f * font, slabsInForce);
     ImDrawList* draw = ImGui::GetWindowDrawList();
     const ImU32 grey = ImGui::GetColorU32(ImGuiCol_TextDisabled), grid = IM_COL32(255, 255, 255, 30);
     const auto at = [](double x, double y) { return ImVec2(float(x), float(y)); };
@@ -153,6 +164,9 @@ SpeedErrorChart drawSpeedErrorChart(std::span<const renderer::FilterMeasurement>
         case PointStyle::Triangle:
             draw->AddTriangleFilled(ImVec2(m.x, m.y - 1.3f * r), ImVec2(m.x + 1.2f * r, m.y + r),
                                     ImVec2(m.x - 1.2f * r, m.y + r), colour);
+            break;
+        case PointStyle::Hexagon:
+            draw->AddNgonFilled(m, 1.2f * r, colour, 6);
             break;
         }
         if (p.pareto) draw->AddCircle(m, 1.9f * r, IM_COL32(255, 210, 80, 255), 0, 1.5f);

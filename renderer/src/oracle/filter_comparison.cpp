@@ -26,6 +26,28 @@ double percentile(std::vector<double> values, double q) {
     return values[below] + (rank - double(below)) * (values[above] - values[below]);
 }
 
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A setting's timed frames and its crop's error, as a measurement.
+FilterMeasurement measurement(const SplatSettings& settings, const std::vector<double>& ms, const ImageError& e) {
+    FilterMeasurement m;
+    m.filter = settings.filter;
+    m.compositing = settings.compositing;
+    m.frameMs = percentile(ms, 0.5);
+    m.p10Ms = percentile(ms, 0.1);
+    m.p90Ms = percentile(ms, 0.9);
+    m.frames = int(ms.size());
+    m.rmse = e.rmse;
+    m.psnrDb = e.psnrDb;
+    return m;
+}
+
+} // namespace
+
 FilterMeasurement measureSetting(SplatRenderer& gl, const ImagePlane& view, const ImagePlane& crop,
                                  const Image& cropTruth, SplatSettings settings, int frames) {
     settings.heatmap = false;
@@ -37,19 +59,23 @@ FilterMeasurement measureSetting(SplatRenderer& gl, const ImagePlane& view, cons
         const auto t0 = std::chrono::steady_clock::now();
         gl.render(view, settings);
         glFinish();
-        ms.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        ms.push_back(msSince(t0));
     }
-    const ImageError e = cropError(gl, crop, cropTruth, settings);
-    FilterMeasurement m;
-    m.filter = settings.filter;
-    m.compositing = settings.compositing;
-    m.frameMs = percentile(ms, 0.5);
-    m.p10Ms = percentile(ms, 0.1);
-    m.p90Ms = percentile(ms, 0.9);
-    m.frames = int(ms.size());
-    m.rmse = e.rmse;
-    m.psnrDb = e.psnrDb;
+    return measurement(settings, ms, cropError(gl, crop, cropTruth, settings));
+}
+
+FilterMeasurement measureSlabs(const std::function<Image(const ImagePlane&)>& drawSlabs, const ImagePlane& view,
+                               const ImagePlane& crop, const Image& cropTruth, const SplatSettings& settings,
+                               const SlabOptions& slabs, int frames) {
+    std::vector<double> ms;
+    for (int i = 0; i < std::max(frames, 1); ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        drawSlabs(view);
+        ms.push_back(msSince(t0));
+    }
+    FilterMeasurement m = measurement(settings, ms, compareImages(drawSlabs(crop), cropTruth));
+    m.slabThickness = slabs.thickness;
+    m.postClassified = slabs.postClassified;
     return m;
 }
 

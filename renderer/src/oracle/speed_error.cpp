@@ -22,19 +22,26 @@ std::vector<SplatSettings> speedErrorSettings(const SplatSettings& base) {
 
 CropTruths cropTruths(const SplatScene& scene, const ImagePlane& crop, const SplatSettings& base,
                       const GroundTruthOptions& options, const std::filesystem::path& cacheDir,
-                      const ProgressCallback& progress) {
-    // 1. The attenuating modes' truth (compositing only decides X-ray or not), progress 0..0.5.
+                      const ProgressCallback& progress, bool postClassified) {
+    // 1. The attenuating modes' truth (compositing only decides X-ray or not), 2. X-ray's, 3. where asked,
+    // the post-classified one; each an equal share of the progress.
+    const double parts = postClassified ? 3.0 : 2.0;
+    const auto share = [&](int part) -> ProgressCallback {
+        if (!progress) return {};
+        return [&progress, part, parts](double f) { return progress((double(part) + f) / parts); };
+    };
     SplatSettings s = base;
     s.compositing = Compositing::SplatEverySample;
-    const auto half = [&](double offset) -> ProgressCallback {
-        if (!progress) return {};
-        return [&progress, offset](double f) { return progress(offset + 0.5 * f); };
-    };
     CropTruths t;
-    t.attenuating = cachedGroundTruth(scene, crop, s, options, cacheDir, half(0.0));
-    // 2. X-ray's, progress 0.5..1.
-    s.compositing = Compositing::XRay;
-    t.xray = cachedGroundTruth(scene, crop, s, options, cacheDir, half(0.5));
+    t.attenuating = cachedGroundTruth(scene, crop, s, options, cacheDir, share(0));
+    SplatSettings xray = base;
+    xray.compositing = Compositing::XRay;
+    t.xray = cachedGroundTruth(scene, crop, xray, options, cacheDir, share(1));
+    if (postClassified) {
+        GroundTruthOptions post = options;
+        post.postClassified = true;
+        t.postClassified = cachedGroundTruth(scene, crop, s, post, cacheDir, share(2));
+    }
     return t;
 }
 
@@ -48,7 +55,10 @@ std::vector<FilterMeasurement> measureSpeedAgainstError(SplatRenderer& gl, const
 }
 
 bool sameGroundTruth(const FilterMeasurement& a, const FilterMeasurement& b) {
-    return (a.compositing == Compositing::XRay) == (b.compositing == Compositing::XRay);
+    const auto truth = [](const FilterMeasurement& m) {   // X-ray's, the post-classified one, or the attenuating
+        return m.compositing == Compositing::XRay ? 1 : m.slabThickness > 0.0 && m.postClassified ? 2 : 0;
+    };
+    return truth(a) == truth(b);
 }
 
 std::vector<bool> paretoFront(std::span<const FilterMeasurement> points) {

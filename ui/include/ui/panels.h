@@ -181,6 +181,7 @@ struct FiltersView {
     bool measuring = false, measurementsStale = false;
     double truthProgress = 0.0;
     size_t settingsToMeasure = 0;   // > 0 once the ground truth is in: the bar counts the settings timed
+    bool slabsInForce = false;      // the still view ends in image-aligned slabs (Settings): their point is ringed
 };
 
 struct FiltersChanges {

@@ -6,7 +6,9 @@
 #include "renderer/io/image.h"
 #include "renderer/math/camera.h"
 #include "renderer/math/metrics.h"
+#include "renderer/oracle/image_slabs.h"
 
+#include <functional>
 #include <vector>
 
 namespace renderer {
@@ -20,6 +22,10 @@ struct FilterMeasurement {
     int frames = 0;    // timed frames
     double rmse = 0.0; // the crop against its ground truth (metrics.h)
     double psnrDb = 0.0;
+    // Image-aligned slabs this many voxels thick instead of `compositing`'s slices (0: none); post-classified
+    // slabs are compared with the post-classified truth.
+    double slabThickness = 0.0;
+    bool postClassified = false;
 };
 
 // The centre square of `view`, `side` pixels a side or the whole of a smaller view, as an image
@@ -41,5 +47,12 @@ double percentile(std::vector<double> values, double q);
 // need), then `crop` once, and compares it with `cropTruth`, the ground truth of `crop` for them.
 FilterMeasurement measureSetting(SplatRenderer& gl, const ImagePlane& view, const ImagePlane& crop,
                                  const Image& cropTruth, SplatSettings settings, int frames);
+
+// The same for image-aligned slabs with `settings` and `slabs`: `drawSlabs` draws a plane in them and
+// returns the finished image (a GL slab pass, the CPU oracle); `view` `frames` times, then `crop` once.
+// No untimed frame: the slab pass compiles its programs when it is made.
+FilterMeasurement measureSlabs(const std::function<Image(const ImagePlane&)>& drawSlabs, const ImagePlane& view,
+                               const ImagePlane& crop, const Image& cropTruth, const SplatSettings& settings,
+                               const SlabOptions& slabs, int frames);
 
 } // namespace renderer

@@ -5,6 +5,7 @@
 #pragma once
 #include "renderer/oracle/filter_comparison.h"
 #include "renderer/oracle/ground_truth.h"
+#include "renderer/oracle/image_slabs.h"
 
 #include <filesystem>
 #include <span>
@@ -18,17 +19,20 @@ namespace renderer {
 std::vector<SplatSettings> speedErrorSettings(const SplatSettings& base);
 
 // The crop's ground truths: one serves every attenuating compositing mode, X-ray has its own
-// (groundTruthKey tells them apart).
+// (groundTruthKey tells them apart), and post-classified slabs theirs.
 struct CropTruths {
     Image attenuating, xray;
+    Image postClassified;   // where asked for (cropTruths' `postClassified`)
     const Image& of(const SplatSettings& settings) const {
         return settings.compositing == Compositing::XRay ? xray : attenuating;
     }
+    const Image& ofSlabs(const SlabOptions& slabs) const { return slabs.postClassified ? postClassified : attenuating; }
 };
-// Both, from `cacheDir` or computed there; `progress` goes 0..1 over the two.
+// The attenuating and X-ray truths and, with `postClassified`, the post-classified one, from `cacheDir`
+// or computed there; `progress` goes 0..1 over them.
 CropTruths cropTruths(const SplatScene& scene, const ImagePlane& crop, const SplatSettings& base,
                       const GroundTruthOptions& options, const std::filesystem::path& cacheDir,
-                      const ProgressCallback& progress = {});
+                      const ProgressCallback& progress = {}, bool postClassified = false);
 
 // measureSetting() for each of speedErrorSettings(base), `repeats` timed frames each, in that order.
 std::vector<FilterMeasurement> measureSpeedAgainstError(SplatRenderer& gl, const ImagePlane& view,
@@ -38,7 +42,8 @@ std::vector<FilterMeasurement> measureSpeedAgainstError(SplatRenderer& gl, const
 // Which points are on the Pareto front, fastest for their error: a point is off it when another is at
 // least as fast (median frame time) and at least as accurate (PSNR) and better in one of the two.
 // Equal points do not push each other off: both stay on. Only points measured against the same ground
-// truth compete (sameGroundTruth): X-ray's error is against an image of its own, so it has its own front.
+// truth compete (sameGroundTruth): X-ray's error is against an image of its own, so it has its own front,
+// as post-classified slabs have.
 bool sameGroundTruth(const FilterMeasurement& a, const FilterMeasurement& b);
 std::vector<bool> paretoFront(std::span<const FilterMeasurement> points);
 
