@@ -154,7 +154,8 @@ int main(int argc, char** argv) {
     SplatFlags editorSplat;
     RawFlags editorRaw;
     auto* editor = app.add_subcommand("editor", "Open the editor window (default: the bundled bonsai, 128^3, "
-                                                 "framed, with --tf bonsai, lit per splat)");
+                                                 "framed, with --tf bonsai, lit per splat; a CT preset opens lit per splat "
+                                                 "unless --shading says otherwise)");
     std::vector<std::string> sceneNames;
     for (const DemoSceneInfo& scene : demoSceneList()) sceneNames.push_back(scene.name);
     auto* editorVolumeOption = editor->add_option("volume", editorVolume, "Volume file (or scene:NAME, a demo scene)");
@@ -231,6 +232,10 @@ int main(int argc, char** argv) {
             if (unset("--tf")) e.tfSpec = "bonsai";
             if (unset("--shading")) editorLook.shading = "per-splat";
             if (unset("--density")) editorLook.density = 2.0;
+        } else if (editorSession.empty() && e.sceneName.empty() && unset("--shading") && e.tfSpec.rfind("ct-", 0) == 0) {
+            // A volume in a CT preset (the default ct-skin-bone, ct-bone, ...) shows surfaces: lit per
+            // splat, as its user expects, unless --shading says otherwise. Unlit, a skull is a flat blob.
+            editorLook.shading = "per-splat";
         }
         if (!editorCamera.empty()) e.camera = parseCamera(editorCamera);
         e.split = parseSplit(editorSplit);

@@ -89,9 +89,10 @@ TEST(Cli, EditorSavesTheViewAsRenderDrawsItAndNamesAFileItCannotWrite) {
         EXPECT_GT(renderer::imageStats(fromEditor).coveredFraction, 0.2);
 
         // The same view from `splatlab render` at that size, with no --compositing: render's default
-        // is the editor's starting mode.
+        // is the editor's starting mode. The editor lights a CT preset (headsq opens in ct-skin-bone) per
+        // splat unless --shading says otherwise; render stays unlit unless told.
         const std::filesystem::path image = dir / "render_view.exr", heat = dir / "render_heatmap.exr";
-        const CliRun r = splatlab("render \"" + headsq() + "\" --up -z --camera 60,15,2.5,30 --size " +
+        const CliRun r = splatlab("render \"" + headsq() + "\" --up -z --camera 60,15,2.5,30 --shading per-splat --size " +
                                   std::to_string(fromEditor.width) + "x" + std::to_string(fromEditor.height) +
                                   " --frames 1 -o \"" + image.string() + "\"" +
                                   (heatmap ? " --heatmap \"" + heat.string() + "\"" : ""));
@@ -250,7 +251,7 @@ TEST(Cli, FitFramesEverythingVisibleAndTheEditorFramesAsRenderDoes) {
     ASSERT_EQ(e.status, 0) << e.output;
     const renderer::Image fromEditor = renderer::readImage(saved);
     const std::filesystem::path image = dir / "render_fit.exr";
-    ASSERT_EQ(splatlab("render \"" + headsq() + "\" --up -z --camera 100,-30,6,30 --fit --size " +
+    ASSERT_EQ(splatlab("render \"" + headsq() + "\" --up -z --camera 100,-30,6,30 --fit --shading per-splat --size " +
                        std::to_string(fromEditor.width) + "x" + std::to_string(fromEditor.height) +
                        " --compositing sheet-front-to-back --frames 1 -o \"" + image.string() + "\"")
                   .status,

@@ -79,7 +79,7 @@ TEST(EditorSplit, FourFiltersOpenFourPanesEachItsFiltersRenderAndTheSessionKeeps
     const std::filesystem::path out = testing_support::testOutputDir("editor_split_four");
     const std::filesystem::path saved = out / "four.exr", session = out / "four.json",
                                 again = out / "again.exr";
-    const std::string view = "--up -z --camera 30,20,2.5,30 --compositing sheet-back-to-front ";
+    const std::string view = "--up -z --camera 30,20,2.5,30 --compositing sheet-back-to-front --shading none ";
     const std::string xvfb =
         "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" xvfb-run -a -s "
         "\"-screen 0 1280x800x24\" \"" SPLATLAB_EXE "\" editor ";
@@ -188,7 +188,7 @@ TEST(EditorSplit, EachPaneIsItsFiltersRenderAndTheDifferenceRmseIsTheirMetric) {
     const std::string volume = (testing_support::assetDir() / "volumes" / "headsq.nhdr").string();
     const std::filesystem::path out = testing_support::testOutputDir(),
                                 saved = out / "editor_split_saved.exr", shot = out / "editor_split.png";
-    const std::string view = "--up -z --camera 30,20,2.5,30 --compositing sheet-front-to-back ";
+    const std::string view = "--up -z --camera 30,20,2.5,30 --compositing sheet-front-to-back --shading none ";
     int status = -1;
     const std::string editor =
         "LIBGL_ALWAYS_SOFTWARE=1 ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" xvfb-run -a -s "
