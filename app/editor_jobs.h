@@ -8,6 +8,7 @@
 #include "renderer/math/shading.h"
 #include "renderer/oracle/demo_scenes.h"
 #include "renderer/model/gradients.h"
+#include "renderer/model/post_classification.h"
 #include "renderer/model/splat_scene.h"
 #include "renderer/model/transfer_function.h"
 #include "renderer/model/window.h"
@@ -233,6 +234,15 @@ struct FilterComparisonJob {
                         const renderer::SplatSettings& set, std::optional<renderer::SlabOptions> slabsInForce)
         : scene(s), view(v), crop(renderer::centreCrop(v, renderer::kComparisonCropPx)), settings(set),
           toMeasure(renderer::speedErrorSettings(set)), slabs(slabsInForce) {
+        // Slabs that refuse to post-classify this scene (gradient opacity, a 2D TF) draw no frame to time,
+        // and their truth would fail the whole measurement: the sheets alone, as the view shows them.
+        if (slabs && slabs->postClassified) {
+            try {
+                renderer::requirePostClassifiable(scene, settings, "image-aligned slabs");
+            } catch (const renderer::RenderError&) {
+                slabs.reset();
+            }
+        }
         truth.subject = renderer::volumeSubject(s.name) + "'s ground truth";
         truth.start([this](const renderer::ProgressCallback& progress) {
             return renderer::cropTruths(scene, crop, settings, {}, renderer::defaultGroundTruthCacheDir(), progress,

@@ -10,7 +10,11 @@ namespace renderer {
 
 int pixelFilterMargin(int ss) { return int(std::ceil(kPixelFilterReachPx * ss)); }
 
-Image filterToPixels(const std::vector<glm::dvec4>& samples, int ss, int width, int height) {
+namespace {
+
+// filterToPixels over any store of samples: `sample(i)` is sample i of the grid, rows first, as a dvec4.
+template <class Sample>
+Image filterSamples(const Sample& sample, int ss, int width, int height) {
     const int margin = pixelFilterMargin(ss);
     const int gw = width * ss + 2 * margin, gh = height * ss + 2 * margin;
     // Weights exp(-d^2/2) of each sample's distance d (pixels) from the pixel centre, normalised over
@@ -30,7 +34,7 @@ Image filterToPixels(const std::vector<glm::dvec4>& samples, int ss, int width, 
         const auto w = weightsFor(x, gw);
         for (int j = 0; j < gh; ++j) {
             glm::dvec4 acc(0.0);
-            for (auto [i, v] : w) acc += v * samples[size_t(j) * gw + i];
+            for (auto [i, v] : w) acc += v * sample(size_t(j) * gw + size_t(i));
             rows[size_t(j) * width + x] = acc;
         }
     });
@@ -47,6 +51,12 @@ Image filterToPixels(const std::vector<glm::dvec4>& samples, int ss, int width, 
     return img;
 }
 
+} // namespace
+
+Image filterToPixels(const std::vector<glm::dvec4>& samples, int ss, int width, int height) {
+    return filterSamples([&](size_t i) { return samples[i]; }, ss, width, height);
+}
+
 Image renderSupersampled(const ImagePlane& plane, int ss, const std::function<Image(const ImagePlane&)>& render) {
     if (ss == 0) return render(plane);
     const int margin = pixelFilterMargin(ss);
@@ -56,10 +66,10 @@ Image renderSupersampled(const ImagePlane& plane, int ss, const std::function<Im
     fine.fPx = plane.fPx * ss;
     fine.centrePx = plane.centrePx * double(ss) + double(margin);
     const Image samples = render(fine);
-    std::vector<glm::dvec4> wide(samples.rgba.size() / 4);
-    for (size_t i = 0; i < wide.size(); ++i)
-        wide[i] = glm::dvec4(samples.rgba[4 * i], samples.rgba[4 * i + 1], samples.rgba[4 * i + 2], samples.rgba[4 * i + 3]);
-    return filterToPixels(wide, ss, plane.width, plane.height);
+    // Read in place: a double copy of the fine grid would be twice its size again (132 MiB at 512x512, 4x4).
+    const float* rgba = samples.rgba.data();
+    return filterSamples([rgba](size_t i) { return glm::dvec4(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2], rgba[4 * i + 3]); },
+                         ss, plane.width, plane.height);
 }
 
 } // namespace renderer
