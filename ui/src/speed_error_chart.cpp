@@ -62,10 +62,7 @@ SpeedErrorChart layoutSpeedErrorChart(std::span<const renderer::FilterMeasuremen
                                 (m.slabThickness > 0.0) == slabsInForce});
         if (front[i]) c.front.push_back(i);
     }
-    const auto truth = [&](size_t i) {   // the order of the fronts: attenuating, X-ray, post-classified
-        const renderer::FilterMeasurement& m = points[i];
-        return m.compositing == renderer::Compositing::XRay ? 1 : m.slabThickness > 0.0 && m.postClassified ? 2 : 0;
-    };
+    const auto truth = [&](size_t i) { return renderer::groundTruthKind(points[i]); };
     std::sort(c.front.begin(), c.front.end(), [&](size_t a, size_t b) {
         if (truth(a) != truth(b)) return truth(a) < truth(b);
         return points[a].frameMs != points[b].frameMs ? points[a].frameMs < points[b].frameMs

@@ -54,11 +54,12 @@ std::vector<FilterMeasurement> measureSpeedAgainstError(SplatRenderer& gl, const
     return points;
 }
 
+int groundTruthKind(const FilterMeasurement& m) {
+    return m.compositing == Compositing::XRay ? 1 : m.slabThickness > 0.0 && m.postClassified ? 2 : 0;
+}
+
 bool sameGroundTruth(const FilterMeasurement& a, const FilterMeasurement& b) {
-    const auto truth = [](const FilterMeasurement& m) {   // X-ray's, the post-classified one, or the attenuating
-        return m.compositing == Compositing::XRay ? 1 : m.slabThickness > 0.0 && m.postClassified ? 2 : 0;
-    };
-    return truth(a) == truth(b);
+    return groundTruthKind(a) == groundTruthKind(b);
 }
 
 std::vector<bool> paretoFront(std::span<const FilterMeasurement> points) {

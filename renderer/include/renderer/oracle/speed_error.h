@@ -45,6 +45,9 @@ std::vector<FilterMeasurement> measureSpeedAgainstError(SplatRenderer& gl, const
 // truth compete (sameGroundTruth): X-ray's error is against an image of its own, so it has its own front,
 // as post-classified slabs have.
 bool sameGroundTruth(const FilterMeasurement& a, const FilterMeasurement& b);
+// Which truth a measurement was compared with, in the order the charts list their fronts: 0 the
+// attenuating modes', 1 X-ray's, 2 the post-classified one (post-classified slabs).
+int groundTruthKind(const FilterMeasurement& m);
 std::vector<bool> paretoFront(std::span<const FilterMeasurement> points);
 
 } // namespace renderer
